@@ -1,0 +1,84 @@
+//! A-posteriori error estimators of Chapter III with the conventions that reproduce the printed
+//! thesis numbers (spec/estimators.md §1.3): h_Q = cell diameter, ½ inside the norm on interior
+//! faces, the full residual on Neumann faces, constant c = 1. Every estimator returns the squared
+//! indicator η_Q² per active cell; the printed estimate is √(Σ_Q η_Q²).
+
+pub mod elasticity;
+
+use crate::experiment::Side;
+use crate::mesh::{CellId, Face, Mesh, Neighbor};
+
+/// A straight piece of a cell face with what lies on its other side.
+#[derive(Clone, Copy, Debug)]
+pub struct FaceSegment {
+    pub a: [f64; 2],
+    pub b: [f64; 2],
+    /// Active index of the neighbouring cell, `None` on the boundary.
+    pub neighbor: Option<usize>,
+}
+
+impl FaceSegment {
+    pub fn length(&self) -> f64 {
+        (self.b[0] - self.a[0]).hypot(self.b[1] - self.a[1])
+    }
+
+    /// Point at parameter t ∈ [0, 1].
+    #[inline]
+    pub fn at(&self, t: f64) -> [f64; 2] {
+        [
+            self.a[0] + t * (self.b[0] - self.a[0]),
+            self.a[1] + t * (self.b[1] - self.a[1]),
+        ]
+    }
+}
+
+/// The pieces of face `face` of active cell `c`: one piece (boundary, same-level or coarser
+/// neighbour) or two (two finer neighbours; hanging faces are integrated over the fine
+/// sub-faces). Returns the boundary side if the face lies on one.
+pub fn face_segments(mesh: &Mesh, c: CellId, face: Face) -> (Option<Side>, Vec<FaceSegment>) {
+    let b = mesh.cell_box(c);
+    let corners = [[b[0], b[1]], [b[2], b[1]], [b[0], b[3]], [b[2], b[3]]];
+    let [va, vb] = face.vertices();
+    let (pa, pb) = (corners[va], corners[vb]);
+    match mesh.neighbor(c, face) {
+        Neighbor::Boundary(side) => (
+            Some(side),
+            vec![FaceSegment {
+                a: pa,
+                b: pb,
+                neighbor: None,
+            }],
+        ),
+        Neighbor::Same(n) | Neighbor::Coarser(n) => (
+            None,
+            vec![FaceSegment {
+                a: pa,
+                b: pb,
+                neighbor: Some(mesh.active_index(n)),
+            }],
+        ),
+        Neighbor::Finer([n0, n1]) => {
+            let mid = [(pa[0] + pb[0]) / 2.0, (pa[1] + pb[1]) / 2.0];
+            (
+                None,
+                vec![
+                    FaceSegment {
+                        a: pa,
+                        b: mid,
+                        neighbor: Some(mesh.active_index(n0)),
+                    },
+                    FaceSegment {
+                        a: mid,
+                        b: pb,
+                        neighbor: Some(mesh.active_index(n1)),
+                    },
+                ],
+            )
+        }
+    }
+}
+
+/// √(Σ η_Q²).
+pub fn total(indicators_squared: &[f64]) -> f64 {
+    indicators_squared.iter().sum::<f64>().sqrt()
+}

@@ -1,0 +1,105 @@
+//! Errors of the experiment loader: every message names the file, the field and what was
+//! expected, so a user can fix the file without reading the source.
+
+use std::io;
+use std::path::{Path, PathBuf};
+
+use thiserror::Error;
+
+/// Why an experiment file (or directory of files) could not be used.
+///
+/// Every variant carries the file (or directory) path; the field-level variants also carry the
+/// dotted field path (`study.rows`, `scene.elasticity.dirichlet[1]`) and what was expected.
+#[derive(Debug, Error)]
+pub enum ExperimentError {
+    /// The file could not be read: missing, unreadable, or not UTF-8.
+    #[error("{}: cannot read the experiment file: {source}", path.display())]
+    Read {
+        path: PathBuf,
+        #[source]
+        source: io::Error,
+    },
+
+    /// The experiment directory could not be listed.
+    #[error("{}: cannot list the experiment directory: {source}", dir.display())]
+    ReadDir {
+        dir: PathBuf,
+        #[source]
+        source: io::Error,
+    },
+
+    /// The `toml` crate rejected the file: a syntax error, a value of the wrong type, a missing
+    /// or an unknown field. `message` is toml's own report (it names the key and shows the line).
+    #[error("{}: {}{message}", path.display(), field_prefix(field.as_deref()))]
+    Toml {
+        path: PathBuf,
+        /// Dotted path of the offending field, when it could be located.
+        field: Option<String>,
+        /// 1-based line of the error, when toml reports a position.
+        line: Option<usize>,
+        message: String,
+    },
+
+    /// The file parsed, but a field is out of range or contradicts another field or the setting
+    /// of the thesis (Chapter IV).
+    #[error("{}: field `{field}`: expected {expected}, found {found}", path.display())]
+    Invalid {
+        path: PathBuf,
+        field: String,
+        expected: String,
+        found: String,
+    },
+
+    /// A table id asked for (e.g. on the command line) has no experiment file.
+    #[error(
+        "{}: no experiment file for table `{id}`; available tables: {}",
+        dir.display(),
+        available.join(", ")
+    )]
+    UnknownTable {
+        dir: PathBuf,
+        id: String,
+        available: Vec<String>,
+    },
+}
+
+fn field_prefix(field: Option<&str>) -> String {
+    match field {
+        Some(field) => format!("field `{field}`: "),
+        None => String::new(),
+    }
+}
+
+impl ExperimentError {
+    /// A semantic error in `field` of the file at `path`.
+    pub(crate) fn invalid(
+        path: &Path,
+        field: impl Into<String>,
+        expected: impl Into<String>,
+        found: impl Into<String>,
+    ) -> Self {
+        Self::Invalid {
+            path: path.to_path_buf(),
+            field: field.into(),
+            expected: expected.into(),
+            found: found.into(),
+        }
+    }
+
+    /// The file or directory the error is about.
+    pub fn path(&self) -> &Path {
+        match self {
+            Self::Read { path, .. } | Self::Toml { path, .. } | Self::Invalid { path, .. } => path,
+            Self::ReadDir { dir, .. } | Self::UnknownTable { dir, .. } => dir,
+        }
+    }
+
+    /// The dotted field path the error is about, when there is one.
+    pub fn field(&self) -> Option<&str> {
+        match self {
+            Self::Toml { field, .. } => field.as_deref(),
+            Self::Invalid { field, .. } => Some(field),
+            Self::Read { .. } | Self::ReadDir { .. } | Self::UnknownTable { .. } => None,
+        }
+    }
+}

@@ -1,0 +1,791 @@
+//! Parsing and validation of experiment files.
+//!
+//! [`load`] reads one file with the `toml` crate into [`ExperimentSpec`] and then checks what
+//! serde cannot: ranges, consistency between sections, and the conventions of Chapter IV (table
+//! ids `IV.1`…`IV.75`, the fixed-fraction marking of §IV.1, printed rows numbered from cycle 0).
+//! Nothing here panics on user input; every failure is an [`ExperimentError`].
+
+use std::collections::BTreeSet;
+use std::fs;
+use std::path::{Path, PathBuf};
+
+use toml::de::{DeTable, DeValue};
+use toml::Spanned;
+
+use super::error::ExperimentError;
+use super::spec::*;
+
+/// Highest table number of Chapter IV (Table IV.75).
+const LAST_TABLE: u32 = 75;
+
+/// Parse and validate one experiment file.
+///
+/// Errors name the file and the field: I/O errors, TOML syntax, type, missing- and
+/// unknown-field errors (wrapped with toml's message, which shows the line), and every
+/// semantic check of [`ExperimentSpec`] (see the module documentation).
+pub fn load(path: &Path) -> Result<ExperimentSpec, ExperimentError> {
+    let text = fs::read_to_string(path).map_err(|source| ExperimentError::Read {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let spec: ExperimentSpec =
+        toml::from_str(&text).map_err(|error| toml_error(path, &text, &error))?;
+    Check { path }.experiment(&spec)?;
+    Ok(spec)
+}
+
+/// Load every `*.toml` in `dir`, sorted by table number (IV.2 before IV.10).
+///
+/// With `only`, load just those tables; an id without a file is an error that names it and
+/// lists the available tables. Files not asked for are not read, so one broken file does not
+/// block the others.
+pub fn load_dir(
+    dir: &Path,
+    only: Option<&[String]>,
+) -> Result<Vec<ExperimentSpec>, ExperimentError> {
+    let read_dir_error = |source| ExperimentError::ReadDir {
+        dir: dir.to_path_buf(),
+        source,
+    };
+    let mut files: Vec<(String, PathBuf)> = Vec::new();
+    for entry in fs::read_dir(dir).map_err(read_dir_error)? {
+        let path = entry.map_err(read_dir_error)?.path();
+        if path.extension().and_then(|e| e.to_str()) != Some("toml") || !path.is_file() {
+            continue;
+        }
+        let stem = path
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        files.push((stem, path));
+    }
+    files.sort_by_key(|(stem, _)| table_order(stem));
+
+    if let Some(only) = only {
+        let mut wanted = BTreeSet::new();
+        for id in only {
+            if !files.iter().any(|(stem, _)| stem == id) {
+                return Err(ExperimentError::UnknownTable {
+                    dir: dir.to_path_buf(),
+                    id: id.clone(),
+                    available: files.iter().map(|(stem, _)| stem.clone()).collect(),
+                });
+            }
+            wanted.insert(id.as_str());
+        }
+        files.retain(|(stem, _)| wanted.contains(stem.as_str()));
+    }
+
+    files.iter().map(|(_, path)| load(path)).collect()
+}
+
+/// Sort key of a file stem: tables in numeric order, anything else after them by name.
+fn table_order(stem: &str) -> (u32, String) {
+    (table_number(stem).unwrap_or(u32::MAX), stem.to_owned())
+}
+
+/// `IV.<n>` with 1 ≤ n ≤ 75, written without leading zeros → n.
+fn table_number(id: &str) -> Option<u32> {
+    let n: u32 = id.strip_prefix("IV.")?.parse().ok()?;
+    (format!("IV.{n}") == id && (1..=LAST_TABLE).contains(&n)).then_some(n)
+}
+
+// ---------------------------------------------------------------------------------------------
+// toml errors
+
+/// Wrap an error of the `toml` crate with the file name and, where it can be located, the
+/// dotted path of the field it is about.
+fn toml_error(path: &Path, text: &str, error: &toml::de::Error) -> ExperimentError {
+    let position = error.span().map(|span| span.start);
+    let missing = quoted_after(error.message(), "missing field `");
+    let mut field = position.and_then(|pos| field_at(text, pos, missing.is_some()));
+    if let Some(missing) = missing {
+        field = Some(match field {
+            Some(parent) if !parent.is_empty() => format!("{parent}.{missing}"),
+            _ => missing.to_owned(),
+        });
+    }
+    ExperimentError::Toml {
+        path: path.to_path_buf(),
+        field: field.filter(|f| !f.is_empty()),
+        line: position.map(|pos| line_of(text, pos)),
+        message: error.to_string().trim_end().to_owned(),
+    }
+}
+
+/// The text between `prefix` and the next backtick in `message`.
+fn quoted_after<'m>(message: &'m str, prefix: &str) -> Option<&'m str> {
+    let rest = &message[message.find(prefix)? + prefix.len()..];
+    Some(&rest[..rest.find('`')?])
+}
+
+/// 1-based line number of byte offset `pos`.
+fn line_of(text: &str, pos: usize) -> usize {
+    1 + text
+        .bytes()
+        .take(pos.min(text.len()))
+        .filter(|&b| b == b'\n')
+        .count()
+}
+
+/// The dotted path (`study.rows`, `scene.elasticity.dirichlet[1]`) of the innermost key or value
+/// whose source span contains byte offset `pos`, found with toml's recovering parser so that
+/// syntax errors inside a value are located too. With `tables_only` (for "missing field"
+/// errors, whose span is the table that lacks the field) only table values count, and the top
+/// level is `Some("")`. Falls back to the key written on the error's line.
+fn field_at(text: &str, pos: usize, tables_only: bool) -> Option<String> {
+    let (document, _) = DeTable::parse_recoverable(text);
+    let mut best: Option<(usize, String)> = None;
+    search_table(document.get_ref(), "", pos, tables_only, &mut best);
+    match best {
+        Some((_, path)) => Some(path),
+        None if tables_only => Some(String::new()),
+        None => key_on_line(text, pos),
+    }
+}
+
+/// Depth-first search of `table` for the smallest span containing `pos`; on equal spans the
+/// deeper entry wins.
+fn search_table(
+    table: &DeTable<'_>,
+    prefix: &str,
+    pos: usize,
+    tables_only: bool,
+    best: &mut Option<(usize, String)>,
+) {
+    for (key, value) in table.iter() {
+        let path = if prefix.is_empty() {
+            key.get_ref().to_string()
+        } else {
+            format!("{prefix}.{}", key.get_ref())
+        };
+        let is_table = matches!(value.get_ref(), DeValue::Table(_));
+        if !tables_only || is_table {
+            for span in [key.span(), value.span()] {
+                consider(&span, &path, pos, best);
+            }
+        }
+        search_value(value, &path, pos, tables_only, best);
+    }
+}
+
+fn search_value(
+    value: &Spanned<DeValue<'_>>,
+    path: &str,
+    pos: usize,
+    tables_only: bool,
+    best: &mut Option<(usize, String)>,
+) {
+    match value.get_ref() {
+        DeValue::Table(table) => search_table(table, path, pos, tables_only, best),
+        DeValue::Array(items) => {
+            for (index, item) in items.iter().enumerate() {
+                let item_path = format!("{path}[{index}]");
+                if !tables_only || matches!(item.get_ref(), DeValue::Table(_)) {
+                    consider(&item.span(), &item_path, pos, best);
+                }
+                search_value(item, &item_path, pos, tables_only, best);
+            }
+        }
+        _ => {}
+    }
+}
+
+fn consider(
+    span: &std::ops::Range<usize>,
+    path: &str,
+    pos: usize,
+    best: &mut Option<(usize, String)>,
+) {
+    // An empty span (e.g. at the end of the input) contains its start.
+    let contains = span.contains(&pos) || (span.is_empty() && span.start == pos);
+    let len = span.end - span.start;
+    if contains && best.as_ref().is_none_or(|(best_len, _)| len <= *best_len) {
+        *best = Some((len, path.to_owned()));
+    }
+}
+
+/// Textual fallback: `header.key` for an error on a line `key = …` below a `[header]`.
+fn key_on_line(text: &str, pos: usize) -> Option<String> {
+    let pos = pos.min(text.len());
+    if !text.is_char_boundary(pos) {
+        return None;
+    }
+    let line_start = text[..pos].rfind('\n').map_or(0, |i| i + 1);
+    let line_end = text[pos..].find('\n').map_or(text.len(), |i| pos + i);
+    let line = &text[line_start..line_end];
+    let key = line.split_once('=')?.0.trim();
+    let is_key = |k: &str| {
+        !k.is_empty()
+            && k.chars()
+                .all(|c| c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.'))
+    };
+    if !is_key(key) {
+        return None;
+    }
+    let header = text[..line_start]
+        .lines()
+        .rev()
+        .find_map(|l| {
+            let inner = l.trim().strip_prefix('[')?.strip_suffix(']')?;
+            let inner = inner.trim_start_matches('[').trim_end_matches(']').trim();
+            is_key(inner).then_some(inner)
+        })
+        .unwrap_or("");
+    Some(if header.is_empty() {
+        key.to_owned()
+    } else {
+        format!("{header}.{key}")
+    })
+}
+
+// ---------------------------------------------------------------------------------------------
+// semantic checks
+
+type Checked = Result<(), ExperimentError>;
+
+/// Semantic validation of one parsed file; `path` is only used in error messages.
+struct Check<'p> {
+    path: &'p Path,
+}
+
+impl Check<'_> {
+    fn fail(&self, field: &str, expected: &str, found: impl ToString) -> ExperimentError {
+        ExperimentError::invalid(self.path, field, expected, found.to_string())
+    }
+
+    fn ensure(&self, ok: bool, field: &str, expected: &str, found: impl ToString) -> Checked {
+        if ok {
+            Ok(())
+        } else {
+            Err(self.fail(field, expected, found))
+        }
+    }
+
+    fn finite(&self, field: &str, value: f64) -> Checked {
+        self.ensure(value.is_finite(), field, "a finite number", value)
+    }
+
+    fn positive(&self, field: &str, value: f64) -> Checked {
+        self.ensure(
+            value.is_finite() && value > 0.0,
+            field,
+            "a finite number > 0",
+            value,
+        )
+    }
+
+    fn non_negative(&self, field: &str, value: f64) -> Checked {
+        self.ensure(
+            value.is_finite() && value >= 0.0,
+            field,
+            "a finite number ≥ 0",
+            value,
+        )
+    }
+
+    fn finite_all(&self, field: &str, values: &[f64]) -> Checked {
+        for (i, &v) in values.iter().enumerate() {
+            self.finite(&format!("{field}[{i}]"), v)?;
+        }
+        Ok(())
+    }
+
+    fn experiment(&self, spec: &ExperimentSpec) -> Checked {
+        self.identity(spec)?;
+        self.scene(&spec.scene)?;
+        self.study(&spec.study)?;
+        self.probes(&spec.probes, &spec.scene)?;
+        self.thesis(&spec.thesis, &spec.table)
+    }
+
+    /// Table id, section and title (Chapter IV numbering).
+    fn identity(&self, spec: &ExperimentSpec) -> Checked {
+        self.ensure(
+            table_number(&spec.table).is_some(),
+            "table",
+            &format!("a Chapter IV table id `IV.<n>` with 1 ≤ n ≤ {LAST_TABLE}"),
+            format!("`{}`", spec.table),
+        )?;
+        let stem = self
+            .path
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        self.ensure(
+            spec.table == stem,
+            "table",
+            &format!("the file name's table id `{stem}`"),
+            format!("`{}`", spec.table),
+        )?;
+        self.ensure(
+            spec.section.starts_with("IV.") && spec.section.len() > 3,
+            "section",
+            "a Chapter IV section such as `IV.1.1`",
+            format!("`{}`", spec.section),
+        )?;
+        self.ensure(
+            !spec.title.trim().is_empty(),
+            "title",
+            "a non-empty title",
+            "an empty string",
+        )
+    }
+
+    fn scene(&self, scene: &Scene) -> Checked {
+        self.ensure(
+            !scene.name.trim().is_empty(),
+            "scene.name",
+            "a non-empty descriptive name",
+            "an empty string",
+        )?;
+        let Rectangle { x, y } = scene.domain;
+        self.finite_all("scene.domain.x", &x)?;
+        self.finite_all("scene.domain.y", &y)?;
+        self.ensure(
+            x[0] < x[1],
+            "scene.domain.x",
+            "x0 < x1",
+            format!("[{}, {}]", x[0], x[1]),
+        )?;
+        self.ensure(
+            y[0] < y[1],
+            "scene.domain.y",
+            "y0 < y1",
+            format!("[{}, {}]", y[0], y[1]),
+        )?;
+        for (i, &n) in scene.coarse_cells.iter().enumerate() {
+            self.ensure(
+                n >= 1,
+                &format!("scene.coarse_cells[{i}]"),
+                "at least 1 cell",
+                n,
+            )?;
+        }
+        self.effects(scene)?;
+        if let Some(elasticity) = &scene.elasticity {
+            self.elasticity(elasticity)?;
+        }
+        if let Some(contact) = &scene.contact {
+            self.contact(contact, scene)?;
+        }
+        if let Some(reynolds) = &scene.reynolds {
+            self.reynolds(reynolds, &scene.domain)?;
+        }
+        Ok(())
+    }
+
+    /// The effect list and the data sections must agree: every effect needs its section, every
+    /// section its effect; contact is a boundary condition of elasticity (§IV.2), Reynolds flow
+    /// is a separate problem on its own domain (§IV.3).
+    fn effects(&self, scene: &Scene) -> Checked {
+        self.ensure(
+            !scene.effects.is_empty(),
+            "scene.effects",
+            "at least one of `elasticity`, `contact`, `reynolds`",
+            "an empty list",
+        )?;
+        let mut seen = BTreeSet::new();
+        for (i, effect) in scene.effects.iter().enumerate() {
+            self.ensure(
+                seen.insert(*effect),
+                &format!("scene.effects[{i}]"),
+                "each effect listed once",
+                format!("`{}` twice", effect_name(*effect)),
+            )?;
+        }
+        let has = |e| seen.contains(&e);
+        self.ensure(
+            !has(Effect::Contact) || has(Effect::Elasticity),
+            "scene.effects",
+            "`elasticity` alongside `contact` (contact constrains an elastic body)",
+            "`contact` without `elasticity`",
+        )?;
+        self.ensure(
+            !(has(Effect::Reynolds) && (has(Effect::Elasticity) || has(Effect::Contact))),
+            "scene.effects",
+            "`reynolds` alone (it cannot be combined with `elasticity` or `contact`)",
+            format!("{:?}", names(&scene.effects)),
+        )?;
+        let sections = [
+            (Effect::Elasticity, scene.elasticity.is_some(), "elasticity"),
+            (Effect::Contact, scene.contact.is_some(), "contact"),
+            (Effect::Reynolds, scene.reynolds.is_some(), "reynolds"),
+        ];
+        for (effect, present, name) in sections {
+            if has(effect) {
+                self.ensure(
+                    present,
+                    &format!("scene.{name}"),
+                    &format!("a [scene.{name}] section because scene.effects lists `{name}`"),
+                    "no such section",
+                )?;
+            } else {
+                self.ensure(
+                    !present,
+                    &format!("scene.{name}"),
+                    &format!("no [scene.{name}] section, or `{name}` in scene.effects"),
+                    format!("a [scene.{name}] section for an effect that is not listed"),
+                )?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Material and loads of (I.17) / (IV.1).
+    fn elasticity(&self, data: &ElasticityData) -> Checked {
+        const F: &str = "scene.elasticity";
+        self.positive(&format!("{F}.mu"), data.mu)?;
+        self.non_negative(&format!("{F}.lambda"), data.lambda)?;
+        self.unique_sides(&format!("{F}.dirichlet"), data.dirichlet.iter().copied())?;
+        if let Some(load) = &data.volume_load {
+            self.finite_all(&format!("{F}.volume_load.direction"), &load.direction)?;
+            self.profile(&format!("{F}.volume_load.profile"), &load.profile)?;
+        }
+        self.unique_sides(
+            &format!("{F}.tractions"),
+            data.tractions.iter().map(|t| t.side),
+        )?;
+        for (i, traction) in data.tractions.iter().enumerate() {
+            let field = format!("{F}.tractions[{i}]");
+            self.ensure(
+                !data.dirichlet.contains(&traction.side),
+                &format!("{field}.side"),
+                "a side that is not in scene.elasticity.dirichlet (Γ_τ and Γ₀ are disjoint)",
+                format!("`{}`", side_name(traction.side)),
+            )?;
+            self.finite_all(&format!("{field}.value"), &traction.value)?;
+        }
+        Ok(())
+    }
+
+    fn profile(&self, field: &str, profile: &Profile) -> Checked {
+        match *profile {
+            Profile::Constant { amplitude } => {
+                self.finite(&format!("{field}.amplitude"), amplitude)
+            }
+            Profile::Quadratic { amplitude, scale } => {
+                self.finite(&format!("{field}.amplitude"), amplitude)?;
+                self.positive(&format!("{field}.scale"), scale)
+            }
+            Profile::Step { amplitude, at } => {
+                self.finite(&format!("{field}.amplitude"), amplitude)?;
+                self.finite(&format!("{field}.at"), at)
+            }
+            Profile::Sine {
+                amplitude,
+                half_period,
+            } => {
+                self.finite(&format!("{field}.amplitude"), amplitude)?;
+                self.positive(&format!("{field}.half_period"), half_period)
+            }
+        }
+    }
+
+    /// Obstacles of §IV.2.1: on the bottom or top face only, one per face, disjoint from Γ₀ and
+    /// Γ_τ.
+    fn contact(&self, data: &ContactData, scene: &Scene) -> Checked {
+        const F: &str = "scene.contact.obstacles";
+        self.ensure(
+            !data.obstacles.is_empty(),
+            F,
+            "at least one obstacle",
+            "an empty list",
+        )?;
+        self.unique_sides(F, data.obstacles.iter().map(|o| o.side))?;
+        let (dirichlet, tractions) = match &scene.elasticity {
+            Some(e) => (e.dirichlet.as_slice(), e.tractions.as_slice()),
+            None => (&[][..], &[][..]),
+        };
+        for (i, obstacle) in data.obstacles.iter().enumerate() {
+            let field = format!("{F}[{i}]");
+            let side = obstacle.side;
+            self.ensure(
+                matches!(side, Side::Bottom | Side::Top),
+                &format!("{field}.side"),
+                "`bottom` or `top` (obstacles bound s₂ on a horizontal face)",
+                format!("`{}`", side_name(side)),
+            )?;
+            self.ensure(
+                !dirichlet.contains(&side),
+                &format!("{field}.side"),
+                "a side that is not in scene.elasticity.dirichlet (Γ_C and Γ₀ are disjoint)",
+                format!("`{}`", side_name(side)),
+            )?;
+            self.ensure(
+                !tractions.iter().any(|t| t.side == side),
+                &format!("{field}.side"),
+                "a side without a traction (Γ_τ = ∂Ω \\ (Γ₀ ∪ Γ_C))",
+                format!("`{}` also in scene.elasticity.tractions", side_name(side)),
+            )?;
+            self.obstacle_shape(&format!("{field}.shape"), &obstacle.shape)?;
+        }
+        Ok(())
+    }
+
+    fn obstacle_shape(&self, field: &str, shape: &ObstacleShape) -> Checked {
+        let f = |name: &str| format!("{field}.{name}");
+        match *shape {
+            ObstacleShape::Constant { level } => self.finite(&f("level"), level),
+            ObstacleShape::Periodic {
+                offset,
+                amplitude,
+                periods,
+            } => {
+                self.finite(&f("offset"), offset)?;
+                self.finite(&f("amplitude"), amplitude)?;
+                self.finite(&f("periods"), periods)
+            }
+            ObstacleShape::Jump {
+                base,
+                height,
+                at,
+                s,
+            } => {
+                self.finite(&f("base"), base)?;
+                self.finite(&f("height"), height)?;
+                self.finite(&f("at"), at)?;
+                self.positive(&f("s"), s)
+            }
+            ObstacleShape::Saw { s, .. } => self.positive(&f("s"), s),
+        }
+    }
+
+    /// Reynolds data of §IV.3, (IV.7)–(IV.20): the gap must stay open (g > 0) on the domain.
+    fn reynolds(&self, data: &ReynoldsData, domain: &Rectangle) -> Checked {
+        const F: &str = "scene.reynolds";
+        self.ensure(
+            !data.equation.trim().is_empty(),
+            &format!("{F}.equation"),
+            "the thesis equation of the example, e.g. `IV.7`",
+            "an empty string",
+        )?;
+        let gap = format!("{F}.gap");
+        let g = |name: &str| format!("{gap}.{name}");
+        match data.gap {
+            GapShape::Plain { g0 } => self.positive(&g("g0"), g0)?,
+            GapShape::Linear { g0, slope } => {
+                self.finite(&g("g0"), g0)?;
+                self.finite(&g("slope"), slope)?;
+                for x in domain.x {
+                    let width = g0 + slope * x;
+                    self.ensure(
+                        width > 0.0,
+                        &gap,
+                        "a positive gap g0 + slope·x₁ at both ends of scene.domain.x",
+                        format!("g = {width} at x₁ = {x}"),
+                    )?;
+                }
+            }
+            GapShape::WaveHorizontal {
+                g0,
+                amplitude,
+                frequency,
+            }
+            | GapShape::Hill {
+                g0,
+                amplitude,
+                frequency,
+            } => {
+                self.finite(&g("g0"), g0)?;
+                self.finite(&g("amplitude"), amplitude)?;
+                self.finite(&g("frequency"), frequency)?;
+                let min = g0 - amplitude.abs();
+                self.ensure(
+                    min > 0.0,
+                    &gap,
+                    "a positive gap everywhere, g0 − |amplitude| > 0",
+                    format!("g0 − |amplitude| = {min}"),
+                )?;
+            }
+        }
+        self.finite_all(
+            &format!("{F}.upper_wall_velocity"),
+            &data.upper_wall_velocity,
+        )?;
+        self.finite(&format!("{F}.boundary_pressure"), data.boundary_pressure)
+    }
+
+    /// Fixed-fraction grid adaptivity (§IV.1: refine 30 %, coarsen 3 %) and the printed cycles.
+    fn study(&self, study: &Study) -> Checked {
+        self.ensure(study.rows >= 1, "study.rows", "at least 1", study.rows)?;
+        self.ensure(
+            study.quick_rows >= 1,
+            "study.quick_rows",
+            "at least 1",
+            study.quick_rows,
+        )?;
+        self.ensure(
+            study.quick_rows <= study.rows,
+            "study.quick_rows",
+            &format!("at most study.rows ({})", study.rows),
+            study.quick_rows,
+        )?;
+        self.non_negative("study.coarsen_fraction", study.coarsen_fraction)?;
+        self.positive("study.refine_fraction", study.refine_fraction)?;
+        let total = study.refine_fraction + study.coarsen_fraction;
+        self.ensure(
+            total <= 1.0,
+            "study.refine_fraction",
+            "refine_fraction + coarsen_fraction ≤ 1",
+            format!(
+                "{} + {} = {total}",
+                study.refine_fraction, study.coarsen_fraction
+            ),
+        )?;
+        let [first, last] = study.convergence_window;
+        self.ensure(
+            first <= last,
+            "study.convergence_window",
+            "[first, last] with first ≤ last",
+            format!("[{first}, {last}]"),
+        )?;
+        self.ensure(
+            last < study.rows,
+            "study.convergence_window[1]",
+            &format!(
+                "a printed cycle, at most study.rows − 1 ({})",
+                study.rows - 1
+            ),
+            last,
+        )
+    }
+
+    /// Probe points inside the domain; components that the scene's effects compute.
+    fn probes(&self, probes: &Probes, scene: &Scene) -> Checked {
+        let Rectangle { x, y } = scene.domain;
+        for (name, values, [lo, hi]) in [("x", &probes.x, x), ("y", &probes.y, y)] {
+            for (i, &v) in values.iter().enumerate() {
+                self.ensure(
+                    v.is_finite() && lo <= v && v <= hi,
+                    &format!("probes.{name}[{i}]"),
+                    &format!("a point of scene.domain.{name} = [{lo}, {hi}]"),
+                    v,
+                )?;
+            }
+        }
+        let elastic = scene.effects.contains(&Effect::Elasticity);
+        let fluid = scene.effects.contains(&Effect::Reynolds);
+        let allowed: &[&str] = match (elastic, fluid) {
+            (true, _) => &["s1", "s2"],
+            (false, true) => &["psi"],
+            (false, false) => &[],
+        };
+        let expected = if allowed.is_empty() {
+            "no components (the scene computes no field)".to_owned()
+        } else {
+            format!(
+                "one of {} (the fields of scene.effects {:?})",
+                allowed
+                    .iter()
+                    .map(|c| format!("`{c}`"))
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                names(&scene.effects)
+            )
+        };
+        let mut seen = BTreeSet::new();
+        for (i, component) in probes.components.iter().enumerate() {
+            let field = format!("probes.components[{i}]");
+            self.ensure(
+                allowed.contains(&component.as_str()),
+                &field,
+                &expected,
+                format!("`{component}`"),
+            )?;
+            self.ensure(
+                seen.insert(component.as_str()),
+                &field,
+                "each component listed once",
+                format!("`{component}` twice"),
+            )?;
+        }
+        Ok(())
+    }
+
+    /// The printed table: `cycle` first, rectangular, cycles 0, 1, 2, … in order.
+    fn thesis(&self, thesis: &ThesisRows, table: &str) -> Checked {
+        let columns = &thesis.columns;
+        self.ensure(
+            columns.first().is_some_and(|c| c == "cycle"),
+            "thesis.columns[0]",
+            "`cycle`",
+            columns
+                .first()
+                .map_or("an empty list".to_owned(), |c| format!("`{c}`")),
+        )?;
+        let mut seen = BTreeSet::new();
+        for (i, column) in columns.iter().enumerate() {
+            self.ensure(
+                seen.insert(column.as_str()),
+                &format!("thesis.columns[{i}]"),
+                "each column named once",
+                format!("`{column}` twice"),
+            )?;
+        }
+        self.ensure(
+            !thesis.rows.is_empty(),
+            "thesis.rows",
+            "at least one printed row",
+            "an empty list",
+        )?;
+        for (i, row) in thesis.rows.iter().enumerate() {
+            let field = format!("thesis.rows[{i}]");
+            self.ensure(
+                row.len() == columns.len(),
+                &field,
+                &format!("{} values, one per thesis.columns entry", columns.len()),
+                format!("{} values", row.len()),
+            )?;
+            self.ensure(
+                row[0] == i as f64,
+                &format!("{field}[0]"),
+                &format!("cycle {i} (cycles are 0, 1, 2, … in order)"),
+                row[0],
+            )?;
+        }
+        if let Some(original) = &thesis.duplicate_of {
+            self.ensure(
+                table_number(original).is_some() && original != table,
+                "thesis.duplicate_of",
+                "the id of another Chapter IV table, e.g. `IV.13`",
+                format!("`{original}`"),
+            )?;
+        }
+        Ok(())
+    }
+
+    fn unique_sides(&self, field: &str, sides: impl Iterator<Item = Side>) -> Checked {
+        let mut seen = BTreeSet::new();
+        for (i, side) in sides.enumerate() {
+            self.ensure(
+                seen.insert(side),
+                &format!("{field}[{i}]"),
+                "each side listed once",
+                format!("`{}` twice", side_name(side)),
+            )?;
+        }
+        Ok(())
+    }
+}
+
+fn side_name(side: Side) -> &'static str {
+    match side {
+        Side::Left => "left",
+        Side::Right => "right",
+        Side::Bottom => "bottom",
+        Side::Top => "top",
+    }
+}
+
+fn effect_name(effect: Effect) -> &'static str {
+    match effect {
+        Effect::Elasticity => "elasticity",
+        Effect::Contact => "contact",
+        Effect::Reynolds => "reynolds",
+    }
+}
+
+fn names(effects: &[Effect]) -> Vec<&'static str> {
+    effects.iter().map(|&e| effect_name(e)).collect()
+}

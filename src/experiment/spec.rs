@@ -1,0 +1,305 @@
+//! The experiment file format: one TOML file per Chapter IV table in `experiments/`.
+//!
+//! An experiment is a *scene* (domain, coarse mesh, data, and the effects to simulate), a *study*
+//! (how to iterate: grid-adaptive cycles, marking fractions, quick tier, convergence window) and
+//! the thesis rows for comparison (reference data only — never copied into an output).
+//!
+//! The types here only describe the file; [`super::load`] parses and validates it and reports
+//! errors naming the file, the field and what was expected.
+
+use serde::Deserialize;
+
+/// One experiment file (`experiments/IV.n.toml`).
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ExperimentSpec {
+    /// Table id, `IV.1` … `IV.75`.
+    pub table: String,
+    /// Thesis section, e.g. `IV.1.1`.
+    pub section: String,
+    /// Human-readable title for the report.
+    pub title: String,
+    pub scene: Scene,
+    pub study: Study,
+    #[serde(default)]
+    pub probes: Probes,
+    /// Readings of the thesis and known differences, shown in the report for this table.
+    #[serde(default)]
+    pub notes: Vec<String>,
+    pub thesis: ThesisRows,
+}
+
+/// An effect a scene asks the pipeline to simulate. Only the named effects are built.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq, PartialOrd, Ord)]
+#[serde(rename_all = "kebab-case")]
+pub enum Effect {
+    /// Linear elasticity (I.17).
+    Elasticity,
+    /// Contact with a rigid obstacle (z-contact (I.20) or Signorini (I.21)); needs `elasticity`.
+    Contact,
+    /// Reynolds thin-film flow (I.77)/(I.79).
+    Reynolds,
+}
+
+/// Domain, coarse mesh, data and effects.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    /// Descriptive scene name, e.g. `box-constant-load`, `wave-horizontal-squeeze`.
+    pub name: String,
+    /// Rectangle `[x0, x1] × [y0, y1]`.
+    pub domain: Rectangle,
+    /// Number of coarse cells in x and y (the level-0 quadtree roots).
+    pub coarse_cells: [usize; 2],
+    pub effects: Vec<Effect>,
+    pub elasticity: Option<ElasticityData>,
+    pub contact: Option<ContactData>,
+    pub reynolds: Option<ReynoldsData>,
+}
+
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Rectangle {
+    pub x: [f64; 2],
+    pub y: [f64; 2],
+}
+
+/// A side of the rectangular domain.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq, PartialOrd, Ord, Hash)]
+#[serde(rename_all = "kebab-case")]
+pub enum Side {
+    Left,
+    Right,
+    Bottom,
+    Top,
+}
+
+/// Material and loads of the elasticity problem (I.17) with a(s,r) = 2μ⟨ε,ε⟩ + 2λ⟨div,div⟩.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ElasticityData {
+    pub mu: f64,
+    pub lambda: f64,
+    /// Sides in Γ₀ (s = 0).
+    pub dirichlet: Vec<Side>,
+    /// Volume load ρf = direction · profile(x₁).
+    pub volume_load: Option<VolumeLoad>,
+    /// Surface stress τn on whole sides (Neumann data); sides not listed and not Dirichlet are
+    /// traction-free.
+    #[serde(default)]
+    pub tractions: Vec<Traction>,
+}
+
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct VolumeLoad {
+    pub direction: [f64; 2],
+    pub profile: Profile,
+}
+
+/// A scalar profile of x₁ (the loads of §IV.1.1–IV.1.5 and §IV.2.1).
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
+#[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum Profile {
+    /// a
+    Constant { amplitude: f64 },
+    /// a · (x₁ / scale)²
+    Quadratic { amplitude: f64, scale: f64 },
+    /// a for x₁ > at, 0 otherwise
+    Step { amplitude: f64, at: f64 },
+    /// a · sin(π x₁ / half_period)
+    Sine { amplitude: f64, half_period: f64 },
+}
+
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Traction {
+    pub side: Side,
+    pub value: [f64; 2],
+}
+
+/// Which contact projection a face uses.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum ContactModel {
+    /// Fixed-direction projection (I.20).
+    Z,
+    /// Signorini projection (I.21), linearised per cycle about the previous solution (§IV.2.2).
+    Signorini,
+}
+
+/// The term set of the contact estimator (Theorem III.15) that the thesis's codes evidently used
+/// (spec/estimators.md §5.2).
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum ContactEstimator {
+    /// Cell residual, ½ interior jumps, full Neumann residual, ‖∇(n·s_h)‖² on all Γ_C faces.
+    ZCode,
+    /// Cell residual and ½ interior jumps only, η_C on contact cells (Σ_p1).
+    SignoriniCode,
+}
+
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ContactData {
+    pub model: ContactModel,
+    pub estimator: ContactEstimator,
+    /// One obstacle per contact side: `bottom` means s₂ ≥ b(x₁) on x₂ = y0 (n = −e₂),
+    /// `top` means s₂ ≤ b(x₁) on x₂ = y1 (n = +e₂).
+    pub obstacles: Vec<Obstacle>,
+}
+
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Obstacle {
+    pub side: Side,
+    pub shape: ObstacleShape,
+}
+
+/// How to read the saw obstacle of §IV.2.1.6.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum SawReading {
+    /// The continuous saw through (−4,0), (−2,−1), (1,0), (5,2), (6,0) that the printed slopes encode.
+    #[default]
+    Continuous,
+    /// The literal printed formula, with jumps at x₁ = −2 and 5.
+    Literal,
+}
+
+/// Obstacle b(x₁) as a displacement bound (§IV.2.1, θ_s of (IV.3)).
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
+#[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum ObstacleShape {
+    /// b = level
+    Constant { level: f64 },
+    /// b = offset + amplitude · sin(periods · 2π (x₁ + 16) / 32)
+    Periodic {
+        offset: f64,
+        amplitude: f64,
+        periods: f64,
+    },
+    /// b = base + height · θ_s(x₁ − at)
+    Jump {
+        base: f64,
+        height: f64,
+        at: f64,
+        s: f64,
+    },
+    /// The saw obstacle of §IV.2.1.6 built from θ_s pieces.
+    Saw {
+        s: f64,
+        #[serde(default)]
+        reading: SawReading,
+    },
+}
+
+/// Whether the Reynolds cavitation model (I.82) is used.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum Cavitation {
+    Off,
+    On,
+    /// Solve without cavitation first; switch it on only when ψ drops below zero.
+    Auto,
+}
+
+/// Which γ₃c to use in R₃c (spec/models.md §15 item 9).
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum CavitationSource {
+    /// γ₃c as printed in (I.61).
+    #[default]
+    Printed,
+    /// The self-consistent reading 2γ₃ − γ₃c.
+    SelfConsistent,
+}
+
+/// Gap width g(x₁, x₂) of the fluid examples (IV.7)–(IV.20), lower wall z₀ = 0.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
+#[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum GapShape {
+    /// g = g0
+    Plain { g0: f64 },
+    /// g = g0 + slope · x₁
+    Linear { g0: f64, slope: f64 },
+    /// g = g0 + amplitude · sin(2π · frequency · x₁)
+    WaveHorizontal {
+        g0: f64,
+        amplitude: f64,
+        frequency: f64,
+    },
+    /// g = g0 + amplitude · sin²(2π · frequency · x₁) · sin²(2π · frequency · x₂)
+    Hill {
+        g0: f64,
+        amplitude: f64,
+        frequency: f64,
+    },
+}
+
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ReynoldsData {
+    /// Thesis equation of the example, e.g. `IV.7` (for the report only).
+    pub equation: String,
+    pub gap: GapShape,
+    /// Constant upper-wall velocity δv = v(z₁) (lower wall at rest).
+    pub upper_wall_velocity: [f64; 3],
+    /// ψ₀ on ∂Ω₂.
+    pub boundary_pressure: f64,
+    pub cavitation: Cavitation,
+    #[serde(default)]
+    pub cavitation_source: CavitationSource,
+}
+
+/// How to iterate.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum StudyKind {
+    /// solve → estimate → mark (fixed number) → refine, one printed row per cycle.
+    GridAdaptive,
+}
+
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Study {
+    pub kind: StudyKind,
+    /// Number of printed rows (cycles 0 … rows−1).
+    pub rows: usize,
+    /// Number of printed rows in the quick (test) tier.
+    pub quick_rows: usize,
+    /// Solves on coarser meshes that the thesis did not print (1 for the fluid tables, whose
+    /// row 0 is already the once-refined mesh).
+    #[serde(default)]
+    pub unprinted_cycles: usize,
+    pub refine_fraction: f64,
+    pub coarsen_fraction: f64,
+    /// Printed cycles `[first, last]` (inclusive) where the convergence rule applies.
+    pub convergence_window: [usize; 2],
+}
+
+/// Where to record solution values after the last cycle.
+#[derive(Clone, Debug, Deserialize, PartialEq, Default)]
+#[serde(deny_unknown_fields)]
+pub struct Probes {
+    #[serde(default)]
+    pub x: Vec<f64>,
+    #[serde(default)]
+    pub y: Vec<f64>,
+    /// `s1`, `s2` or `psi`.
+    #[serde(default)]
+    pub components: Vec<String>,
+}
+
+/// The printed thesis table (reference data only).
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ThesisRows {
+    /// Column names as in `tables.csv`, the first is always `cycle`.
+    pub columns: Vec<String>,
+    /// One row per printed cycle; `inf` where the thesis prints inf, `nan` where it prints nan.
+    pub rows: Vec<Vec<f64>>,
+    /// Set when the printed table is known to be a copy of another (e.g. IV.17 = IV.13).
+    #[serde(default)]
+    pub duplicate_of: Option<String>,
+}

@@ -1,0 +1,185 @@
+//! Vertices of the active mesh, hanging vertices, and the numbering of Q₁ degrees of freedom.
+//!
+//! Vertices are numbered by their integer position (x first, then y), which is deterministic
+//! and independent of the thread count. Every vertex carries `n_components` dofs numbered
+//! `vertex · n_components + component`. Hanging vertices keep their dofs (the thesis counts them,
+//! as deal.II's `n_dofs()` does); their values follow from the two end points of the coarse edge.
+
+use rayon::prelude::*;
+
+use crate::experiment::Side;
+use crate::mesh::{Mesh, Neighbor, FACES};
+
+/// A vertex in the middle of a coarse cell's edge: value = ½(parent₀ + parent₁).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Hanging {
+    pub vertex: u32,
+    pub parents: [u32; 2],
+}
+
+/// Vertices of the active cells of a mesh.
+#[derive(Clone, Debug)]
+pub struct Vertices {
+    /// Integer positions, sorted.
+    pub keys: Vec<(u32, u32)>,
+    /// Physical positions.
+    pub coords: Vec<[f64; 2]>,
+    /// Four vertex numbers per active cell (lexicographic corners), indexed like `mesh.active()`.
+    pub cell_vertices: Vec<[u32; 4]>,
+    /// Hanging vertices, sorted by vertex number.
+    pub hanging: Vec<Hanging>,
+    /// `true` for hanging vertices.
+    pub is_hanging: Vec<bool>,
+    extent: (u64, u64),
+}
+
+impl Vertices {
+    pub fn new(mesh: &Mesh) -> Vertices {
+        let active = mesh.active();
+        let mut keys: Vec<u64> = active
+            .par_iter()
+            .flat_map_iter(|&c| mesh.corner_keys(c).into_iter().map(pack))
+            .collect();
+        keys.par_sort_unstable();
+        keys.dedup();
+        let cell_vertices: Vec<[u32; 4]> = active
+            .par_iter()
+            .map(|&c| {
+                mesh.corner_keys(c)
+                    .map(|k| keys.binary_search(&pack(k)).expect("corner is a vertex") as u32)
+            })
+            .collect();
+        let lookup = |k: (u32, u32)| keys.binary_search(&pack(k)).ok().map(|v| v as u32);
+        let mut hanging: Vec<Hanging> = active
+            .par_iter()
+            .enumerate()
+            .flat_map_iter(|(k, &c)| {
+                let cv = cell_vertices[k];
+                let corners = mesh.corner_keys(c);
+                FACES
+                    .into_iter()
+                    .filter_map(move |f| match mesh.neighbor(c, f) {
+                        Neighbor::Finer(_) => {
+                            let [a, b] = f.vertices();
+                            let mid = (
+                                (corners[a].0 + corners[b].0) / 2,
+                                (corners[a].1 + corners[b].1) / 2,
+                            );
+                            Some((mid, [cv[a], cv[b]]))
+                        }
+                        _ => None,
+                    })
+            })
+            .map(|(mid, parents)| Hanging {
+                vertex: lookup(mid).expect("hanging vertex exists"),
+                parents,
+            })
+            .collect();
+        hanging.par_sort_unstable_by_key(|h| h.vertex);
+        let mut is_hanging = vec![false; keys.len()];
+        for h in &hanging {
+            is_hanging[h.vertex as usize] = true;
+        }
+        let coords = keys.par_iter().map(|&k| mesh.point(unpack(k))).collect();
+        Vertices {
+            keys: keys.into_iter().map(unpack).collect(),
+            coords,
+            cell_vertices,
+            hanging,
+            is_hanging,
+            extent: mesh.extent(),
+        }
+    }
+
+    pub fn len(&self) -> usize {
+        self.keys.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.keys.is_empty()
+    }
+
+    /// Whether vertex `v` lies on a side of the domain.
+    pub fn on_side(&self, v: u32, side: Side) -> bool {
+        let (x, y) = self.keys[v as usize];
+        match side {
+            Side::Left => x == 0,
+            Side::Right => x as u64 == self.extent.0,
+            Side::Bottom => y == 0,
+            Side::Top => y as u64 == self.extent.1,
+        }
+    }
+
+    /// Vertices on a side, sorted along it.
+    pub fn side_vertices(&self, side: Side) -> Vec<u32> {
+        let mut v: Vec<u32> = (0..self.len() as u32)
+            .filter(|&v| self.on_side(v, side))
+            .collect();
+        match side {
+            Side::Left | Side::Right => v.sort_by_key(|&v| self.keys[v as usize].1),
+            Side::Bottom | Side::Top => v.sort_by_key(|&v| self.keys[v as usize].0),
+        }
+        v
+    }
+}
+
+fn pack(k: (u32, u32)) -> u64 {
+    ((k.0 as u64) << 32) | k.1 as u64
+}
+
+fn unpack(k: u64) -> (u32, u32) {
+    ((k >> 32) as u32, k as u32)
+}
+
+/// Degrees of freedom: `n_components` per vertex.
+#[derive(Clone, Debug)]
+pub struct DofMap {
+    pub vertices: Vertices,
+    pub n_components: usize,
+}
+
+impl DofMap {
+    pub fn new(mesh: &Mesh, n_components: usize) -> DofMap {
+        DofMap {
+            vertices: Vertices::new(mesh),
+            n_components,
+        }
+    }
+
+    /// Number of dofs, hanging and Dirichlet dofs included.
+    pub fn n_dofs(&self) -> usize {
+        self.vertices.len() * self.n_components
+    }
+
+    #[inline]
+    pub fn dof(&self, vertex: u32, component: usize) -> usize {
+        vertex as usize * self.n_components + component
+    }
+
+    /// Local dofs of an active cell (index into `mesh.active()`), vertex-major:
+    /// local `vertex · n_components + component`.
+    pub fn cell_dofs(&self, k: usize) -> impl Iterator<Item = usize> + '_ {
+        let nc = self.n_components;
+        self.vertices.cell_vertices[k]
+            .into_iter()
+            .flat_map(move |v| (0..nc).map(move |c| v as usize * nc + c))
+    }
+
+    /// Corner values of component `c` of the field `u` on active cell `k`.
+    #[inline]
+    pub fn corner_values(&self, u: &[f64], k: usize, c: usize) -> [f64; 4] {
+        self.vertices.cell_vertices[k].map(|v| u[v as usize * self.n_components + c])
+    }
+
+    /// Set hanging dofs to the mean of their parents (distribute the hanging-node constraints).
+    pub fn distribute_hanging(&self, u: &mut [f64]) {
+        let nc = self.n_components;
+        for h in &self.vertices.hanging {
+            for c in 0..nc {
+                let a = u[h.parents[0] as usize * nc + c];
+                let b = u[h.parents[1] as usize * nc + c];
+                u[h.vertex as usize * nc + c] = 0.5 * (a + b);
+            }
+        }
+    }
+}

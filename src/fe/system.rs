@@ -1,0 +1,327 @@
+//! Sparse symmetric systems of Q₁ problems: sparsity pattern with hanging dofs condensed,
+//! deterministic parallel assembly, fixed dofs (Dirichlet, hanging, active contact or cavitation
+//! constraints) and the sparse Cholesky solve with faer.
+//!
+//! Constrained rows keep their diagonal entry, so the sparsity pattern — and with it the symbolic
+//! factorisation — stays the same while only the set of fixed dofs changes (as in deal.II): an
+//! active-set iteration costs one numeric factorisation.
+
+use faer::linalg::solvers::Solve;
+use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use faer::{MatMut, Side};
+use rayon::prelude::*;
+
+use super::dofs::DofMap;
+
+/// Why a linear solve failed.
+#[derive(Debug, thiserror::Error, Clone, PartialEq)]
+pub enum SolveError {
+    #[error("sparse Cholesky factorisation failed ({0}); the system is not symmetric positive definite — check the boundary conditions")]
+    Factorisation(String),
+    #[error("the solution contains a non-finite value at dof {0}")]
+    NonFinite(usize),
+    #[error("the right-hand side contains a non-finite value at dof {0}")]
+    NonFiniteData(usize),
+}
+
+/// One local dof of a cell expanded to a global dof with weight 2^(−wexp)
+/// (hanging dofs expand to their two parents with weight ½).
+#[derive(Clone, Copy, Debug)]
+struct Expanded {
+    global: u32,
+    local: u8,
+    wexp: u8,
+}
+
+#[derive(Clone, Copy, Debug)]
+struct MatEntry {
+    pos: u32,
+    lij: u16,
+    wexp: u8,
+}
+
+/// Symmetric sparsity pattern over all dofs (full storage, compressed columns) and the plan to
+/// scatter cell matrices into it.
+pub struct SparseSystem {
+    n: usize,
+    n_local: usize,
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
+    /// Position of the mirrored entry (j,i) of entry (i,j).
+    mirror: Vec<u32>,
+    diag: Vec<usize>,
+    cell_start: Vec<usize>,
+    entries: Vec<MatEntry>,
+    rhs_start: Vec<usize>,
+    rhs_entries: Vec<Expanded>,
+    symbolic: Option<SymbolicLlt<usize>>,
+}
+
+impl SparseSystem {
+    /// Pattern of a Q₁ problem on `dofs`: every pair of dofs that share a cell (after
+    /// expanding hanging dofs) plus every diagonal entry.
+    pub fn new(dofs: &DofMap) -> SparseSystem {
+        let n = dofs.n_dofs();
+        let nc = dofs.n_components;
+        let n_local = 4 * nc;
+        let v = &dofs.vertices;
+        let hang = |vert: u32| -> Option<[u32; 2]> {
+            if v.is_hanging[vert as usize] {
+                let i = v
+                    .hanging
+                    .binary_search_by_key(&vert, |h| h.vertex)
+                    .expect("hanging");
+                Some(v.hanging[i].parents)
+            } else {
+                None
+            }
+        };
+        let expanded: Vec<Vec<Expanded>> = (0..v.cell_vertices.len())
+            .into_par_iter()
+            .map(|k| {
+                let mut e = Vec::with_capacity(n_local + 4);
+                for (lv, &vert) in v.cell_vertices[k].iter().enumerate() {
+                    for c in 0..nc {
+                        let local = (lv * nc + c) as u8;
+                        match hang(vert) {
+                            None => e.push(Expanded {
+                                global: (vert as usize * nc + c) as u32,
+                                local,
+                                wexp: 0,
+                            }),
+                            Some(p) => {
+                                for q in p {
+                                    e.push(Expanded {
+                                        global: (q as usize * nc + c) as u32,
+                                        local,
+                                        wexp: 1,
+                                    });
+                                }
+                            }
+                        }
+                    }
+                }
+                e
+            })
+            .collect();
+        // Column-major keys (j << 32 | i).
+        let mut keys: Vec<u64> = expanded
+            .par_iter()
+            .flat_map_iter(|e| {
+                e.iter().flat_map(move |a| {
+                    e.iter()
+                        .map(move |b| ((b.global as u64) << 32) | a.global as u64)
+                })
+            })
+            .chain((0..n as u64).into_par_iter().map(|i| (i << 32) | i))
+            .collect();
+        keys.par_sort_unstable();
+        keys.dedup();
+        let nnz = keys.len();
+        let mut col_ptr = vec![0usize; n + 1];
+        for &k in &keys {
+            col_ptr[(k >> 32) as usize + 1] += 1;
+        }
+        for j in 0..n {
+            col_ptr[j + 1] += col_ptr[j];
+        }
+        let row_idx: Vec<usize> = keys
+            .par_iter()
+            .map(|&k| (k & 0xffff_ffff) as usize)
+            .collect();
+        drop(keys);
+        let find = |i: usize, j: usize| -> usize {
+            let col = &row_idx[col_ptr[j]..col_ptr[j + 1]];
+            col_ptr[j] + col.binary_search(&i).expect("entry in pattern")
+        };
+        let diag: Vec<usize> = (0..n).into_par_iter().map(|i| find(i, i)).collect();
+        let mirror: Vec<u32> = (0..n)
+            .into_par_iter()
+            .flat_map_iter(|j| {
+                let row_idx = &row_idx;
+                (col_ptr[j]..col_ptr[j + 1]).map(move |p| (row_idx[p], j))
+            })
+            .map(|(i, j)| find(j, i) as u32)
+            .collect();
+        assert!(
+            nnz < u32::MAX as usize,
+            "matrix too large for 32-bit positions"
+        );
+        let per_cell: Vec<Vec<MatEntry>> = expanded
+            .par_iter()
+            .map(|e| {
+                let mut out = Vec::with_capacity(e.len() * e.len());
+                for a in e {
+                    for b in e {
+                        out.push(MatEntry {
+                            pos: find(a.global as usize, b.global as usize) as u32,
+                            lij: (a.local as usize * n_local + b.local as usize) as u16,
+                            wexp: a.wexp + b.wexp,
+                        });
+                    }
+                }
+                out
+            })
+            .collect();
+        let mut cell_start = Vec::with_capacity(per_cell.len() + 1);
+        let mut rhs_start = Vec::with_capacity(per_cell.len() + 1);
+        cell_start.push(0);
+        rhs_start.push(0);
+        for (m, e) in per_cell.iter().zip(&expanded) {
+            cell_start.push(cell_start.last().unwrap() + m.len());
+            rhs_start.push(rhs_start.last().unwrap() + e.len());
+        }
+        let entries = per_cell.concat();
+        let rhs_entries = expanded.concat();
+        SparseSystem {
+            n,
+            n_local,
+            col_ptr,
+            row_idx,
+            mirror,
+            diag,
+            cell_start,
+            entries,
+            rhs_start,
+            rhs_entries,
+            symbolic: None,
+        }
+    }
+
+    pub fn n(&self) -> usize {
+        self.n
+    }
+
+    pub fn nnz(&self) -> usize {
+        self.row_idx.len()
+    }
+
+    /// Assemble cell matrices and vectors. `cell(k, ke, fe)` fills the `n_local × n_local`
+    /// matrix (row-major) and the `n_local` vector of active cell `k`; it runs in parallel,
+    /// the summation into the global system runs in cell order (bitwise deterministic).
+    pub fn assemble<F>(&self, n_cells: usize, cell: F) -> (Vec<f64>, Vec<f64>)
+    where
+        F: Fn(usize, &mut [f64], &mut [f64]) + Sync,
+    {
+        let nl = self.n_local;
+        let mut ke = vec![0.0; n_cells * nl * nl];
+        let mut fe = vec![0.0; n_cells * nl];
+        ke.par_chunks_mut(nl * nl)
+            .zip(fe.par_chunks_mut(nl))
+            .enumerate()
+            .for_each(|(k, (m, f))| cell(k, m, f));
+        let mut values = vec![0.0; self.nnz()];
+        let mut rhs = vec![0.0; self.n];
+        for k in 0..n_cells {
+            let m = &ke[k * nl * nl..(k + 1) * nl * nl];
+            for e in &self.entries[self.cell_start[k]..self.cell_start[k + 1]] {
+                values[e.pos as usize] += m[e.lij as usize] * weight(e.wexp);
+            }
+            let f = &fe[k * nl..(k + 1) * nl];
+            for e in &self.rhs_entries[self.rhs_start[k]..self.rhs_start[k + 1]] {
+                rhs[e.global as usize] += f[e.local as usize] * weight(e.wexp);
+            }
+        }
+        (values, rhs)
+    }
+
+    /// y = A x for assembled (unconstrained) values.
+    pub fn multiply(&self, values: &[f64], x: &[f64]) -> Vec<f64> {
+        // Symmetric: row i of A = column i.
+        (0..self.n)
+            .into_par_iter()
+            .map(|i| {
+                (self.col_ptr[i]..self.col_ptr[i + 1])
+                    .map(|p| values[p] * x[self.row_idx[p]])
+                    .sum()
+            })
+            .collect()
+    }
+
+    /// Diagonal of the assembled matrix.
+    pub fn diagonal(&self, values: &[f64]) -> Vec<f64> {
+        self.diag.iter().map(|&p| values[p]).collect()
+    }
+
+    /// Solve A u = f where the dofs in `fixed` take the given values (Dirichlet data, hanging
+    /// dofs, active constraints); `is_fixed` flags the same dofs. Rows and columns of fixed dofs
+    /// are eliminated keeping a scaled diagonal entry, so the pattern and the symbolic
+    /// factorisation are reused between calls.
+    pub fn solve_fixed(
+        &mut self,
+        values: &[f64],
+        rhs: &[f64],
+        fixed: &[(usize, f64)],
+    ) -> Result<Vec<f64>, SolveError> {
+        if let Some(i) = rhs.iter().position(|v| !v.is_finite()) {
+            return Err(SolveError::NonFiniteData(i));
+        }
+        let mut a = values.to_vec();
+        let mut b = rhs.to_vec();
+        let mut is_fixed = vec![false; self.n];
+        for &(d, _) in fixed {
+            is_fixed[d] = true;
+        }
+        // Diagonal scale of the free rows, for conditioning of the eliminated rows.
+        let (sum, count) = (0..self.n)
+            .filter(|&i| !is_fixed[i])
+            .fold((0.0, 0usize), |(s, c), i| {
+                (s + values[self.diag[i]].abs(), c + 1)
+            });
+        let scale = if count > 0 && sum > 0.0 {
+            sum / count as f64
+        } else {
+            1.0
+        };
+        for &(d, val) in fixed {
+            for p in self.col_ptr[d]..self.col_ptr[d + 1] {
+                let i = self.row_idx[p];
+                if !is_fixed[i] {
+                    b[i] -= a[p] * val;
+                }
+                a[p] = 0.0;
+                a[self.mirror[p] as usize] = 0.0;
+            }
+        }
+        for &(d, val) in fixed {
+            a[self.diag[d]] = scale;
+            b[d] = scale * val;
+        }
+        if self.symbolic.is_none() {
+            let sym = self.symbolic_ref();
+            self.symbolic = Some(
+                SymbolicLlt::try_new(sym, Side::Lower)
+                    .map_err(|e| SolveError::Factorisation(format!("{e:?}")))?,
+            );
+        }
+        let sym = self.symbolic_ref();
+        let mat = SparseColMatRef::new(sym, &a);
+        let llt =
+            Llt::try_new_with_symbolic(self.symbolic.clone().expect("symbolic"), mat, Side::Lower)
+                .map_err(|e| SolveError::Factorisation(format!("{e:?}")))?;
+        let mut x = b;
+        llt.solve_in_place(MatMut::from_column_major_slice_mut(&mut x, self.n, 1));
+        if let Some(i) = x.iter().position(|v| !v.is_finite()) {
+            return Err(SolveError::NonFinite(i));
+        }
+        for &(d, val) in fixed {
+            x[d] = val;
+        }
+        Ok(x)
+    }
+
+    fn symbolic_ref(&self) -> SymbolicSparseColMatRef<'_, usize> {
+        SymbolicSparseColMatRef::new_checked(self.n, self.n, &self.col_ptr, None, &self.row_idx)
+    }
+}
+
+#[inline]
+fn weight(wexp: u8) -> f64 {
+    match wexp {
+        0 => 1.0,
+        1 => 0.5,
+        2 => 0.25,
+        w => 0.5f64.powi(w as i32),
+    }
+}

@@ -1,0 +1,18 @@
+//! tribo — regenerates the results of Chapter IV of F. Gimbel, *Modelling and Numerical
+//! Simulation of Contact and Lubrication* (Siegen, 2012).
+//!
+//! The pipeline of one experiment (DESIGN.md): [`experiment`] file → [`mesh::Mesh`] →
+//! [`fe::DofMap`] and constraints → assembly and solve ([`fe::SparseSystem`], [`models`]) →
+//! estimate ([`estimators`]) → [`adaptivity`] (mark, refine) → [`results::RunResult`] →
+//! golden snapshot (tests) and [`report`].
+
+pub mod adaptivity;
+pub mod estimators;
+pub mod experiment;
+pub mod fe;
+pub mod mesh;
+pub mod models;
+pub mod report;
+pub mod results;
+pub mod study;
+pub mod thesis;

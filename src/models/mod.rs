@@ -1,0 +1,5 @@
+//! The models of Chapters I–II: elasticity, contact obstacles, thin-film data.
+
+pub mod elasticity;
+pub mod obstacle;
+pub mod thin_film;

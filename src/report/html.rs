@@ -1,0 +1,534 @@
+//! Layout of `index.html`: header, contents, summary, and one section per table.
+//!
+//! The page is built as a string with inline CSS and no scripts, so it renders identically from
+//! disk, from a CI artefact or from an archive. Every piece of text that comes from data (titles,
+//! notes, column names, captions) goes through [`escape`].
+
+use std::collections::BTreeSet;
+use std::fmt::Write as _;
+
+use super::{rel_diff, tolerance, Figure, ReportMeta, Section, Summary};
+use crate::results::CycleRow;
+
+/// The figures written for one section, in the order they appear.
+pub(crate) struct SectionFigures {
+    pub figures: Vec<Figure>,
+}
+
+/// Escape text for HTML and SVG (element content and quoted attribute values).
+pub(crate) fn escape(s: &str) -> String {
+    let mut out = String::with_capacity(s.len());
+    for c in s.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&#39;"),
+            _ => out.push(c),
+        }
+    }
+    out
+}
+
+/// A number with 4 significant digits, the precision the thesis prints (`0.2860`, `1.234e-5`).
+pub(crate) fn fmt_sig(v: f64) -> String {
+    if v.is_nan() {
+        return "NaN".into();
+    }
+    if v.is_infinite() {
+        return if v > 0.0 {
+            "inf".into()
+        } else {
+            "−inf".into()
+        };
+    }
+    if v == 0.0 {
+        return "0".into();
+    }
+    let e = v.abs().log10().floor() as i32;
+    if (-3..6).contains(&e) {
+        format!("{:.*}", (3 - e).max(0) as usize, v)
+    } else {
+        format!("{v:.3e}")
+    }
+}
+
+/// [`fmt_sig`] without trailing zeros, for labels rather than table columns (`× 40`, not
+/// `× 40.00`).
+pub(crate) fn fmt_short(v: f64) -> String {
+    let s = fmt_sig(v);
+    if s.contains('.') && !s.contains('e') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
+/// A relative difference as a signed percentage.
+fn fmt_pct(d: f64) -> String {
+    let p = d * 100.0;
+    if p == 0.0 {
+        "0 %".into()
+    } else if p.abs() < 0.1 {
+        format!("{p:+.2} %")
+    } else {
+        format!("{p:+.1} %")
+    }
+}
+
+/// Columns whose values are counts and are printed without decimals.
+fn is_integer_column(column: &str) -> bool {
+    matches!(column, "cycle" | "active_cells" | "dofs") || column.ends_with("_faces")
+}
+
+/// A table value: counts as integers, the rest with 4 significant digits.
+fn fmt_value(column: &str, v: f64) -> String {
+    if v.is_finite() && is_integer_column(column) && v.fract() == 0.0 {
+        format!("{v:.0}")
+    } else {
+        fmt_sig(v)
+    }
+}
+
+fn fmt_seconds(s: f64) -> String {
+    if !s.is_finite() {
+        return fmt_sig(s);
+    }
+    if s >= 120.0 {
+        let m = (s / 60.0).floor();
+        format!("{s:.0} s ({m:.0} min {:.0} s)", s - 60.0 * m)
+    } else if s >= 10.0 {
+        format!("{s:.1} s")
+    } else {
+        format!("{s:.3} s")
+    }
+}
+
+/// Anchor id of a table's section (`t-IV.1`).
+fn anchor(table: &str) -> String {
+    format!("t-{}", super::file_stem(table))
+}
+
+const CSS: &str = r#"
+:root { --ink: #1d2430; --muted: #6b7280; --rule: #d7dce3; --band: #f5f7fa; --off: #fde2dd; --offink: #a1271b; --ok: #1b7a3a; }
+* { box-sizing: border-box; }
+body { font: 15px/1.5 system-ui, -apple-system, "Segoe UI", Roboto, sans-serif; color: var(--ink); margin: 0; background: #fff; }
+main { max-width: 1500px; margin: 0 auto; padding: 0 28px 60px; }
+header { background: #15233a; color: #f1f4f8; padding: 26px 28px 20px; }
+header .inner { max-width: 1500px; margin: 0 auto; }
+header h1 { margin: 0 0 6px; font-size: 26px; }
+header p { margin: 4px 0 12px; max-width: 980px; color: #c9d3e1; }
+header dl { display: flex; flex-wrap: wrap; gap: 6px 28px; margin: 0; }
+header dt { color: #9fb0c8; font-size: 12px; text-transform: uppercase; letter-spacing: .05em; }
+header dd { margin: 0; font-weight: 600; }
+h2 { font-size: 22px; margin: 38px 0 10px; padding-bottom: 4px; border-bottom: 2px solid var(--rule); }
+h3 { font-size: 16px; margin: 22px 0 8px; }
+nav ol { columns: 3 280px; padding-left: 22px; margin: 0; }
+nav li { break-inside: avoid; }
+a { color: #1f5fae; text-decoration: none; }
+a:hover { text-decoration: underline; }
+.scroll { overflow-x: auto; max-width: 100%; }
+table { border-collapse: collapse; font-variant-numeric: tabular-nums; font-size: 13.5px; }
+th, td { padding: 3px 8px; border-bottom: 1px solid var(--rule); text-align: right; white-space: nowrap; }
+th { background: var(--band); font-weight: 600; }
+thead th { position: sticky; top: 0; }
+th.group { text-align: center; border-left: 2px solid #fff; }
+td.text, th.text { text-align: left; white-space: normal; }
+td.first { border-left: 2px solid var(--rule); }
+td.thesis { color: #374151; background: #fafbfc; }
+td.diff { color: var(--ok); }
+td.off { background: var(--off); color: var(--offink); font-weight: 600; }
+td.na { color: #b8bec8; }
+tbody tr:hover td { background: #eef3fb; }
+.legend { color: var(--muted); font-size: 13px; margin: 6px 0 10px; }
+.legend .swatch { display: inline-block; width: 12px; height: 12px; background: var(--off); border: 1px solid var(--offink); vertical-align: -1px; }
+.warning { border: 1px solid #e0a800; border-left: 6px solid #e0a800; background: #fff8e1; padding: 8px 14px; margin: 10px 0; border-radius: 3px; }
+.meta { color: var(--muted); margin: 0 0 8px; }
+ul.notes { margin: 4px 0; padding-left: 22px; }
+ul.notes li { margin: 2px 0; }
+.figures { display: flex; flex-wrap: wrap; gap: 18px; align-items: flex-start; }
+figure { margin: 0; border: 1px solid var(--rule); border-radius: 4px; padding: 8px; background: #fff; max-width: 100%; }
+figure.wide { flex-basis: 100%; }
+figure.plot { flex: 1 1 520px; max-width: 780px; }
+figure.plot img { width: 100%; }
+figure img { display: block; max-width: 100%; height: auto; }
+figcaption { color: var(--muted); font-size: 13px; margin-top: 4px; max-width: 760px; }
+footer { color: var(--muted); font-size: 13px; margin-top: 40px; border-top: 1px solid var(--rule); padding-top: 10px; }
+"#;
+
+/// The whole page.
+pub(crate) fn page(sections: &[Section], figures: &[SectionFigures], meta: &ReportMeta) -> String {
+    let mut h = String::new();
+    let _ = write!(
+        h,
+        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
+         <meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n\
+         <title>tribo — Chapter IV report ({tier})</title>\n<style>{CSS}</style>\n</head>\n<body>\n",
+        tier = escape(&meta.tier)
+    );
+    header(&mut h, sections, meta);
+    h.push_str("<main>\n");
+    contents(&mut h, sections);
+    summary(&mut h, sections);
+    for (section, figs) in sections.iter().zip(figures) {
+        table_section(&mut h, section, figs);
+    }
+    let _ = writeln!(
+        h,
+        "<footer>Written by {}. Thesis values are the printed tables of Chapter IV, shown for \
+         comparison only; every tribo value above was computed in this run.</footer>",
+        escape(&meta.generated_by)
+    );
+    h.push_str("</main>\n</body>\n</html>\n");
+    h
+}
+
+fn header(h: &mut String, sections: &[Section], meta: &ReportMeta) {
+    let _ = write!(
+        h,
+        "<header><div class=\"inner\">\n<h1>tribo — Chapter IV recomputed</h1>\n\
+         <p>tribo re-runs the adaptive finite element computations of Chapter IV of F. Gimbel, \
+         <i>Modelling and Numerical Simulation of Contact and Lubrication</i> (Siegen, 2012) — \
+         linear elasticity, z- and Signorini contact, model-adaptive contact, and Reynolds / \
+         SubStokes thin-film flow with and without cavitation — and shows each table beside the \
+         printed one, with convergence, mesh and solution figures.</p>\n<dl>\
+         <div><dt>tier</dt><dd>{}</dd></div>\
+         <div><dt>tables</dt><dd>{}</dd></div>\
+         <div><dt>total wall time</dt><dd>{}</dd></div>\
+         <div><dt>threads</dt><dd>{}</dd></div>\
+         <div><dt>generated by</dt><dd>{}</dd></div></dl>\n</div></header>\n",
+        escape(&meta.tier),
+        sections.len(),
+        fmt_seconds(meta.total_seconds),
+        meta.threads,
+        escape(&meta.generated_by),
+    );
+}
+
+fn contents(h: &mut String, sections: &[Section]) {
+    h.push_str("<nav>\n<h2>Contents</h2>\n<ol>\n<li><a href=\"#summary\">Summary</a></li>\n");
+    for s in sections {
+        let _ = writeln!(
+            h,
+            "<li><a href=\"#{}\">Table {} ({})</a> — {}</li>",
+            anchor(&s.run.table),
+            escape(&s.run.table),
+            escape(&s.run.section),
+            escape(&s.run.title)
+        );
+    }
+    h.push_str("</ol>\n</nav>\n");
+}
+
+/// A `<td>` holding a relative difference, highlighted beyond the column's tolerance.
+fn diff_cell(column: &str, d: Option<f64>) -> String {
+    match d {
+        Some(d) if d.abs() > tolerance(column) => {
+            format!("<td class=\"diff off\">{}</td>", fmt_pct(d))
+        }
+        Some(d) => format!("<td class=\"diff\">{}</td>", fmt_pct(d)),
+        None => "<td class=\"na\">—</td>".into(),
+    }
+}
+
+fn opt_cell(v: Option<String>) -> String {
+    match v {
+        Some(s) => format!("<td>{s}</td>"),
+        None => "<td class=\"na\">—</td>".into(),
+    }
+}
+
+fn summary(h: &mut String, sections: &[Section]) {
+    h.push_str(
+        "<section id=\"summary\">\n<h2>Summary</h2>\n\
+         <p class=\"legend\">Geometric mean of the estimate ratio over the cycles that have one \
+         (the mean reduction per cycle). Largest relative difference to the thesis over the \
+         computed cycles; <span class=\"swatch\"></span> beyond 3 % (dofs) or 5 % (estimate).</p>\n\
+         <div class=\"scroll\"><table>\n<thead><tr><th class=\"text\">table</th><th class=\"text\">section</th>\
+         <th class=\"text\">title</th><th>rows (tribo / thesis)</th><th>last dofs</th>\
+         <th>last estimate</th><th>geo-mean ratio</th><th>max Δ dofs</th><th>max Δ estimate</th>\
+         <th>seconds</th></tr></thead>\n<tbody>\n",
+    );
+    for s in sections {
+        let sm = Summary::of(s);
+        let dup = if s.thesis.duplicate_of.is_some() {
+            " <span title=\"the printed table is a copy of another table\">⚠</span>"
+        } else {
+            ""
+        };
+        let _ = writeln!(
+            h,
+            "<tr><td class=\"text\"><a href=\"#{}\">{}</a>{dup}</td><td class=\"text\">{}</td>\
+             <td class=\"text\">{}</td><td>{} / {}</td>{}{}{}{}{}<td>{}</td></tr>",
+            anchor(&s.run.table),
+            escape(&s.run.table),
+            escape(&s.run.section),
+            escape(&s.run.title),
+            sm.rows,
+            s.thesis.len(),
+            opt_cell(sm.last_dofs.map(|d| d.to_string())),
+            opt_cell(sm.last_estimate.map(fmt_sig)),
+            opt_cell(sm.geo_mean_ratio.map(fmt_sig)),
+            diff_cell("dofs", sm.max_dofs_diff),
+            diff_cell("estimate", sm.max_estimate_diff),
+            fmt_seconds(sm.total_seconds),
+        );
+    }
+    h.push_str("</tbody></table></div>\n</section>\n");
+}
+
+/// Names of tribo's columns the thesis does not print, in first-appearance order.
+fn tribo_only_columns(rows: &[CycleRow], thesis_columns: &[String]) -> Vec<(String, bool)> {
+    let mut out: Vec<(String, bool)> = Vec::new();
+    let known = |n: &str| thesis_columns.iter().any(|c| c == n);
+    let mut add = |name: &str, integer: bool| {
+        if !known(name) && !out.iter().any(|(n, _)| n == name) {
+            out.push((name.to_string(), integer));
+        }
+    };
+    for base in ["active_cells", "dofs", "estimate", "ratio"] {
+        add(base, matches!(base, "active_cells" | "dofs"));
+    }
+    for r in rows {
+        for (n, _) in &r.quantities {
+            add(n, false);
+        }
+        for (n, _) in &r.counters {
+            add(n, true);
+        }
+    }
+    out
+}
+
+/// One table's section: comparison table, notes, figures, probes.
+fn table_section(h: &mut String, s: &Section, figs: &SectionFigures) {
+    let run = s.run;
+    let thesis = s.thesis;
+    let _ = write!(
+        h,
+        "<section id=\"{}\">\n<h2>Table {} — {}</h2>\n<p class=\"meta\">Section {} · tier {} · \
+         {} cycles computed, {} printed</p>\n",
+        anchor(&run.table),
+        escape(&run.table),
+        escape(&run.title),
+        escape(&run.section),
+        escape(&run.tier),
+        run.rows.len(),
+        thesis.len()
+    );
+    if let Some(orig) = &thesis.duplicate_of {
+        let _ = writeln!(
+            h,
+            "<div class=\"warning\"><b>Duplicate in the thesis.</b> The thesis prints this table \
+             as a copy of {}; tribo computes the scene itself.</div>",
+            escape(orig)
+        );
+    }
+    comparison_table(h, s);
+
+    if !run.notes.is_empty() {
+        h.push_str("<h3>Readings and known differences</h3>\n<ul class=\"notes\">\n");
+        for n in &run.notes {
+            let _ = writeln!(h, "<li>{}</li>", escape(n));
+        }
+        h.push_str("</ul>\n");
+    }
+
+    if !figs.figures.is_empty() {
+        h.push_str("<h3>Figures</h3>\n<div class=\"figures\">\n");
+        for f in &figs.figures {
+            // Pictures of the whole domain get the full page width; plots keep their own size.
+            let wide = ["-mesh", "-deformed", "-field"]
+                .iter()
+                .any(|k| f.file.contains(k));
+            let _ = writeln!(
+                h,
+                "<figure{}><img src=\"figures/{}\" alt=\"{}\" loading=\"lazy\"><figcaption>{}</figcaption></figure>",
+                if wide { " class=\"wide\"" } else { " class=\"plot\"" },
+                escape(&f.file),
+                escape(&f.caption),
+                escape(&f.caption)
+            );
+        }
+        h.push_str("</div>\n");
+    }
+
+    if !run.probes.is_empty() {
+        h.push_str(
+            "<h3>Probes after the last cycle</h3>\n<table><thead><tr><th>x</th><th>y</th>\
+             <th class=\"text\">component</th><th>value</th></tr></thead><tbody>\n",
+        );
+        for p in &run.probes {
+            let _ = writeln!(
+                h,
+                "<tr><td>{}</td><td>{}</td><td class=\"text\">{}</td><td>{}</td></tr>",
+                fmt_short(p.x),
+                fmt_short(p.y),
+                escape(&p.component),
+                fmt_sig(p.value)
+            );
+        }
+        h.push_str("</tbody></table>\n");
+    }
+    h.push_str("</section>\n");
+}
+
+/// tribo beside the thesis: for each printed column tribo | thesis | Δ, then the estimate ratio,
+/// tribo-only columns and seconds per phase. Rows are the union of computed and printed cycles,
+/// so a quick tier that stops early still shows what the thesis printed further on.
+fn comparison_table(h: &mut String, s: &Section) {
+    let run = s.run;
+    let thesis = s.thesis;
+    let compared: Vec<&str> = thesis
+        .columns
+        .iter()
+        .map(String::as_str)
+        .filter(|c| *c != "cycle")
+        .collect();
+    let has_estimate = compared.contains(&"estimate");
+    let extra = tribo_only_columns(&run.rows, &thesis.columns);
+    let phases = ["setup", "assemble", "solve", "estimate", "refine", "total"];
+
+    let cycles: BTreeSet<usize> = run
+        .rows
+        .iter()
+        .map(|r| r.cycle)
+        .chain(
+            thesis
+                .rows
+                .iter()
+                .filter_map(|r| r.first().copied())
+                .filter(|c| c.is_finite() && *c >= 0.0)
+                .map(|c| c as usize),
+        )
+        .collect();
+
+    h.push_str(
+        "<p class=\"legend\">Each printed column as tribo | thesis | Δ = tribo/thesis − 1; \
+         <span class=\"swatch\"></span> |Δ| beyond 3 % (cells, dofs) or 5 % (other columns). \
+         — : not computed in this tier or not printed.</p>\n",
+    );
+    h.push_str("<div class=\"scroll\"><table>\n<thead><tr><th rowspan=\"2\">cycle</th>");
+    for c in &compared {
+        let _ = write!(h, "<th class=\"group\" colspan=\"3\">{}</th>", escape(c));
+    }
+    if has_estimate {
+        h.push_str("<th class=\"group\" rowspan=\"2\">tribo/thesis<br>(estimate)</th>");
+    }
+    if !extra.is_empty() {
+        let _ = write!(
+            h,
+            "<th class=\"group\" colspan=\"{}\">tribo only</th>",
+            extra.len()
+        );
+    }
+    h.push_str("<th class=\"group\" colspan=\"6\">seconds</th></tr>\n<tr>");
+    for _ in &compared {
+        h.push_str("<th>tribo</th><th>thesis</th><th>Δ</th>");
+    }
+    for (n, _) in &extra {
+        let _ = write!(h, "<th>{}</th>", escape(n));
+    }
+    for p in phases {
+        let _ = write!(h, "<th>{p}</th>");
+    }
+    h.push_str("</tr></thead>\n<tbody>\n");
+
+    for cycle in cycles {
+        let row = run.rows.iter().find(|r| r.cycle == cycle);
+        let _ = write!(h, "<tr><td>{cycle}</td>");
+        for c in &compared {
+            let t = row.and_then(|r| r.value(c));
+            let p = thesis.value(cycle, c);
+            // The thesis prints `inf` for the first ratio; tribo has none there. Both mean "no
+            // previous cycle", shown as an en dash rather than a number.
+            let is_first_ratio = *c == "ratio" && row.is_some_and(|r| r.ratio.is_none());
+            let tribo_cell = match t {
+                Some(v) => format!("<td class=\"first\">{}</td>", fmt_value(c, v)),
+                None if is_first_ratio => "<td class=\"first\">–</td>".into(),
+                None => "<td class=\"first na\">—</td>".into(),
+            };
+            let thesis_cell = match p {
+                Some(v) if *c == "ratio" && v.is_infinite() => "<td class=\"thesis\">–</td>".into(),
+                Some(v) => format!("<td class=\"thesis\">{}</td>", fmt_value(c, v)),
+                None => "<td class=\"thesis na\">—</td>".into(),
+            };
+            let _ = write!(
+                h,
+                "{tribo_cell}{thesis_cell}{}",
+                diff_cell(c, t.zip(p).and_then(|(t, p)| rel_diff(t, p)))
+            );
+        }
+        if has_estimate {
+            let ratio = row
+                .zip(thesis.value(cycle, "estimate"))
+                .and_then(|(r, p)| (p.is_finite() && p != 0.0).then(|| r.estimate / p));
+            h.push_str(&match ratio {
+                Some(q) if (q - 1.0).abs() > tolerance("estimate") => {
+                    format!("<td class=\"first off\">{}</td>", fmt_sig(q))
+                }
+                Some(q) => format!("<td class=\"first\">{}</td>", fmt_sig(q)),
+                None => "<td class=\"first na\">—</td>".into(),
+            });
+        }
+        for (i, (n, integer)) in extra.iter().enumerate() {
+            let class = if i == 0 { "first" } else { "" };
+            let v = row.and_then(|r| match n.as_str() {
+                "ratio" => r.ratio,
+                _ => r.value(n),
+            });
+            let _ = match v {
+                Some(v) if *integer && v.fract() == 0.0 => {
+                    write!(h, "<td class=\"{class}\">{v:.0}</td>")
+                }
+                Some(v) => write!(h, "<td class=\"{class}\">{}</td>", fmt_sig(v)),
+                None if n == "ratio" && row.is_some() => write!(h, "<td class=\"{class}\">–</td>"),
+                None => write!(h, "<td class=\"{class} na\">—</td>"),
+            };
+        }
+        match row {
+            Some(r) => {
+                let s = r.seconds;
+                for (i, v) in [
+                    s.setup,
+                    s.assemble,
+                    s.solve,
+                    s.estimate,
+                    s.refine,
+                    s.total(),
+                ]
+                .into_iter()
+                .enumerate()
+                {
+                    let class = if i == 0 { " class=\"first\"" } else { "" };
+                    let _ = write!(h, "<td{class}>{v:.3}</td>");
+                }
+            }
+            None => {
+                h.push_str("<td class=\"first na\">—</td>");
+                h.push_str(&"<td class=\"na\">—</td>".repeat(5));
+            }
+        }
+        h.push_str("</tr>\n");
+    }
+    h.push_str("</tbody></table></div>\n");
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers_have_four_significant_digits() {
+        assert_eq!(fmt_sig(0.286), "0.2860");
+        assert_eq!(fmt_sig(1000.0), "1000");
+        assert_eq!(fmt_sig(1.5e-5), "1.500e-5");
+        assert_eq!(fmt_sig(f64::INFINITY), "inf");
+    }
+
+    #[test]
+    fn escapes_markup() {
+        assert_eq!(escape("a<b & \"c\""), "a&lt;b &amp; &quot;c&quot;");
+    }
+}

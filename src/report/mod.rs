@@ -1,0 +1,264 @@
+//! The HTML report: every table tribo computed beside the printed thesis table, with figures.
+//!
+//! [`write_report`] writes `index.html` and one SVG per figure into `figures/`. The page is
+//! self-contained (inline CSS, no scripts, no external resources) so it can be opened from disk
+//! or archived with the golden snapshots.
+//!
+//! The module is split by job: this file decides *what* is compared and which figures a section
+//! gets, [`plots`] draws the figures, [`html`] lays out the page.
+
+mod html;
+mod plots;
+
+use std::fs;
+use std::io;
+use std::path::{Path, PathBuf};
+
+use crate::results::RunResult;
+use crate::thesis::ThesisTable;
+
+/// One table of the report: what tribo computed, and the printed thesis table beside it.
+pub struct Section<'a> {
+    pub run: &'a RunResult,
+    pub thesis: &'a ThesisTable,
+}
+
+/// Facts about the whole report run, shown in the page header.
+pub struct ReportMeta {
+    /// `quick` or `full`.
+    pub tier: String,
+    /// Program and version that wrote the report (e.g. `tribo 0.1.0`).
+    pub generated_by: String,
+    /// Wall seconds of the whole run, all experiments.
+    pub total_seconds: f64,
+    /// Worker threads used (rayon pool size).
+    pub threads: usize,
+}
+
+/// Write `out_dir/index.html` and `out_dir/figures/<table>-<kind>.svg`; return the list of files
+/// written (figures first, `index.html` last).
+///
+/// A section gets only the figures it has data for: no mesh picture, no mesh figure. Figures of
+/// degenerate data (no rows, non-positive estimates on a log axis) are still written, showing
+/// whatever points are valid, so a broken run is visible in the report instead of aborting it.
+pub fn write_report(
+    out_dir: &Path,
+    sections: &[Section],
+    meta: &ReportMeta,
+) -> io::Result<Vec<PathBuf>> {
+    let fig_dir = out_dir.join("figures");
+    fs::create_dir_all(&fig_dir)?;
+    let mut written = Vec::new();
+    let mut rendered = Vec::with_capacity(sections.len());
+    for section in sections {
+        let figures = write_figures(&fig_dir, section)?;
+        written.extend(figures.iter().map(|f| fig_dir.join(&f.file)));
+        rendered.push(html::SectionFigures { figures });
+    }
+    let index = out_dir.join("index.html");
+    fs::write(&index, html::page(sections, &rendered, meta))?;
+    written.push(index);
+    Ok(written)
+}
+
+/// A figure written for a section, as the page refers to it.
+pub(crate) struct Figure {
+    /// File name inside `figures/`.
+    pub file: String,
+    /// Alternative text and caption.
+    pub caption: String,
+}
+
+/// Draw every figure one section has data for.
+fn write_figures(fig_dir: &Path, section: &Section) -> io::Result<Vec<Figure>> {
+    let run = section.run;
+    let stem = file_stem(&run.table);
+    let mut figures = Vec::new();
+    let mut push = |kind: &str, caption: String| -> PathBuf {
+        let file = format!("{stem}-{kind}.svg");
+        let path = fig_dir.join(&file);
+        figures.push(Figure { file, caption });
+        path
+    };
+
+    let path = push(
+        "convergence",
+        format!(
+            "{}: estimate vs degrees of freedom, tribo (solid) and thesis (dashed), log–log",
+            run.table
+        ),
+    );
+    plots::convergence(&path, run, section.thesis)?;
+
+    if !run.rows.is_empty() {
+        let path = push(
+            "cost",
+            format!(
+                "{}: cost of accuracy — estimate vs cumulative wall seconds, and seconds per phase",
+                run.table
+            ),
+        );
+        plots::cost(&path, run)?;
+    }
+    if !run.meshes.is_empty() {
+        let cycles: Vec<String> = run.meshes.iter().map(|m| m.cycle.to_string()).collect();
+        let path = push(
+            "mesh",
+            format!(
+                "{}: active cells after cycle {}",
+                run.table,
+                cycles.join(", ")
+            ),
+        );
+        plots::meshes(&path, &run.meshes, run.domain)?;
+    }
+
+    for (i, pic) in run.deformed.iter().enumerate() {
+        let kind = indexed("deformed", i, run.deformed.len());
+        let path = push(
+            &kind,
+            format!(
+                "{}: deformed body after cycle {}, displacement × {}",
+                run.table,
+                pic.cycle,
+                html::fmt_short(pic.scale)
+            ),
+        );
+        plots::deformed(&path, &run.table, pic)?;
+    }
+
+    for (i, pic) in run.fields.iter().enumerate() {
+        let kind = indexed(
+            &format!("field-{}", file_stem(&pic.name)),
+            i,
+            run.fields.len(),
+        );
+        let path = push(
+            &kind,
+            format!(
+                "{}: {} on the active cells after cycle {}",
+                run.table, pic.name, pic.cycle
+            ),
+        );
+        plots::field(&path, &run.table, pic, run.domain)?;
+    }
+
+    Ok(figures)
+}
+
+/// `kind` when a run has one picture of that kind, `kind-i` when it has several.
+fn indexed(kind: &str, i: usize, n: usize) -> String {
+    if n > 1 {
+        format!("{kind}-{i}")
+    } else {
+        kind.to_string()
+    }
+}
+
+/// A file-name-safe form of a table id or field name (`IV.1` stays `IV.1`).
+///
+/// Table ids come from experiment files, so anything outside `[A-Za-z0-9._-]` is replaced rather
+/// than trusted inside a path.
+pub(crate) fn file_stem(name: &str) -> String {
+    let s: String = name
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || matches!(c, '.' | '-' | '_') {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    if s.is_empty() || s.starts_with('.') {
+        format!("_{s}")
+    } else {
+        s
+    }
+}
+
+/// Relative difference tribo/thesis − 1, when both are finite and the thesis value is non-zero.
+pub(crate) fn rel_diff(tribo: f64, thesis: f64) -> Option<f64> {
+    (tribo.is_finite() && thesis.is_finite() && thesis != 0.0).then(|| tribo / thesis - 1.0)
+}
+
+/// Relative difference beyond which a cell is highlighted.
+///
+/// Mesh sizes are deterministic given the marking rule, so 3 % already means a different
+/// refinement history; estimates and derived columns carry discretisation and calibration
+/// differences, hence the wider 5 %.
+pub(crate) fn tolerance(column: &str) -> f64 {
+    match column {
+        "dofs" | "active_cells" => 0.03,
+        _ => 0.05,
+    }
+}
+
+/// Per-table numbers of the summary table.
+pub(crate) struct Summary {
+    pub rows: usize,
+    pub last_dofs: Option<usize>,
+    pub last_estimate: Option<f64>,
+    /// Geometric mean of the per-cycle estimate ratios (the mean reduction per cycle).
+    pub geo_mean_ratio: Option<f64>,
+    /// Largest |tribo/thesis − 1| over the cycles both have, with its signed value.
+    pub max_dofs_diff: Option<f64>,
+    pub max_estimate_diff: Option<f64>,
+    pub total_seconds: f64,
+}
+
+impl Summary {
+    pub fn of(section: &Section) -> Summary {
+        let run = section.run;
+        let ratios: Vec<f64> = run
+            .rows
+            .iter()
+            .filter_map(|r| r.ratio)
+            .filter(|r| r.is_finite() && *r > 0.0)
+            .collect();
+        let geo_mean_ratio = (!ratios.is_empty())
+            .then(|| (ratios.iter().map(|r| r.ln()).sum::<f64>() / ratios.len() as f64).exp());
+        Summary {
+            rows: run.rows.len(),
+            last_dofs: run.rows.last().map(|r| r.dofs),
+            last_estimate: run.rows.last().map(|r| r.estimate),
+            geo_mean_ratio,
+            max_dofs_diff: max_abs_diff(section, "dofs"),
+            max_estimate_diff: max_abs_diff(section, "estimate"),
+            // A fold from +0.0: an empty `sum()` of floats is −0.0, which would print as "-0.000 s".
+            total_seconds: run.rows.iter().fold(0.0, |acc, r| acc + r.seconds.total()),
+        }
+    }
+}
+
+/// The signed relative difference of largest magnitude in `column` over the computed cycles.
+fn max_abs_diff(section: &Section, column: &str) -> Option<f64> {
+    section
+        .run
+        .rows
+        .iter()
+        .filter_map(|r| rel_diff(r.value(column)?, section.thesis.value(r.cycle, column)?))
+        .fold(None, |best: Option<f64>, d| match best {
+            Some(b) if b.abs() >= d.abs() => Some(b),
+            _ => Some(d),
+        })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn file_stems_are_safe() {
+        assert_eq!(file_stem("IV.1"), "IV.1");
+        assert_eq!(file_stem("../x y"), "_.._x_y");
+        assert_eq!(file_stem(""), "_");
+    }
+
+    #[test]
+    fn rel_diff_skips_undefined() {
+        assert_eq!(rel_diff(1.0, 0.0), None);
+        assert_eq!(rel_diff(1.0, f64::INFINITY), None);
+        assert!((rel_diff(1.1, 1.0).unwrap() - 0.1).abs() < 1e-12);
+    }
+}

@@ -1,0 +1,1330 @@
+//! The figures of the report, one SVG file each.
+//!
+//! Line and log plots (convergence, cost of accuracy) go through `plotters`' SVG backend. Mesh,
+//! deformed-body and field pictures are written as SVG text directly: they hold up to hundreds of
+//! thousands of cells, and one `<path>` per picture (or per colour) with integer coordinates is
+//! orders of magnitude smaller and faster than one plotters element per cell.
+//!
+//! Every function here tolerates degenerate data — no rows, a single row, zero, negative or NaN
+//! values on a log axis — by skipping what cannot be drawn and saying so in the figure; it returns
+//! an `io::Error` only when the file cannot be written.
+
+use std::collections::HashSet;
+use std::fmt::Write as _;
+use std::fs;
+use std::io;
+use std::path::Path;
+
+use plotters::coord::Shift;
+use plotters::element::DashedPathElement;
+use plotters::prelude::*;
+
+use super::html::{escape, fmt_short};
+use crate::results::{CellBox, DeformedPicture, FieldPicture, MeshPicture, RunResult};
+use crate::thesis::ThesisTable;
+
+/// Turn a plotters error into an `io::Error` (plotters' SVG backend draws into a `String`, so
+/// these are layout errors, not file errors).
+fn plot_err<E: std::fmt::Debug>(e: E) -> io::Error {
+    io::Error::other(format!("plotting failed: {e:?}"))
+}
+
+/// A point that can sit on a log–log axis.
+fn loggable(p: &(f64, f64)) -> bool {
+    p.0.is_finite() && p.1.is_finite() && p.0 > 0.0 && p.1 > 0.0
+}
+
+/// A log-axis range around the given positive values, padded so markers do not sit on the frame;
+/// a single value (or none) still gives a non-empty range.
+fn log_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
+    let (lo, hi) = values
+        .filter(|v| v.is_finite() && *v > 0.0)
+        .fold((f64::INFINITY, 0.0_f64), |(lo, hi), v| {
+            (lo.min(v), hi.max(v))
+        });
+    if hi <= 0.0 {
+        return (1.0, 10.0);
+    }
+    let pad = ((hi / lo).powf(0.06)).max(1.25);
+    (lo / pad, hi * pad)
+}
+
+/// A logarithmic axis with ticks at 1, 2, 5 × 10^k.
+///
+/// plotters' own log axis starts its ticks at the first power of ten inside the range (computed
+/// through a rounding-prone `ln`), so a range like 0.11–0.8 gets no labels at all, and its
+/// minor ticks repeat each power of ten, printing those labels twice. This axis enumerates the
+/// decades itself: labelled ticks at mantissas 1, 2, 5 (or 1 only, or every few decades, as space
+/// allows), grid lines at every integer mantissa.
+#[derive(Clone)]
+struct NiceLog {
+    lo: f64,
+    hi: f64,
+}
+
+impl NiceLog {
+    fn new((lo, hi): (f64, f64)) -> NiceLog {
+        NiceLog { lo, hi }
+    }
+
+    /// All values m·10^k in the range, m from `mantissas`, every `step`-th decade.
+    fn ticks(&self, mantissas: &[f64], step: i32) -> Vec<f64> {
+        let (k0, k1) = (
+            self.lo.log10().floor() as i32 - 1,
+            self.hi.log10().ceil() as i32 + 1,
+        );
+        let mut out = Vec::new();
+        for k in (k0..=k1).filter(|k| k.rem_euclid(step) == 0) {
+            for m in mantissas {
+                let v = m * 10f64.powi(k);
+                if v >= self.lo * (1.0 - 1e-9) && v <= self.hi * (1.0 + 1e-9) {
+                    out.push(v);
+                }
+            }
+        }
+        out
+    }
+}
+
+impl Ranged for NiceLog {
+    type FormatOption = plotters::coord::ranged1d::DefaultFormatting;
+    type ValueType = f64;
+
+    fn map(&self, value: &f64, limit: (i32, i32)) -> i32 {
+        let t = (value.ln() - self.lo.ln()) / (self.hi.ln() - self.lo.ln());
+        // Clamped, so a stray non-positive value maps off-canvas instead of overflowing.
+        let t = if t.is_nan() {
+            -10.0
+        } else {
+            t.clamp(-10.0, 10.0)
+        };
+        limit.0 + (f64::from(limit.1 - limit.0) * t).round() as i32
+    }
+
+    fn key_points<H: plotters::coord::ranged1d::KeyPointHint>(&self, hint: H) -> Vec<f64> {
+        let max = hint.max_num_points().max(2);
+        let all: Vec<f64> = (1..=9).map(f64::from).collect();
+        let candidates: [&[f64]; 3] = match hint.weight() {
+            plotters::coord::ranged1d::KeyPointWeight::Bold => [&[1.0, 2.0, 5.0], &[1.0], &[1.0]],
+            plotters::coord::ranged1d::KeyPointWeight::Any => [&all, &[1.0, 2.0, 5.0], &[1.0]],
+        };
+        let decades = (self.hi / self.lo).log10().ceil().max(1.0) as usize;
+        for m in candidates {
+            let t = self.ticks(m, 1);
+            // Grid lines at every mantissa only while a decade is wide enough to show them.
+            let too_dense = m.len() == 9 && decades > 3;
+            if t.len() <= max && !too_dense && (t.len() >= 2 || m.len() == 9) {
+                return t;
+            }
+        }
+        // Many decades: every `step`-th power of ten.
+        // Both ends may carry a tick, hence `max − 1` intervals.
+        let step = decades.div_ceil(max.saturating_sub(1).max(1)).max(1) as i32;
+        self.ticks(&[1.0], step)
+    }
+
+    fn range(&self) -> std::ops::Range<f64> {
+        self.lo..self.hi
+    }
+}
+
+/// Tick label for a log axis: plain numbers in the human range, `1e5` style beyond it.
+fn log_tick(v: &f64) -> String {
+    let a = v.abs();
+    if a == 0.0 || !a.is_finite() {
+        return String::new();
+    }
+    if (1e-2..1e4).contains(&a) {
+        let s = format!("{v:.3}");
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        let s = format!("{v:.0e}");
+        s.replace(".0e", "e")
+    }
+}
+
+const TRIBO: RGBColor = RGBColor(31, 119, 180);
+const THESIS: RGBColor = RGBColor(214, 39, 40);
+const TRIBO_ME: RGBColor = RGBColor(44, 160, 44);
+const THESIS_ME: RGBColor = RGBColor(148, 103, 189);
+const GUIDE: RGBColor = RGBColor(120, 120, 120);
+
+/// One curve of the convergence plot.
+struct Curve {
+    label: String,
+    color: RGBColor,
+    dashed: bool,
+    points: Vec<(f64, f64)>,
+}
+
+/// (x, y) pairs of two thesis columns, in printed order, skipping rows without both.
+fn thesis_pairs(thesis: &ThesisTable, x: &str, y: &str) -> Vec<(f64, f64)> {
+    let (Some(cx), Some(cy)) = (
+        thesis.columns.iter().position(|c| c == x),
+        thesis.columns.iter().position(|c| c == y),
+    ) else {
+        return Vec::new();
+    };
+    thesis
+        .rows
+        .iter()
+        .filter_map(|r| Some((*r.get(cx)?, *r.get(cy)?)))
+        .filter(loggable)
+        .collect()
+}
+
+/// Log–log convergence plot: estimate against dofs for tribo (solid) and the thesis (dashed),
+/// with a slope −1/2 guide (the optimal rate of Q1 in 2-D, error ∝ N^(−1/2)).
+///
+/// Model-adaptive tables print `model_error` instead of `estimate`; when the thesis has that
+/// column it is plotted too, against tribo's `model_error` quantity.
+pub fn convergence(path: &Path, run: &RunResult, thesis: &ThesisTable) -> io::Result<()> {
+    let mut curves = vec![
+        Curve {
+            label: "tribo estimate".into(),
+            color: TRIBO,
+            dashed: false,
+            points: run
+                .rows
+                .iter()
+                .map(|r| (r.dofs as f64, r.estimate))
+                .filter(loggable)
+                .collect(),
+        },
+        Curve {
+            label: "thesis estimate".into(),
+            color: THESIS,
+            dashed: true,
+            points: thesis_pairs(thesis, "dofs", "estimate"),
+        },
+    ];
+    if thesis.columns.iter().any(|c| c == "model_error") {
+        curves.push(Curve {
+            label: "tribo model error".into(),
+            color: TRIBO_ME,
+            dashed: false,
+            points: run
+                .rows
+                .iter()
+                .filter_map(|r| Some((r.dofs as f64, r.value("model_error")?)))
+                .filter(loggable)
+                .collect(),
+        });
+        curves.push(Curve {
+            label: "thesis model error".into(),
+            color: THESIS_ME,
+            dashed: true,
+            points: thesis_pairs(thesis, "dofs", "model_error"),
+        });
+    }
+    curves.retain(|c| !c.points.is_empty());
+
+    // The guide passes below every point: c = min y·√x, drawn at 0.6·c/√x.
+    let all: Vec<(f64, f64)> = curves
+        .iter()
+        .flat_map(|c| c.points.iter().copied())
+        .collect();
+    let (x_lo, x_hi) = log_range(all.iter().map(|p| p.0));
+    let guide = all
+        .iter()
+        .map(|(x, y)| y * x.sqrt())
+        .fold(f64::INFINITY, f64::min);
+    let guide_pts: Vec<(f64, f64)> = if guide.is_finite() && all.len() > 1 {
+        let (a, b) = log_range(all.iter().map(|p| p.0));
+        let (a, b) = (a * 1.1, b / 1.1);
+        vec![(a, 0.6 * guide / a.sqrt()), (b, 0.6 * guide / b.sqrt())]
+    } else {
+        Vec::new()
+    };
+    let (y_lo, y_hi) = log_range(all.iter().chain(&guide_pts).map(|p| p.1));
+
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (760, 520)).into_drawing_area();
+        root.fill(&WHITE).map_err(plot_err)?;
+        let mut chart = ChartBuilder::on(&root)
+            .caption(format!("{} — convergence", run.table), ("sans-serif", 24))
+            .margin(12)
+            .x_label_area_size(48)
+            .y_label_area_size(70)
+            .build_cartesian_2d(NiceLog::new((x_lo, x_hi)), NiceLog::new((y_lo, y_hi)))
+            .map_err(plot_err)?;
+        chart
+            .configure_mesh()
+            .x_desc("degrees of freedom")
+            .y_desc("estimate")
+            .x_labels(12)
+            .y_labels(12)
+            .x_label_formatter(&log_tick)
+            .y_label_formatter(&log_tick)
+            .light_line_style(RGBColor(235, 235, 235))
+            .bold_line_style(RGBColor(205, 205, 205))
+            .label_style(("sans-serif", 17))
+            .axis_desc_style(("sans-serif", 17))
+            .draw()
+            .map_err(plot_err)?;
+
+        if curves.is_empty() {
+            root.draw(&Text::new(
+                "no positive estimates to plot",
+                (280, 250),
+                ("sans-serif", 18).into_font().color(&GUIDE),
+            ))
+            .map_err(plot_err)?;
+        }
+        if !guide_pts.is_empty() {
+            let style = GUIDE.stroke_width(1);
+            chart
+                .draw_series(DashedLineSeries::new(guide_pts.clone(), 2, 4, style))
+                .map_err(plot_err)?
+                .label("slope −1/2")
+                .legend(move |(x, y)| {
+                    DashedPathElement::new(vec![(x, y), (x + 22, y)], 2, 4, style)
+                });
+        }
+        for c in &curves {
+            let style = c.color.stroke_width(2);
+            let color = c.color;
+            if c.dashed {
+                chart
+                    .draw_series(DashedLineSeries::new(c.points.clone(), 7, 4, style))
+                    .map_err(plot_err)?
+                    .label(c.label.as_str())
+                    .legend(move |(x, y)| {
+                        DashedPathElement::new(vec![(x, y), (x + 22, y)], 7, 4, style)
+                    });
+                // Hollow triangles, so thesis markers stay visible under coinciding tribo ones.
+                chart
+                    .draw_series(
+                        c.points
+                            .iter()
+                            .map(|p| TriangleMarker::new(*p, 6, color.stroke_width(2))),
+                    )
+                    .map_err(plot_err)?;
+            } else {
+                chart
+                    .draw_series(LineSeries::new(c.points.clone(), style))
+                    .map_err(plot_err)?
+                    .label(c.label.as_str())
+                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 22, y)], style));
+                chart
+                    .draw_series(c.points.iter().map(|p| Circle::new(*p, 3, color.filled())))
+                    .map_err(plot_err)?;
+            }
+        }
+        if !curves.is_empty() {
+            chart
+                .configure_series_labels()
+                .position(SeriesLabelPosition::UpperRight)
+                .background_style(WHITE.mix(0.9))
+                .border_style(RGBColor(160, 160, 160))
+                .label_font(("sans-serif", 16))
+                .draw()
+                .map_err(plot_err)?;
+        }
+        root.present().map_err(plot_err)?;
+    }
+    fs::write(path, svg)
+}
+
+/// The five phases in drawing order, with their colours.
+const PHASES: [(&str, RGBColor); 5] = [
+    ("setup", RGBColor(141, 160, 203)),
+    ("assemble", RGBColor(102, 194, 165)),
+    ("solve", RGBColor(252, 141, 98)),
+    ("estimate", RGBColor(231, 138, 195)),
+    ("refine", RGBColor(166, 216, 84)),
+];
+
+/// Cost of accuracy: the estimate against cumulative wall seconds (log–log, each point labelled
+/// with its dofs), and below it the seconds of each cycle stacked by phase — where the time goes.
+pub fn cost(path: &Path, run: &RunResult) -> io::Result<()> {
+    let cumulative = run.cumulative_seconds();
+    let points: Vec<(f64, f64, usize)> = run
+        .rows
+        .iter()
+        .zip(&cumulative)
+        .map(|(r, t)| (*t, r.estimate, r.dofs))
+        .filter(|(t, e, _)| loggable(&(*t, *e)))
+        .collect();
+
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (760, 720)).into_drawing_area();
+        root.fill(&WHITE).map_err(plot_err)?;
+        let (top, bottom) = root.split_vertically(420);
+        cost_accuracy(&top, &run.table, &points)?;
+        phase_bars(&bottom, run)?;
+        root.present().map_err(plot_err)?;
+    }
+    fs::write(path, svg)
+}
+
+/// Upper panel of [`cost`].
+fn cost_accuracy(
+    area: &DrawingArea<SVGBackend, Shift>,
+    table: &str,
+    points: &[(f64, f64, usize)],
+) -> io::Result<()> {
+    let (x_lo, x_hi) = log_range(points.iter().map(|p| p.0));
+    let (y_lo, y_hi) = log_range(points.iter().map(|p| p.1));
+    // Extra room on the right for the dofs labels of the last point.
+    let x_hi = x_hi * (x_hi / x_lo).powf(0.12);
+    let mut chart = ChartBuilder::on(area)
+        .caption(format!("{table} — cost of accuracy"), ("sans-serif", 24))
+        .margin(12)
+        .x_label_area_size(44)
+        .y_label_area_size(70)
+        .build_cartesian_2d(NiceLog::new((x_lo, x_hi)), NiceLog::new((y_lo, y_hi)))
+        .map_err(plot_err)?;
+    chart
+        .configure_mesh()
+        .x_desc("cumulative wall seconds")
+        .y_desc("estimate")
+        .x_labels(12)
+        .y_labels(12)
+        .x_label_formatter(&log_tick)
+        .y_label_formatter(&log_tick)
+        .light_line_style(RGBColor(235, 235, 235))
+        .bold_line_style(RGBColor(205, 205, 205))
+        .label_style(("sans-serif", 17))
+        .axis_desc_style(("sans-serif", 17))
+        .draw()
+        .map_err(plot_err)?;
+    if points.is_empty() {
+        area.draw(&Text::new(
+            "no positive timings and estimates to plot",
+            (200, 200),
+            ("sans-serif", 18).into_font().color(&GUIDE),
+        ))
+        .map_err(plot_err)?;
+        return Ok(());
+    }
+    chart
+        .draw_series(LineSeries::new(
+            points.iter().map(|p| (p.0, p.1)),
+            TRIBO.stroke_width(2),
+        ))
+        .map_err(plot_err)?;
+    let label_font = ("sans-serif", 14).into_font().color(&BLACK);
+    chart
+        .draw_series(points.iter().map(|&(t, e, dofs)| {
+            EmptyElement::at((t, e))
+                + Circle::new((0, 0), 3, TRIBO.filled())
+                + Text::new(format!("{dofs} dofs"), (6, -14), label_font.clone())
+        }))
+        .map_err(plot_err)?;
+    Ok(())
+}
+
+/// Lower panel of [`cost`]: stacked bars of the phase seconds, one bar per printed cycle.
+fn phase_bars(area: &DrawingArea<SVGBackend, Shift>, run: &RunResult) -> io::Result<()> {
+    let n = run.rows.len().max(1);
+    let finite = |v: f64| if v.is_finite() && v > 0.0 { v } else { 0.0 };
+    let max_total = run
+        .rows
+        .iter()
+        .map(|r| {
+            r.seconds
+                .named()
+                .iter()
+                .map(|(_, s)| finite(*s))
+                .sum::<f64>()
+        })
+        .fold(0.0, f64::max);
+    let y_hi = if max_total > 0.0 {
+        max_total * 1.08
+    } else {
+        1.0
+    };
+    let mut chart = ChartBuilder::on(area)
+        .caption("seconds per phase and cycle", ("sans-serif", 16))
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(70)
+        .build_cartesian_2d(-0.5..(n as f64 - 0.5), 0.0..y_hi)
+        .map_err(plot_err)?;
+    let cycles: Vec<usize> = run.rows.iter().map(|r| r.cycle).collect();
+    let x_label = move |v: &f64| {
+        let i = v.round();
+        if (v - i).abs() < 1e-6 && i >= 0.0 {
+            cycles
+                .get(i as usize)
+                .map(|c| c.to_string())
+                .unwrap_or_default()
+        } else {
+            String::new()
+        }
+    };
+    chart
+        .configure_mesh()
+        .disable_x_mesh()
+        .x_labels(n + 1)
+        .x_label_formatter(&x_label)
+        .y_label_formatter(&|v| fmt_short(*v))
+        .x_desc("cycle")
+        .y_desc("seconds")
+        .y_max_light_lines(1)
+        .light_line_style(RGBColor(240, 240, 240))
+        .bold_line_style(RGBColor(215, 215, 215))
+        .label_style(("sans-serif", 17))
+        .axis_desc_style(("sans-serif", 17))
+        .draw()
+        .map_err(plot_err)?;
+    for (p, (name, color)) in PHASES.iter().enumerate() {
+        let bars: Vec<Rectangle<(f64, f64)>> = run
+            .rows
+            .iter()
+            .enumerate()
+            .map(|(i, r)| {
+                let s = r.seconds.named();
+                let below: f64 = s[..p].iter().map(|(_, v)| finite(*v)).sum();
+                let x = i as f64;
+                Rectangle::new(
+                    [(x - 0.35, below), (x + 0.35, below + finite(s[p].1))],
+                    color.filled(),
+                )
+            })
+            .collect();
+        let color = *color;
+        chart
+            .draw_series(bars)
+            .map_err(plot_err)?
+            .label(*name)
+            .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 12, y + 5)], color.filled()));
+    }
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperLeft)
+        .background_style(WHITE.mix(0.9))
+        .border_style(RGBColor(160, 160, 160))
+        .label_font(("sans-serif", 17))
+        .draw()
+        .map_err(plot_err)?;
+    Ok(())
+}
+
+// ---------------------------------------------------------------------------------------------
+// Hand-written SVG pictures.
+// ---------------------------------------------------------------------------------------------
+
+/// Sub-pixel units per pixel for picture coordinates. Coordinates are written as integers in these
+/// units inside a `scale(0.1)` group: one decimal of pixel precision without decimal points.
+const SUB: f64 = 10.0;
+
+/// Maps a rectangle of the domain onto a pixel rectangle, y pointing up in the domain and down in
+/// the SVG. Integer output is in [`SUB`] units.
+#[derive(Clone, Copy)]
+struct Frame {
+    /// Domain window `[x0, x1, y0, y1]`.
+    win: [f64; 4],
+    /// Pixel origin (left, top) and pixels per domain unit.
+    left: f64,
+    top: f64,
+    scale: f64,
+}
+
+impl Frame {
+    /// A frame showing `win` with `width` pixels, keeping the aspect ratio.
+    fn new(win: [f64; 4], left: f64, top: f64, width: f64) -> Frame {
+        Frame {
+            win,
+            left,
+            top,
+            scale: width / (win[1] - win[0]),
+        }
+    }
+    fn width(&self) -> f64 {
+        (self.win[1] - self.win[0]) * self.scale
+    }
+    fn height(&self) -> f64 {
+        (self.win[3] - self.win[2]) * self.scale
+    }
+    /// Pixel x of a domain x.
+    fn px(&self, x: f64) -> f64 {
+        self.left + (x - self.win[0]) * self.scale
+    }
+    /// Pixel y of a domain y.
+    fn py(&self, y: f64) -> f64 {
+        self.top + (self.win[3] - y) * self.scale
+    }
+    /// Integer sub-pixel coordinates of a domain point.
+    fn sub(&self, x: f64, y: f64) -> (i64, i64) {
+        (
+            (self.px(x) * SUB).round() as i64,
+            (self.py(y) * SUB).round() as i64,
+        )
+    }
+    fn intersects(&self, c: &CellBox) -> bool {
+        c.x1 >= self.win[0] && c.x0 <= self.win[1] && c.y1 >= self.win[2] && c.y0 <= self.win[3]
+    }
+}
+
+fn finite_box(c: &CellBox) -> bool {
+    c.x0.is_finite() && c.x1.is_finite() && c.y0.is_finite() && c.y1.is_finite()
+}
+
+/// Bounding box `[x0, x1, y0, y1]` of finite points, `None` if there are none or it has no area.
+fn bbox(points: impl Iterator<Item = (f64, f64)>) -> Option<[f64; 4]> {
+    let mut b = [
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+    ];
+    for (x, y) in points.filter(|(x, y)| x.is_finite() && y.is_finite()) {
+        b = [b[0].min(x), b[1].max(x), b[2].min(y), b[3].max(y)];
+    }
+    (b[1] > b[0] && b[3] > b[2]).then_some(b)
+}
+
+/// The domain box to draw: the run's domain when it is a proper box, otherwise the cells' extent.
+fn picture_window<'a>(
+    domain: [f64; 4],
+    cells: impl Iterator<Item = &'a CellBox>,
+) -> Option<[f64; 4]> {
+    let d = domain;
+    if d.iter().all(|v| v.is_finite()) && d[1] > d[0] && d[3] > d[2] {
+        return Some(d);
+    }
+    bbox(
+        cells
+            .filter(|c| finite_box(c))
+            .flat_map(|c| [(c.x0, c.y0), (c.x1, c.y1)]),
+    )
+}
+
+/// A cell's box in sub-pixel units `(x0, top, x1, bottom)`.
+///
+/// Cells narrower or lower than a pixel are snapped to the pixel grid they fall in: at that size
+/// they only darken (mesh) or colour (field) the pixel anyway, and snapped boxes repeat, so the
+/// callers' de-duplication bounds the SVG by the picture's pixel count instead of the cell count.
+fn sub_box(c: &CellBox, f: &Frame) -> (i64, i64, i64, i64) {
+    let (mut x0, mut top) = f.sub(c.x0, c.y1);
+    let (mut x1, mut bottom) = f.sub(c.x1, c.y0);
+    let px = SUB as i64;
+    if x1 - x0 < px {
+        x0 = x0.div_euclid(px) * px;
+        x1 = x0 + px;
+    }
+    if bottom - top < px {
+        top = top.div_euclid(px) * px;
+        bottom = top + px;
+    }
+    (x0, top, x1, bottom)
+}
+
+/// Merge collinear segments `(line, from, to)` that overlap or touch, in place.
+fn merge_segments(segs: &mut Vec<(i64, i64, i64)>) {
+    segs.sort_unstable();
+    let mut out: Vec<(i64, i64, i64)> = Vec::with_capacity(segs.len() / 4 + 1);
+    for &(line, a, b) in segs.iter() {
+        match out.last_mut() {
+            Some(last) if last.0 == line && a <= last.2 => last.2 = last.2.max(b),
+            _ => out.push((line, a, b)),
+        }
+    }
+    *segs = out;
+}
+
+/// Outline path of the cells, in sub-pixel units.
+///
+/// Each cell contributes only its top and right edge: every interior edge of a quadtree mesh (with
+/// hanging nodes too) is part of the top or right edge of the cell below or left of it; the caller
+/// draws the window frame for the remaining left and bottom boundary. The edges are then merged
+/// into maximal horizontal and vertical lines, so a uniform n × n patch costs 2n segments rather
+/// than n² — the SVG grows with the picture's resolution, not with the mesh.
+fn outline_path<'a>(cells: impl Iterator<Item = &'a CellBox>, f: &Frame) -> String {
+    let mut horizontal = Vec::new();
+    let mut vertical = Vec::new();
+    for c in cells.filter(|c| finite_box(c) && f.intersects(c)) {
+        let (x0, top, x1, bottom) = sub_box(c, f);
+        horizontal.push((top, x0, x1));
+        vertical.push((x1, top, bottom));
+    }
+    merge_segments(&mut horizontal);
+    merge_segments(&mut vertical);
+    let mut d = String::new();
+    for (y, a, b) in horizontal {
+        let _ = write!(d, "M{a} {y}h{}", b - a);
+    }
+    for (x, a, b) in vertical {
+        let _ = write!(d, "M{x} {a}v{}", b - a);
+    }
+    d
+}
+
+/// Filled rectangles `(x0, top, x1, bottom)` in sub-pixel units, de-duplicated against `seen` by
+/// the caller and merged here into horizontal runs: neighbouring cells of one colour in a row
+/// become one rectangle.
+fn rects_path(mut boxes: Vec<(i64, i64, i64, i64)>) -> String {
+    boxes.sort_unstable_by_key(|&(x0, top, _, bottom)| (top, bottom, x0));
+    let mut d = String::new();
+    let mut run: Option<(i64, i64, i64, i64)> = None;
+    let mut emit = |r: (i64, i64, i64, i64)| {
+        let (x0, top, x1, bottom) = r;
+        let _ = write!(d, "M{x0} {top}h{}v{}h{}z", x1 - x0, bottom - top, x0 - x1);
+    };
+    for b in boxes {
+        run = match run {
+            Some(r) if r.1 == b.1 && r.3 == b.3 && b.0 <= r.2 => {
+                Some((r.0, r.1, r.2.max(b.2), r.3))
+            }
+            Some(r) => {
+                emit(r);
+                Some(b)
+            }
+            None => Some(b),
+        };
+    }
+    if let Some(r) = run {
+        emit(r);
+    }
+    d
+}
+
+/// Closed rectangles of the cells (for fills), in sub-pixel units.
+fn rect_path<'a>(cells: impl Iterator<Item = &'a CellBox>, f: &Frame) -> String {
+    let mut seen = HashSet::new();
+    rects_path(
+        cells
+            .filter(|c| finite_box(c) && f.intersects(c))
+            .map(|c| sub_box(c, f))
+            .filter(|b| seen.insert(*b))
+            .collect(),
+    )
+}
+
+fn svg_open(width: f64, height: f64) -> String {
+    let (w, h) = (width.ceil(), height.ceil());
+    format!(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" \
+         viewBox=\"0 0 {w} {h}\" font-family=\"sans-serif\">\n\
+         <rect width=\"{w}\" height=\"{h}\" fill=\"white\"/>\n"
+    )
+}
+
+fn text(svg: &mut String, x: f64, y: f64, size: f64, anchor: &str, s: &str) {
+    let _ = writeln!(
+        svg,
+        "<text x=\"{x:.1}\" y=\"{y:.1}\" font-size=\"{size}\" text-anchor=\"{anchor}\">{}</text>",
+        escape(s)
+    );
+}
+
+fn placeholder(path: &Path, title: &str, why: &str) -> io::Result<()> {
+    let mut svg = svg_open(600.0, 80.0);
+    text(&mut svg, 10.0, 28.0, 16.0, "start", title);
+    text(&mut svg, 10.0, 58.0, 14.0, "start", why);
+    svg.push_str("</svg>\n");
+    fs::write(path, svg)
+}
+
+/// Width of the wide pictures (strips, deformed body) in pixels.
+const WIDE: f64 = 1600.0;
+/// Domains at least this many times wider than high are drawn as stacked strips.
+const STRIP_ASPECT: f64 = 3.0;
+const MESH_LINE: &str = "#1f3a5f";
+
+/// Draw one mesh into `svg` inside frame `f`, framed by the window boundary.
+fn draw_mesh(svg: &mut String, cells: &[CellBox], f: &Frame, clip_id: &str) {
+    let (l, t, w, h) = (f.left, f.top, f.width(), f.height());
+    let _ = writeln!(
+        svg,
+        "<clipPath id=\"{clip_id}\"><rect x=\"{l:.1}\" y=\"{t:.1}\" width=\"{w:.1}\" height=\"{h:.1}\"/></clipPath>\n\
+         <g clip-path=\"url(#{clip_id})\"><path transform=\"scale({s})\" fill=\"none\" stroke=\"{MESH_LINE}\" \
+         stroke-width=\"{sw}\" d=\"{d}\"/></g>\n\
+         <rect x=\"{l:.1}\" y=\"{t:.1}\" width=\"{w:.1}\" height=\"{h:.1}\" fill=\"none\" stroke=\"black\" stroke-width=\"1\"/>",
+        s = 1.0 / SUB,
+        sw = 0.6 * SUB,
+        d = outline_path(cells.iter(), f),
+    );
+}
+
+/// Mesh pictures (thesis Fig. IV.1): cell outlines, aspect ratio kept.
+///
+/// Thin domains (like the strip [−16,16]×[0,1]) are stacked vertically, each strip followed by a
+/// detail around its finest cell — at true aspect ratio the refined ends of a 32:1 strip are a few
+/// pixels wide, and the detail is where the refinement pattern can actually be compared with the
+/// thesis figure. Squarish domains are drawn side by side.
+pub fn meshes(path: &Path, meshes: &[MeshPicture], domain: [f64; 4]) -> io::Result<()> {
+    let Some(win) = picture_window(domain, meshes.iter().flat_map(|m| &m.cells)) else {
+        return placeholder(path, "mesh", "no cells with a finite extent to draw");
+    };
+    let (w, h) = (win[1] - win[0], win[3] - win[2]);
+    let aspect = w / h;
+    let margin = 12.0;
+    let label_h = 22.0;
+    let mut body = String::new();
+
+    let (width, height) = if aspect >= STRIP_ASPECT {
+        let strip_w = WIDE - 2.0 * margin;
+        let detail_w = strip_w * 0.5;
+        let mut y = margin;
+        for (i, m) in meshes.iter().enumerate() {
+            text(
+                &mut body,
+                margin,
+                y + 15.0,
+                15.0,
+                "start",
+                &format!("cycle {}  ({} cells)", m.cycle, m.cells.len()),
+            );
+            y += label_h;
+            let strip = Frame::new(win, margin, y, strip_w);
+            draw_mesh(&mut body, &m.cells, &strip, &format!("m{i}"));
+            y += strip.height() + 8.0;
+
+            // Detail window: 4 domain heights wide, centred on the smallest cell.
+            let finest = m.cells.iter().filter(|c| finite_box(c)).min_by(|a, b| {
+                let (sa, sb) = ((a.x1 - a.x0).abs(), (b.x1 - b.x0).abs());
+                sa.total_cmp(&sb)
+            });
+            if let Some(c) = finest {
+                let dw = (4.0 * h).min(w);
+                let cx = (0.5 * (c.x0 + c.x1)).clamp(win[0] + dw / 2.0, win[1] - dw / 2.0);
+                let dwin = [cx - dw / 2.0, cx + dw / 2.0, win[2], win[3]];
+                // Mark the detail window on the strip.
+                let _ = writeln!(
+                    body,
+                    "<rect x=\"{:.1}\" y=\"{:.1}\" width=\"{:.1}\" height=\"{:.1}\" fill=\"none\" stroke=\"#d62728\" stroke-width=\"1.5\"/>",
+                    strip.px(dwin[0]),
+                    strip.top,
+                    (dwin[1] - dwin[0]) * strip.scale,
+                    strip.height()
+                );
+                let detail = Frame::new(dwin, margin, y, detail_w);
+                draw_mesh(&mut body, &m.cells, &detail, &format!("d{i}"));
+                let _ = writeln!(
+                    body,
+                    "<rect x=\"{:.1}\" y=\"{:.1}\" width=\"{:.1}\" height=\"{:.1}\" fill=\"none\" stroke=\"#d62728\" stroke-width=\"1.5\"/>",
+                    detail.left, detail.top, detail.width(), detail.height()
+                );
+                text(
+                    &mut body,
+                    margin + detail_w + 12.0,
+                    y + 18.0,
+                    14.0,
+                    "start",
+                    &format!(
+                        "detail: x ∈ [{}, {}] around the finest cell (width {})",
+                        fmt_short(dwin[0]),
+                        fmt_short(dwin[1]),
+                        fmt_short(c.x1 - c.x0)
+                    ),
+                );
+                y += detail.height();
+            }
+            y += 18.0;
+        }
+        (WIDE, y)
+    } else {
+        // Side by side, wrapping rows at the page width.
+        let panel_h = if aspect > 1.0 { 440.0 / aspect } else { 440.0 };
+        let panel_w = panel_h * aspect;
+        let per_row = ((WIDE - margin) / (panel_w + margin)).floor().max(1.0) as usize;
+        let cols = meshes.len().clamp(1, per_row);
+        let rows = meshes.len().div_ceil(per_row).max(1);
+        for (i, m) in meshes.iter().enumerate() {
+            let left = margin + (i % per_row) as f64 * (panel_w + margin);
+            let top = margin + (i / per_row) as f64 * (panel_h + label_h + margin);
+            text(
+                &mut body,
+                left,
+                top + 15.0,
+                15.0,
+                "start",
+                &format!("cycle {}  ({} cells)", m.cycle, m.cells.len()),
+            );
+            let f = Frame::new(win, left, top + label_h, panel_w);
+            draw_mesh(&mut body, &m.cells, &f, &format!("m{i}"));
+        }
+        (
+            margin + cols as f64 * (panel_w + margin),
+            margin + rows as f64 * (panel_h + label_h + margin),
+        )
+    };
+    let mut svg = svg_open(width, height);
+    svg.push_str(&body);
+    svg.push_str("</svg>\n");
+    fs::write(path, svg)
+}
+
+/// The deformed body (thesis Fig. IV.2): displaced quadrilaterals filled light and outlined,
+/// obstacles as thick polylines, active contact vertices as dots.
+///
+/// The view is the body's extent plus a margin, so an obstacle curve that runs far from the body
+/// is clipped instead of shrinking the body to a sliver.
+pub fn deformed(path: &Path, table: &str, pic: &DeformedPicture) -> io::Result<()> {
+    let title = format!(
+        "{table} — deformed body after cycle {}, displacement × {}",
+        pic.cycle,
+        fmt_short(pic.scale)
+    );
+    let finite_quad = |q: &&[[f64; 2]; 4]| q.iter().flatten().all(|v| v.is_finite());
+    let Some(body) = bbox(
+        pic.quads
+            .iter()
+            .filter(finite_quad)
+            .flatten()
+            .map(|p| (p[0], p[1])),
+    ) else {
+        return placeholder(path, &title, "no finite cells to draw");
+    };
+    let (bw, bh) = (body[1] - body[0], body[3] - body[2]);
+    let (mx, my) = (0.03 * bw, 0.35 * bh.max(bw / 40.0));
+    let reach = [body[0] - mx, body[1] + mx, body[2] - my, body[3] + my];
+    // Extend to obstacles and contact points, but never beyond `reach`.
+    let extra = pic
+        .obstacles
+        .iter()
+        .flatten()
+        .chain(&pic.contact_points)
+        .map(|p| (p[0], p[1]));
+    let all = bbox(extra.chain([(body[0], body[2]), (body[1], body[3])])).unwrap_or(body);
+    let win = [
+        all[0].max(reach[0]),
+        all[1].min(reach[1]),
+        all[2].max(reach[2]),
+        all[3].min(reach[3]),
+    ];
+    // A little air around the drawing.
+    let pad = 0.02 * (win[3] - win[2]).max((win[1] - win[0]) / 60.0);
+    let win = [win[0] - pad, win[1] + pad, win[2] - pad, win[3] + pad];
+
+    let margin = 12.0;
+    let aspect = (win[1] - win[0]) / (win[3] - win[2]);
+    // Keep tall pictures at a readable height.
+    let plot_w = (WIDE - 2.0 * margin).min(820.0 * aspect);
+    let f = Frame::new(win, margin, 40.0, plot_w);
+    let width = (plot_w + 2.0 * margin).max(640.0);
+    let height = f.top + f.height() + 60.0;
+
+    let mut svg = svg_open(width, height);
+    text(&mut svg, margin, 26.0, 17.0, "start", &title);
+    let _ = writeln!(
+        svg,
+        "<clipPath id=\"c\"><rect x=\"{:.1}\" y=\"{:.1}\" width=\"{:.1}\" height=\"{:.1}\"/></clipPath>\n<g clip-path=\"url(#c)\"><g transform=\"scale({})\">",
+        f.left,
+        f.top,
+        f.width(),
+        f.height(),
+        1.0 / SUB
+    );
+    let mut d = String::new();
+    // Quads smaller than a pixel become that pixel, written once (as in `sub_box`).
+    let mut tiny = HashSet::new();
+    let px = SUB as i64;
+    for q in pic.quads.iter().filter(finite_quad) {
+        let p: Vec<(i64, i64)> = q.iter().map(|p| f.sub(p[0], p[1])).collect();
+        let (xs, ys) = (p.iter().map(|p| p.0), p.iter().map(|p| p.1));
+        let w = xs.clone().max().unwrap_or(0) - xs.min().unwrap_or(0);
+        let h = ys.clone().max().unwrap_or(0) - ys.min().unwrap_or(0);
+        if w < px && h < px {
+            let (x, y) = (p[0].0.div_euclid(px) * px, p[0].1.div_euclid(px) * px);
+            if tiny.insert((x, y)) {
+                let _ = write!(d, "M{x} {y}h{px}v{px}h-{px}z");
+            }
+            continue;
+        }
+        let _ = write!(
+            d,
+            "M{} {}L{} {} {} {} {} {}z",
+            p[0].0, p[0].1, p[1].0, p[1].1, p[2].0, p[2].1, p[3].0, p[3].1
+        );
+    }
+    let _ = writeln!(
+        svg,
+        "<path fill=\"#d6e4f2\" stroke=\"#4a6a8a\" stroke-width=\"{}\" stroke-linejoin=\"round\" d=\"{d}\"/>",
+        0.5 * SUB
+    );
+    let mut d = String::new();
+    for line in &pic.obstacles {
+        let mut first = true;
+        for p in line.iter().filter(|p| p[0].is_finite() && p[1].is_finite()) {
+            let (x, y) = f.sub(p[0], p[1]);
+            let _ = write!(d, "{}{x} {y}", if first { "M" } else { "L" });
+            first = false;
+        }
+    }
+    let _ = writeln!(
+        svg,
+        "<path fill=\"none\" stroke=\"#5b3a1a\" stroke-width=\"{}\" stroke-linejoin=\"round\" d=\"{d}\"/>",
+        3.0 * SUB
+    );
+    // Dots as zero-length segments with round caps: one path for any number of points.
+    let mut d = String::new();
+    for p in pic
+        .contact_points
+        .iter()
+        .filter(|p| p[0].is_finite() && p[1].is_finite())
+    {
+        let (x, y) = f.sub(p[0], p[1]);
+        let _ = write!(d, "M{x} {y}h0");
+    }
+    let _ = writeln!(
+        svg,
+        "<path stroke=\"#e31a1c\" stroke-width=\"{}\" stroke-linecap=\"round\" d=\"{d}\"/>\n</g></g>",
+        5.0 * SUB
+    );
+    let _ = writeln!(
+        svg,
+        "<rect x=\"{:.1}\" y=\"{:.1}\" width=\"{:.1}\" height=\"{:.1}\" fill=\"none\" stroke=\"#999\" stroke-width=\"0.5\"/>",
+        f.left,
+        f.top,
+        f.width(),
+        f.height()
+    );
+
+    // Legend and caption under the picture.
+    let y = f.top + f.height() + 22.0;
+    let _ = writeln!(
+        svg,
+        "<path d=\"M{margin} {y}h28\" stroke=\"#5b3a1a\" stroke-width=\"3\"/>\
+         <path d=\"M{:.1} {y}h0\" stroke=\"#e31a1c\" stroke-width=\"5\" stroke-linecap=\"round\"/>",
+        margin + 150.0
+    );
+    text(&mut svg, margin + 34.0, y + 5.0, 13.0, "start", "obstacle");
+    text(
+        &mut svg,
+        margin + 158.0,
+        y + 5.0,
+        13.0,
+        "start",
+        &format!("contact points ({})", pic.contact_points.len()),
+    );
+    text(&mut svg, margin, y + 28.0, 14.0, "start", &pic.caption);
+    svg.push_str("</svg>\n");
+    fs::write(path, svg)
+}
+
+/// Viridis colormap (matplotlib's perceptually uniform map), sampled at nine points and
+/// interpolated linearly: close enough for a report and free of dependencies.
+pub(crate) fn viridis(t: f64) -> (u8, u8, u8) {
+    const STOPS: [(f64, f64, f64); 9] = [
+        (68.0, 1.0, 84.0),
+        (71.0, 44.0, 122.0),
+        (59.0, 82.0, 139.0),
+        (44.0, 114.0, 142.0),
+        (33.0, 145.0, 140.0),
+        (40.0, 174.0, 128.0),
+        (94.0, 201.0, 98.0),
+        (173.0, 220.0, 48.0),
+        (253.0, 231.0, 37.0),
+    ];
+    let t = if t.is_finite() {
+        t.clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let s = t * (STOPS.len() - 1) as f64;
+    let i = (s.floor() as usize).min(STOPS.len() - 2);
+    let u = s - i as f64;
+    let (a, b) = (STOPS[i], STOPS[i + 1]);
+    let mix = |p: f64, q: f64| (p + u * (q - p)).round() as u8;
+    (mix(a.0, b.0), mix(a.1, b.1), mix(a.2, b.2))
+}
+
+/// Colour bins of a field picture: cells are grouped by bin so each colour is one `<path>`.
+const BINS: usize = 64;
+const ZONE: &str = "#ff1f5b";
+
+/// A scalar field on the active cells, coloured with [`viridis`], with a colour bar and the zone
+/// (e.g. the cavitated region ψ = 0) hatched and outlined in a contrasting colour.
+pub fn field(path: &Path, table: &str, pic: &FieldPicture, domain: [f64; 4]) -> io::Result<()> {
+    let title = format!("{table} — {} after cycle {}", pic.name, pic.cycle);
+    let Some(win) = picture_window(domain, pic.cells.iter().map(|(c, _)| c)) else {
+        return placeholder(path, &title, "no cells with a finite extent to draw");
+    };
+    let (lo, hi) = pic
+        .cells
+        .iter()
+        .map(|(_, v)| *v)
+        .filter(|v| v.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+            (a.min(v), b.max(v))
+        });
+    let (lo, hi) = if lo > hi {
+        (0.0, 1.0)
+    } else if lo == hi {
+        (lo - 0.5, hi + 0.5)
+    } else {
+        (lo, hi)
+    };
+    let bin = |v: f64| {
+        ((v - lo) / (hi - lo) * BINS as f64)
+            .floor()
+            .clamp(0.0, BINS as f64 - 1.0) as usize
+    };
+
+    let aspect = (win[1] - win[0]) / (win[3] - win[2]);
+    let margin = 14.0;
+    let plot_w = (WIDE - 2.0 * margin).min(620.0 * aspect);
+    let f = Frame::new(win, margin, 40.0, plot_w);
+    let bar_w = plot_w.clamp(240.0, 480.0);
+    let width = (plot_w + 2.0 * margin).max(bar_w + 2.0 * margin + 260.0);
+    let bar_top = f.top + f.height() + 16.0;
+    let height = bar_top + 80.0;
+
+    let mut svg = svg_open(width, height);
+    text(&mut svg, margin, 26.0, 17.0, "start", &title);
+    // Hatch for the zone: diagonal lines in user space, so adjacent zone cells join seamlessly.
+    let _ = writeln!(
+        svg,
+        "<defs><pattern id=\"hatch\" patternUnits=\"userSpaceOnUse\" width=\"{p}\" height=\"{p}\" \
+         patternTransform=\"rotate(45)\"><rect width=\"{h}\" height=\"{p}\" fill=\"{ZONE}\" fill-opacity=\"0.75\"/></pattern>\n\
+         <path id=\"zone\" d=\"{z}\"/>\n\
+         <mask id=\"outside\" maskUnits=\"userSpaceOnUse\" x=\"-1e6\" y=\"-1e6\" width=\"2e6\" height=\"2e6\">\
+         <rect x=\"-1e6\" y=\"-1e6\" width=\"2e6\" height=\"2e6\" fill=\"white\"/><use href=\"#zone\" fill=\"black\"/></mask>\n\
+         <clipPath id=\"c\"><rect x=\"{:.1}\" y=\"{:.1}\" width=\"{:.1}\" height=\"{:.1}\"/></clipPath>\n\
+         <pattern id=\"hatch-px\" patternUnits=\"userSpaceOnUse\" width=\"7\" height=\"7\" \
+         patternTransform=\"rotate(45)\"><rect width=\"1.6\" height=\"7\" fill=\"{ZONE}\"/></pattern>\n\
+         <linearGradient id=\"bar\">{stops}</linearGradient></defs>",
+        f.left * SUB,
+        f.top * SUB,
+        f.width() * SUB,
+        f.height() * SUB,
+        p = 7.0 * SUB,
+        h = 1.6 * SUB,
+        z = rect_path(pic.zone.iter(), &f),
+        stops = (0..=8)
+            .map(|k| {
+                let (r, g, b) = viridis(k as f64 / 8.0);
+                format!("<stop offset=\"{}\" stop-color=\"rgb({r},{g},{b})\"/>", k as f64 / 8.0)
+            })
+            .collect::<String>(),
+    );
+    let _ = writeln!(
+        svg,
+        "<g transform=\"scale({})\" clip-path=\"url(#c)\">",
+        1.0 / SUB
+    );
+    // One path per colour bin; `BINS` is the bin of cells without a finite value (grey). The
+    // first cell to claim a snapped pixel colours it.
+    let mut by_bin = vec![Vec::new(); BINS + 1];
+    let mut seen = HashSet::new();
+    let mut undefined = 0;
+    for (c, v) in &pic.cells {
+        let k = if v.is_finite() {
+            bin(*v)
+        } else {
+            undefined += 1;
+            BINS
+        };
+        if finite_box(c) && f.intersects(c) {
+            let b = sub_box(c, &f);
+            if seen.insert(b) {
+                by_bin[k].push(b);
+            }
+        }
+    }
+    let by_bin: Vec<String> = by_bin.into_iter().map(rects_path).collect();
+    for (k, d) in by_bin.iter().enumerate().filter(|(_, d)| !d.is_empty()) {
+        let fill = if k == BINS {
+            "#bbbbbb".to_string()
+        } else {
+            let (r, g, b) = viridis((k as f64 + 0.5) / BINS as f64);
+            format!("rgb({r},{g},{b})")
+        };
+        let _ = writeln!(
+            svg,
+            "<path fill=\"{fill}\" shape-rendering=\"crispEdges\" d=\"{d}\"/>"
+        );
+    }
+    // Cell outlines only while they do not drown the colours (roughly ≥ 6 pixels per cell).
+    let px_per_cell = f.width() * f.height() / pic.cells.len().max(1) as f64;
+    if px_per_cell >= 36.0 {
+        let _ = writeln!(
+            svg,
+            "<path fill=\"none\" stroke=\"white\" stroke-opacity=\"0.45\" stroke-width=\"{}\" d=\"{}\"/>",
+            0.5 * SUB,
+            outline_path(pic.cells.iter().map(|(c, _)| c), &f)
+        );
+    }
+    if !pic.zone.is_empty() {
+        // The outline is the zone cells' stroke masked to the outside of the zone: what remains
+        // is the outer half of the stroke along the union's boundary, with no interior edges.
+        let _ = writeln!(
+            svg,
+            "<use href=\"#zone\" fill=\"url(#hatch)\"/>\n\
+             <use href=\"#zone\" fill=\"none\" stroke=\"{ZONE}\" stroke-width=\"{}\" mask=\"url(#outside)\"/>",
+            5.0 * SUB
+        );
+    }
+    svg.push_str("</g>\n");
+    let _ = writeln!(
+        svg,
+        "<rect x=\"{:.1}\" y=\"{:.1}\" width=\"{:.1}\" height=\"{:.1}\" fill=\"none\" stroke=\"black\" stroke-width=\"1\"/>",
+        f.left,
+        f.top,
+        f.width(),
+        f.height()
+    );
+
+    // Colour bar with five ticks.
+    let _ = writeln!(
+        svg,
+        "<rect x=\"{margin}\" y=\"{bar_top:.1}\" width=\"{bar_w:.1}\" height=\"16\" fill=\"url(#bar)\" stroke=\"#444\" stroke-width=\"0.5\"/>"
+    );
+    for k in 0..=4 {
+        let t = k as f64 / 4.0;
+        let x = margin + t * bar_w;
+        let _ = writeln!(
+            svg,
+            "<path d=\"M{x:.1} {:.1}v5\" stroke=\"#444\"/>",
+            bar_top + 16.0
+        );
+        let anchor = match k {
+            0 => "start",
+            4 => "end",
+            _ => "middle",
+        };
+        text(
+            &mut svg,
+            x,
+            bar_top + 35.0,
+            12.0,
+            anchor,
+            &fmt_short(lo + t * (hi - lo)),
+        );
+    }
+    text(
+        &mut svg,
+        margin + bar_w + 14.0,
+        bar_top + 13.0,
+        14.0,
+        "start",
+        &pic.name,
+    );
+    let legend_y = bar_top + 60.0;
+    if !pic.zone.is_empty() {
+        let _ = writeln!(
+            svg,
+            "<rect x=\"{margin}\" y=\"{:.1}\" width=\"22\" height=\"14\" fill=\"url(#hatch-px)\" stroke=\"{ZONE}\" stroke-width=\"2\"/>",
+            legend_y - 11.0
+        );
+        text(
+            &mut svg,
+            margin + 30.0,
+            legend_y,
+            13.0,
+            "start",
+            &format!("{} ({} cells)", pic.zone_label, pic.zone.len()),
+        );
+    }
+    if undefined > 0 {
+        text(
+            &mut svg,
+            margin + 320.0,
+            legend_y,
+            13.0,
+            "start",
+            &format!("grey: {undefined} cells without a finite value"),
+        );
+    }
+    svg.push_str("</svg>\n");
+    fs::write(path, svg)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::results::{CycleRow, PhaseSeconds};
+
+    #[test]
+    fn log_axis_labels_a_range_without_a_power_of_ten() {
+        let axis = NiceLog::new((0.11, 0.8));
+        let ticks = axis.key_points(plotters::coord::ranged1d::BoldPoints(12));
+        assert_eq!(ticks.len(), 2, "{ticks:?}"); // 0.2 and 0.5
+        let wide = NiceLog::new((1e-9, 1e9)).key_points(plotters::coord::ranged1d::BoldPoints(6));
+        assert!(!wide.is_empty() && wide.len() <= 6, "{wide:?}");
+    }
+
+    #[test]
+    fn merged_outline_of_a_uniform_grid_is_one_line_per_grid_line() {
+        let n = 40;
+        let cells: Vec<CellBox> = (0..n * n)
+            .map(|k| {
+                let (i, j) = ((k % n) as f64, (k / n) as f64);
+                let h = 1.0 / n as f64;
+                CellBox {
+                    x0: i * h,
+                    x1: (i + 1.0) * h,
+                    y0: j * h,
+                    y1: (j + 1.0) * h,
+                }
+            })
+            .collect();
+        let f = Frame::new([0.0, 1.0, 0.0, 1.0], 0.0, 0.0, 400.0);
+        assert_eq!(outline_path(cells.iter(), &f).matches('M').count(), 2 * n);
+    }
+
+    /// Degenerate data must give a figure, not a panic or an error.
+    #[test]
+    fn degenerate_data_still_writes_figures() {
+        let dir = std::env::temp_dir().join(format!("tribo-plots-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let row = |estimate: f64| CycleRow {
+            cycle: 0,
+            active_cells: 1,
+            dofs: 4,
+            estimate,
+            ratio: None,
+            quantities: vec![],
+            counters: vec![],
+            seconds: PhaseSeconds::default(),
+        };
+        let thesis = ThesisTable {
+            table: "T".into(),
+            section: "S".into(),
+            columns: vec!["cycle".into(), "dofs".into(), "estimate".into()],
+            rows: vec![vec![0.0, f64::NAN, -1.0]],
+            duplicate_of: None,
+        };
+        for rows in [
+            vec![],
+            vec![row(0.0)],
+            vec![row(f64::NAN), row(-1.0)],
+            vec![row(0.5)],
+        ] {
+            let run = RunResult {
+                table: "T".into(),
+                section: "S".into(),
+                title: "t".into(),
+                tier: "quick".into(),
+                rows,
+                probes: vec![],
+                meshes: vec![],
+                deformed: vec![],
+                fields: vec![],
+                domain: [0.0, 1.0, 0.0, 1.0],
+                notes: vec![],
+            };
+            convergence(&dir.join("c.svg"), &run, &thesis).unwrap();
+            cost(&dir.join("k.svg"), &run).unwrap();
+        }
+        let empty = MeshPicture {
+            cycle: 0,
+            cells: vec![],
+        };
+        meshes(&dir.join("m.svg"), &[empty], [f64::NAN; 4]).unwrap();
+        let pic = DeformedPicture {
+            cycle: 0,
+            scale: 1.0,
+            quads: vec![[[f64::NAN; 2]; 4]],
+            obstacles: vec![vec![]],
+            contact_points: vec![],
+            caption: String::new(),
+        };
+        deformed(&dir.join("d.svg"), "T", &pic).unwrap();
+        let field_pic = FieldPicture {
+            cycle: 0,
+            name: "psi".into(),
+            cells: vec![],
+            zone: vec![],
+            zone_label: String::new(),
+        };
+        field(&dir.join("f.svg"), "T", &field_pic, [0.0, 1.0, 0.0, 1.0]).unwrap();
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}

@@ -1,0 +1,38 @@
+//! The printed thesis tables, as reference data to compare against (never copied into an output).
+
+use serde::Serialize;
+
+/// One printed Chapter IV table.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct ThesisTable {
+    /// Table id, e.g. `IV.1`.
+    pub table: String,
+    /// Thesis section, e.g. `IV.1.1`.
+    pub section: String,
+    /// Column names as in `tables.csv`; the first is `cycle`.
+    pub columns: Vec<String>,
+    /// One row per printed cycle (`inf`/`nan` where the thesis prints them).
+    pub rows: Vec<Vec<f64>>,
+    /// Set when the printed table is a known copy of another table.
+    pub duplicate_of: Option<String>,
+}
+
+impl ThesisTable {
+    /// Printed value of `column` in printed cycle `cycle`, if the thesis has it.
+    pub fn value(&self, cycle: usize, column: &str) -> Option<f64> {
+        let c = self.columns.iter().position(|n| n == column)?;
+        self.rows
+            .iter()
+            .find(|r| r.first().map(|v| *v as usize) == Some(cycle))
+            .and_then(|r| r.get(c).copied())
+    }
+
+    /// Number of printed rows.
+    pub fn len(&self) -> usize {
+        self.rows.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.rows.is_empty()
+    }
+}

@@ -1,0 +1,634 @@
+//! Bad-input tests of the experiment loader: every shipped experiment file loads, and every kind
+//! of broken file (missing, unreadable, bad TOML, wrong type, unknown or missing field,
+//! contradictory data) gives an error that names the file and the field — never a panic.
+
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use tribo::experiment::{load, load_dir, ExperimentError};
+
+/// A valid experiment (the setting of §IV.1.1, Table IV.1) that the cases below break.
+const VALID: &str = r#"table = "IV.1"
+section = "IV.1.1"
+title = "Box under a constant volume load"
+
+[scene]
+name = "box-constant-load"
+domain = { x = [-16.0, 16.0], y = [0.0, 1.0] }
+coarse_cells = [64, 2]
+effects = ["elasticity"]
+
+[scene.elasticity]
+mu = 1.0
+lambda = 1.0
+dirichlet = ["left", "right"]
+volume_load = { direction = [0.0, 1.0], profile = { kind = "constant", amplitude = 0.0004 } }
+
+[study]
+kind = "grid-adaptive"
+rows = 6
+quick_rows = 4
+refine_fraction = 0.3
+coarsen_fraction = 0.03
+convergence_window = [2, 5]
+
+[probes]
+x = [-12.0, 0.0, 12.0]
+y = [0.5]
+components = ["s1", "s2"]
+
+[thesis]
+columns = ["cycle", "active_cells", "dofs", "estimate", "ratio"]
+rows = [
+  [0, 128, 390, 0.6881, inf],
+  [1, 245, 676, 0.5118, 0.7439],
+  [2, 464, 1200, 0.3743, 0.7312],
+  [3, 884, 2138, 0.2860, 0.7642],
+  [4, 1682, 3906, 0.2025, 0.7081],
+  [5, 3197, 7152, 0.1536, 0.7583],
+]
+"#;
+
+/// The Reynolds section of (IV.7), §IV.3.1.1.
+const REYNOLDS: &str = r#"
+[scene.reynolds]
+equation = "IV.7"
+gap = { kind = "plain", g0 = 0.1 }
+upper_wall_velocity = [0.0, 0.0, -10.0]
+boundary_pressure = 200.0
+cavitation = "off"
+"#;
+
+/// The contact section of §IV.2.1.1.
+const CONTACT: &str = r#"
+[scene.contact]
+model = "z"
+estimator = "z-code"
+obstacles = [{ side = "bottom", shape = { kind = "constant", level = -2.0 } }]
+"#;
+
+/// A fresh, empty directory under the system temp dir, unique per call.
+fn scratch_dir(name: &str) -> PathBuf {
+    static COUNTER: AtomicUsize = AtomicUsize::new(0);
+    let n = COUNTER.fetch_add(1, Ordering::Relaxed);
+    let dir =
+        std::env::temp_dir().join(format!("tribo-bad-input-{}-{n}-{name}", std::process::id()));
+    let _ = fs::remove_dir_all(&dir);
+    fs::create_dir_all(&dir).expect("create a scratch directory");
+    dir
+}
+
+/// Write `text` as `dir/file_name` and return its path.
+fn write(dir: &Path, file_name: &str, text: &str) -> PathBuf {
+    let path = dir.join(file_name);
+    fs::write(&path, text).expect("write a scratch experiment file");
+    path
+}
+
+/// `VALID` with `from` replaced by `to` (which must occur).
+fn edit(from: &str, to: &str) -> String {
+    assert!(VALID.contains(from), "test setup: `{from}` not in VALID");
+    VALID.replacen(from, to, 1)
+}
+
+/// Load `text` as `IV.1.toml` and return the error, checking that its message names the file
+/// and `field` and contains `needle`.
+fn expect_error(case: &str, text: &str, field: &str, needle: &str) -> ExperimentError {
+    let dir = scratch_dir(case);
+    let path = write(&dir, "IV.1.toml", text);
+    let error = match load(&path) {
+        Ok(_) => panic!("{case}: expected an error, the file loaded"),
+        Err(error) => error,
+    };
+    let message = error.to_string();
+    assert!(
+        message.contains(&path.display().to_string()),
+        "{case}: message does not name the file:\n{message}"
+    );
+    assert!(
+        message.contains(&format!("`{field}`")),
+        "{case}: message does not name field `{field}`:\n{message}"
+    );
+    assert!(
+        message.contains(needle),
+        "{case}: message does not contain `{needle}`:\n{message}"
+    );
+    assert_eq!(error.field(), Some(field), "{case}: field()");
+    assert_eq!(error.path(), path.as_path(), "{case}: path()");
+    let _ = fs::remove_dir_all(&dir);
+    error
+}
+
+#[test]
+fn every_shipped_experiment_loads() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments");
+    let specs = match load_dir(&dir, None) {
+        Ok(specs) => specs,
+        Err(error) => panic!("{error}"),
+    };
+    assert!(
+        !specs.is_empty(),
+        "no experiment files in {}",
+        dir.display()
+    );
+    let numbers: Vec<u32> = specs
+        .iter()
+        .map(|s| s.table["IV.".len()..].parse().expect("validated table id"))
+        .collect();
+    assert!(
+        numbers.windows(2).all(|w| w[0] < w[1]),
+        "not in numeric order: {numbers:?}"
+    );
+    for spec in &specs {
+        assert_eq!(
+            spec.thesis.rows.len(),
+            spec.study.rows,
+            "{}: study.rows differs from the number of printed thesis rows",
+            spec.table
+        );
+        // A table marked as a copy must really repeat the rows of its original.
+        if let Some(original) = &spec.thesis.duplicate_of {
+            let Some(original) = specs.iter().find(|s| &s.table == original) else {
+                panic!("{}: duplicate_of names a table without a file", spec.table);
+            };
+            let same = |a: &[Vec<f64>], b: &[Vec<f64>]| {
+                a.len() == b.len()
+                    && a.iter().zip(b).all(|(x, y)| {
+                        x.len() == y.len()
+                            && x.iter()
+                                .zip(y)
+                                .all(|(p, q)| p == q || (p.is_nan() && q.is_nan()))
+                    })
+            };
+            assert!(
+                same(&spec.thesis.rows, &original.thesis.rows),
+                "{}: rows differ from {}",
+                spec.table,
+                original.table
+            );
+        }
+    }
+}
+
+#[test]
+fn valid_base_file_loads() {
+    let dir = scratch_dir("valid");
+    let path = write(&dir, "IV.1.toml", VALID);
+    let spec = match load(&path) {
+        Ok(spec) => spec,
+        Err(error) => panic!("{error}"),
+    };
+    assert_eq!(spec.table, "IV.1");
+    assert_eq!(spec.thesis.rows.len(), 6);
+    assert!(spec.thesis.rows[0][4].is_infinite());
+    let _ = fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn quick_rows_past_rows_has_the_documented_message() {
+    let dir = scratch_dir("quick-rows");
+    let path = write(&dir, "IV.1.toml", &edit("quick_rows = 4", "quick_rows = 7"));
+    let error = load(&path).expect_err("quick_rows > rows");
+    assert_eq!(
+        error.to_string(),
+        format!(
+            "{}: field `study.quick_rows`: expected at most study.rows (6), found 7",
+            path.display()
+        )
+    );
+    let _ = fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn toml_level_errors_name_file_and_field() {
+    expect_error(
+        "missing-field",
+        &edit("rows = 6\n", ""),
+        "study.rows",
+        "missing field `rows`",
+    );
+    expect_error(
+        "missing-top-level-field",
+        &edit("title = \"Box under a constant volume load\"\n", ""),
+        "title",
+        "missing field `title`",
+    );
+    expect_error(
+        "missing-inline-field",
+        &edit(", y = [0.0, 1.0] }", " }"),
+        "scene.domain.y",
+        "missing field `y`",
+    );
+    expect_error(
+        "wrong-type",
+        &edit("rows = 6", "rows = \"six\""),
+        "study.rows",
+        "invalid type",
+    );
+    expect_error(
+        "negative-count",
+        &edit("coarse_cells = [64, 2]", "coarse_cells = [64, -2]"),
+        "scene.coarse_cells[1]",
+        "line 8",
+    );
+    expect_error(
+        "unknown-field",
+        &edit(
+            "kind = \"grid-adaptive\"",
+            "kind = \"grid-adaptive\"\ncolour = \"red\"",
+        ),
+        "study.colour",
+        "unknown field `colour`",
+    );
+    expect_error(
+        "unknown-side",
+        &edit("[\"left\", \"right\"]", "[\"left\", \"sideways\"]"),
+        "scene.elasticity.dirichlet[1]",
+        "unknown variant `sideways`",
+    );
+    expect_error(
+        "unknown-profile-kind",
+        &edit("kind = \"constant\"", "kind = \"cubic\""),
+        "scene.elasticity.volume_load.profile.kind",
+        "unknown variant `cubic`",
+    );
+    expect_error(
+        "syntax-error",
+        &edit("mu = 1.0", "mu = 1.0.0"),
+        "scene.elasticity.mu",
+        "TOML parse error",
+    );
+    expect_error(
+        "unterminated-array",
+        &edit("y = [0.5]", "y = [0.5"),
+        "probes.y[1]",
+        "missing comma between array elements",
+    );
+}
+
+#[test]
+fn contradictory_fields_name_file_and_field() {
+    let cases: Vec<(&str, String, &str, &str)> = vec![
+        (
+            "reynolds-section-without-effect",
+            edit("\n[study]", &format!("{REYNOLDS}\n[study]")),
+            "scene.reynolds",
+            "no [scene.reynolds] section, or `reynolds` in scene.effects",
+        ),
+        (
+            "contact-without-elasticity",
+            edit("effects = [\"elasticity\"]", "effects = [\"contact\"]")
+                .replacen("\n[study]", &format!("{CONTACT}\n[study]"), 1),
+            "scene.effects",
+            "`elasticity` alongside `contact`",
+        ),
+        (
+            "contact-effect-without-section",
+            edit("effects = [\"elasticity\"]", "effects = [\"elasticity\", \"contact\"]"),
+            "scene.contact",
+            "a [scene.contact] section",
+        ),
+        (
+            "reynolds-with-elasticity",
+            edit("effects = [\"elasticity\"]", "effects = [\"elasticity\", \"reynolds\"]"),
+            "scene.effects",
+            "`reynolds` alone",
+        ),
+        (
+            "duplicate-effect",
+            edit("effects = [\"elasticity\"]", "effects = [\"elasticity\", \"elasticity\"]"),
+            "scene.effects[1]",
+            "each effect listed once",
+        ),
+        (
+            "no-effects",
+            edit("effects = [\"elasticity\"]", "effects = []"),
+            "scene.effects",
+            "at least one",
+        ),
+        (
+            "convergence-window-past-last-row",
+            edit("convergence_window = [2, 5]", "convergence_window = [2, 6]"),
+            "study.convergence_window[1]",
+            "at most study.rows − 1 (5), found 6",
+        ),
+        (
+            "convergence-window-reversed",
+            edit("convergence_window = [2, 5]", "convergence_window = [4, 3]"),
+            "study.convergence_window",
+            "first ≤ last",
+        ),
+        (
+            "zero-rows",
+            edit("rows = 6", "rows = 0"),
+            "study.rows",
+            "at least 1",
+        ),
+        (
+            "fractions-above-one",
+            edit("refine_fraction = 0.3", "refine_fraction = 0.99"),
+            "study.refine_fraction",
+            "≤ 1",
+        ),
+        (
+            "thesis-row-too-short",
+            edit("[2, 464, 1200, 0.3743, 0.7312]", "[2, 464, 1200, 0.3743]"),
+            "thesis.rows[2]",
+            "5 values, one per thesis.columns entry, found 4 values",
+        ),
+        (
+            "thesis-cycles-out-of-order",
+            edit("[3, 884,", "[4, 884,"),
+            "thesis.rows[3][0]",
+            "cycle 3",
+        ),
+        (
+            "thesis-columns-without-cycle",
+            edit("columns = [\"cycle\", ", "columns = ["),
+            "thesis.columns[0]",
+            "`cycle`",
+        ),
+        (
+            "table-id-out-of-range",
+            edit("table = \"IV.1\"", "table = \"IV.76\""),
+            "table",
+            "1 ≤ n ≤ 75",
+        ),
+        (
+            "table-id-not-file-name",
+            edit("table = \"IV.1\"", "table = \"IV.2\""),
+            "table",
+            "`IV.1`",
+        ),
+        (
+            "section-outside-chapter-iv",
+            edit("section = \"IV.1.1\"", "section = \"III.1\""),
+            "section",
+            "Chapter IV section",
+        ),
+        (
+            "empty-domain",
+            edit("x = [-16.0, 16.0]", "x = [16.0, -16.0]"),
+            "scene.domain.x",
+            "x0 < x1",
+        ),
+        (
+            "no-coarse-cells",
+            edit("coarse_cells = [64, 2]", "coarse_cells = [0, 2]"),
+            "scene.coarse_cells[0]",
+            "at least 1 cell",
+        ),
+        (
+            "negative-shear-modulus",
+            edit("mu = 1.0", "mu = -1.0"),
+            "scene.elasticity.mu",
+            "> 0",
+        ),
+        (
+            "nan-lambda",
+            edit("lambda = 1.0", "lambda = nan"),
+            "scene.elasticity.lambda",
+            "finite",
+        ),
+        (
+            "duplicate-dirichlet-side",
+            edit("[\"left\", \"right\"]", "[\"left\", \"left\"]"),
+            "scene.elasticity.dirichlet[1]",
+            "each side listed once",
+        ),
+        (
+            "traction-on-dirichlet-side",
+            edit(
+                "dirichlet = [\"left\", \"right\"]",
+                "dirichlet = [\"left\", \"right\"]\ntractions = [{ side = \"left\", value = [0.0, 1.0] }]",
+            ),
+            "scene.elasticity.tractions[0].side",
+            "not in scene.elasticity.dirichlet",
+        ),
+        (
+            "probe-component-of-another-model",
+            edit("components = [\"s1\", \"s2\"]", "components = [\"s1\", \"psi\"]"),
+            "probes.components[1]",
+            "one of `s1`, `s2`",
+        ),
+        (
+            "probe-outside-domain",
+            edit("y = [0.5]", "y = [1.5]"),
+            "probes.y[0]",
+            "a point of scene.domain.y",
+        ),
+    ];
+    for (case, text, field, needle) in &cases {
+        expect_error(case, text, field, needle);
+    }
+}
+
+/// A contact scene (§IV.2.1) and a Reynolds scene (§IV.3) built from `VALID`.
+fn contact_scene(obstacles: &str, dirichlet: &str) -> String {
+    edit("effects = [\"elasticity\"]", "effects = [\"elasticity\", \"contact\"]")
+        .replacen(
+            "dirichlet = [\"left\", \"right\"]",
+            &format!("dirichlet = {dirichlet}"),
+            1,
+        )
+        .replacen(
+            "\n[study]",
+            &format!(
+                "\n[scene.contact]\nmodel = \"z\"\nestimator = \"z-code\"\nobstacles = {obstacles}\n\n[study]"
+            ),
+            1,
+        )
+}
+
+fn reynolds_scene(gap: &str, components: &str) -> String {
+    let text = edit("effects = [\"elasticity\"]", "effects = [\"reynolds\"]");
+    let start = text.find("[scene.elasticity]").expect("elasticity section");
+    let end = text.find("[study]").expect("study section");
+    let reynolds = REYNOLDS.replace("{ kind = \"plain\", g0 = 0.1 }", gap);
+    format!(
+        "{}{}\n{}",
+        &text[..start],
+        reynolds.trim_start(),
+        &text[end..]
+    )
+    .replace(
+        "x = [-16.0, 16.0], y = [0.0, 1.0]",
+        "x = [0.0, 1.0], y = [0.0, 1.0]",
+    )
+    .replace("x = [-12.0, 0.0, 12.0]", "x = [0.25, 0.75]")
+    .replace("components = [\"s1\", \"s2\"]", components)
+}
+
+#[test]
+fn contact_and_reynolds_checks_name_file_and_field() {
+    let bottom = r#"[{ side = "bottom", shape = { kind = "constant", level = -2.0 } }]"#;
+    let jump = r#"[{ side = "top", shape = { kind = "jump", base = 2.0, height = 8.0, at = 0.0, s = 0.01 } }]"#;
+    let dir = scratch_dir("contact-ok");
+    for (obstacles, dirichlet) in [(bottom, r#"["left", "right"]"#), (jump, r#"["left"]"#)] {
+        let path = write(&dir, "IV.1.toml", &contact_scene(obstacles, dirichlet));
+        if let Err(error) = load(&path) {
+            panic!("valid contact scene rejected: {error}");
+        }
+    }
+    let path = write(
+        &dir,
+        "IV.1.toml",
+        &reynolds_scene(r#"{ kind = "plain", g0 = 0.1 }"#, r#"components = ["psi"]"#),
+    );
+    if let Err(error) = load(&path) {
+        panic!("valid Reynolds scene rejected: {error}");
+    }
+    let _ = fs::remove_dir_all(&dir);
+
+    let cases: Vec<(&str, String, &str, &str)> = vec![
+        (
+            "obstacle-on-left-side",
+            contact_scene(
+                r#"[{ side = "left", shape = { kind = "constant", level = -2.0 } }]"#,
+                r#"["right"]"#,
+            ),
+            "scene.contact.obstacles[0].side",
+            "`bottom` or `top`",
+        ),
+        (
+            "obstacle-on-dirichlet-side",
+            contact_scene(bottom, r#"["left", "bottom"]"#),
+            "scene.contact.obstacles[0].side",
+            "not in scene.elasticity.dirichlet",
+        ),
+        (
+            "two-obstacles-on-one-side",
+            contact_scene(
+                r#"[{ side = "bottom", shape = { kind = "constant", level = -2.0 } }, { side = "bottom", shape = { kind = "constant", level = -1.0 } }]"#,
+                r#"["left", "right"]"#,
+            ),
+            "scene.contact.obstacles[1]",
+            "each side listed once",
+        ),
+        (
+            "jump-without-width",
+            contact_scene(&jump.replace("s = 0.01", "s = 0.0"), r#"["left"]"#),
+            "scene.contact.obstacles[0].shape.s",
+            "> 0",
+        ),
+        (
+            "no-obstacles",
+            contact_scene("[]", r#"["left", "right"]"#),
+            "scene.contact.obstacles",
+            "at least one obstacle",
+        ),
+        (
+            "closed-wave-gap",
+            reynolds_scene(
+                r#"{ kind = "wave-horizontal", g0 = 0.1, amplitude = 0.1, frequency = 2.0 }"#,
+                r#"components = ["psi"]"#,
+            ),
+            "scene.reynolds.gap",
+            "g0 − |amplitude| > 0",
+        ),
+        (
+            "closed-linear-gap",
+            reynolds_scene(
+                r#"{ kind = "linear", g0 = 0.1, slope = -0.2 }"#,
+                r#"components = ["psi"]"#,
+            ),
+            "scene.reynolds.gap",
+            "at x₁ = 1",
+        ),
+        (
+            "infinite-boundary-pressure",
+            reynolds_scene(r#"{ kind = "plain", g0 = 0.1 }"#, r#"components = ["psi"]"#)
+                .replace("boundary_pressure = 200.0", "boundary_pressure = inf"),
+            "scene.reynolds.boundary_pressure",
+            "finite",
+        ),
+        (
+            "displacement-probe-on-fluid",
+            reynolds_scene(r#"{ kind = "plain", g0 = 0.1 }"#, r#"components = ["s2"]"#),
+            "probes.components[0]",
+            "one of `psi`",
+        ),
+    ];
+    for (case, text, field, needle) in &cases {
+        expect_error(case, text, field, needle);
+    }
+}
+
+#[test]
+fn missing_and_unreadable_files_name_the_file() {
+    let dir = scratch_dir("missing");
+    let path = dir.join("IV.1.toml");
+    let error = load(&path).expect_err("missing file");
+    assert!(matches!(error, ExperimentError::Read { .. }));
+    assert!(error.to_string().contains(&path.display().to_string()));
+
+    // A directory where a file is expected, and a file that is not UTF-8.
+    fs::create_dir_all(dir.join("IV.2.toml")).expect("create a directory");
+    let error = load(&dir.join("IV.2.toml")).expect_err("directory instead of file");
+    assert!(error.to_string().contains("IV.2.toml"), "{error}");
+    let binary = dir.join("IV.3.toml");
+    fs::write(&binary, [0xff, 0xfe, 0x00, 0x80]).expect("write binary");
+    let error = load(&binary).expect_err("binary file");
+    assert!(error.to_string().contains("IV.3.toml"), "{error}");
+
+    let error = load_dir(&dir.join("no-such-dir"), None).expect_err("missing directory");
+    assert!(error.to_string().contains("no-such-dir"), "{error}");
+    let _ = fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn garbage_never_panics() {
+    let dir = scratch_dir("garbage");
+    let inputs = [
+        "",
+        "=",
+        "[[[",
+        "table = ",
+        "\u{0}\u{1}\u{2}",
+        "table = \"IV.1\"\n[scene\n",
+        "[thesis]\nrows = [[0, 1], [1]]",
+        &VALID.replace("inf", "infinity"),
+        &VALID[..VALID.len() / 2],
+    ];
+    for (i, text) in inputs.iter().enumerate() {
+        let path = write(&dir, "IV.1.toml", text);
+        let error = load(&path).expect_err("garbage must not load");
+        assert!(
+            error.to_string().contains("IV.1.toml"),
+            "input {i}: message does not name the file: {error}"
+        );
+    }
+    let _ = fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn load_dir_sorts_numerically_and_filters() {
+    let dir = scratch_dir("sorted");
+    for n in [10, 2, 1] {
+        let text = edit("table = \"IV.1\"", &format!("table = \"IV.{n}\""));
+        write(&dir, &format!("IV.{n}.toml"), &text);
+    }
+    write(&dir, "README.md", "not an experiment");
+    let specs = load_dir(&dir, None).unwrap_or_else(|e| panic!("{e}"));
+    let tables: Vec<&str> = specs.iter().map(|s| s.table.as_str()).collect();
+    assert_eq!(tables, ["IV.1", "IV.2", "IV.10"]);
+
+    let only = ["IV.10".to_owned(), "IV.2".to_owned()];
+    let specs = load_dir(&dir, Some(&only)).unwrap_or_else(|e| panic!("{e}"));
+    let tables: Vec<&str> = specs.iter().map(|s| s.table.as_str()).collect();
+    assert_eq!(tables, ["IV.2", "IV.10"]);
+
+    let only = ["IV.7".to_owned()];
+    let error = load_dir(&dir, Some(&only)).expect_err("unknown table");
+    let message = error.to_string();
+    assert!(message.contains("`IV.7`"), "{message}");
+    assert!(message.contains("IV.1, IV.2, IV.10"), "{message}");
+
+    // One broken file fails the whole directory, naming that file.
+    write(&dir, "IV.2.toml", &edit("rows = 6", "rows = \"six\""));
+    let error = load_dir(&dir, None).expect_err("broken file");
+    assert!(error.to_string().contains("IV.2.toml"), "{error}");
+    assert_eq!(error.field(), Some("study.rows"));
+    let _ = fs::remove_dir_all(&dir);
+}

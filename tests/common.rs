@@ -1,0 +1,70 @@
+//! Shared helpers: loading experiments, running the quick tier once per table, comparisons.
+
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+use std::sync::{Arc, Mutex, OnceLock};
+
+use tribo::experiment::{self, ExperimentSpec};
+use tribo::results::RunResult;
+use tribo::study::{self, Tier};
+
+pub fn experiments_dir() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("experiments")
+}
+
+pub fn spec(table: &str) -> ExperimentSpec {
+    experiment::load(&experiments_dir().join(format!("{table}.toml"))).expect("experiment loads")
+}
+
+/// Quick-tier result of a table, computed once per test process (tests of the same table wait
+/// for the first one).
+pub fn quick(table: &str) -> Arc<RunResult> {
+    type Slot = Arc<OnceLock<Arc<RunResult>>>;
+    static CACHE: OnceLock<Mutex<BTreeMap<String, Slot>>> = OnceLock::new();
+    let slot = {
+        let mut cache = CACHE
+            .get_or_init(|| Mutex::new(BTreeMap::new()))
+            .lock()
+            .unwrap();
+        cache.entry(table.to_string()).or_default().clone()
+    };
+    slot.get_or_init(|| {
+        Arc::new(
+            study::run(&spec(table), Tier::Quick, &|_, _, _| {})
+                .unwrap_or_else(|e| panic!("quick tier of {table} fails: {e}")),
+        )
+    })
+    .clone()
+}
+
+/// Relative difference a/b − 1.
+pub fn rel(a: f64, b: f64) -> f64 {
+    a / b - 1.0
+}
+
+/// The convergence rule of the foundation issue over the experiment's window (restricted to the
+/// rows computed): every ratio within [0.60, 0.85], geometric mean within [0.66, 0.76].
+pub fn assert_convergence(table: &str, r: &RunResult) {
+    let w = spec(table).study.convergence_window;
+    let ratios: Vec<f64> = r
+        .rows
+        .iter()
+        .filter(|row| row.cycle >= w[0] && row.cycle <= w[1])
+        .filter_map(|row| row.ratio)
+        .collect();
+    assert!(
+        !ratios.is_empty(),
+        "{table}: no ratio inside the window {w:?}"
+    );
+    for (i, q) in ratios.iter().enumerate() {
+        assert!(
+            (0.60..=0.85).contains(q),
+            "{table}: ratio {q} (#{i} in window {w:?}) outside [0.60, 0.85]: {ratios:?}"
+        );
+    }
+    let gm = (ratios.iter().map(|q| q.ln()).sum::<f64>() / ratios.len() as f64).exp();
+    assert!(
+        (0.66..=0.76).contains(&gm),
+        "{table}: geometric mean ratio {gm} outside [0.66, 0.76]: {ratios:?}"
+    );
+}

@@ -1,0 +1,294 @@
+//! Tables IV.1–IV.5 (linear elasticity, Theorem III.12) on the quick tier, and the element
+//! checks: patch test, manufactured solution, determinism.
+
+use std::f64::consts::PI;
+use std::sync::Arc;
+
+use crate::common::{quick, rel, spec};
+use tribo::adaptivity::mark_fixed_number;
+use tribo::estimators::{self, elasticity::BoundaryTerms};
+use tribo::experiment::Side;
+use tribo::fe::{quadrature, DofMap, Rect, SparseSystem};
+use tribo::mesh::Mesh;
+use tribo::models::elasticity::{Elasticity, VolumeForce};
+use tribo::study::{self, Tier};
+
+const TABLES: [&str; 5] = ["IV.1", "IV.2", "IV.3", "IV.4", "IV.5"];
+
+#[test]
+fn golden_snapshots() {
+    for t in TABLES {
+        let r = quick(t);
+        insta::with_settings!({ snapshot_path => "../golden", prepend_module_to_snapshot => false }, {
+            insta::assert_snapshot!(t, r.snapshot());
+        });
+    }
+}
+
+#[test]
+fn cycle_zero_estimates_equal_the_printed_values() {
+    for (t, printed) in [
+        ("IV.1", 0.6881),
+        ("IV.2", 1.7202),
+        ("IV.3", 0.1021),
+        ("IV.4", 0.3676),
+        ("IV.5", 2.0788),
+    ] {
+        let r = quick(t);
+        let e = r.rows[0].estimate;
+        assert!(
+            ((e * 1e4).round() / 1e4 - printed).abs() < 1e-12,
+            "{t}: cycle-0 estimate {e} is not {printed}"
+        );
+        assert_eq!((r.rows[0].active_cells, r.rows[0].dofs), (128, 390), "{t}");
+    }
+}
+
+#[test]
+fn cycle_one_has_248_cells() {
+    for t in TABLES {
+        assert_eq!(
+            quick(t).rows[1].active_cells,
+            248,
+            "{t}: 40 cells flagged in cycle 0"
+        );
+    }
+}
+
+#[test]
+fn quick_tier_agrees_with_the_thesis() {
+    for t in TABLES {
+        let r = quick(t);
+        let thesis = study::thesis_table(&spec(t));
+        for row in &r.rows {
+            let dofs = thesis.value(row.cycle, "dofs").unwrap();
+            let est = thesis.value(row.cycle, "estimate").unwrap();
+            assert!(
+                rel(row.dofs as f64, dofs).abs() <= 0.03,
+                "{t} cycle {}: dofs {} vs thesis {dofs}",
+                row.cycle,
+                row.dofs
+            );
+            assert!(
+                rel(row.estimate, est).abs() <= 0.05,
+                "{t} cycle {}: estimate {} vs thesis {est}",
+                row.cycle,
+                row.estimate
+            );
+        }
+    }
+}
+
+#[test]
+fn convergence_rate_inside_the_window() {
+    for t in TABLES {
+        crate::common::assert_convergence(t, &quick(t));
+    }
+}
+
+/// a(e, e) for e = u − u_h with the exact gradient `grad`.
+fn energy_error(
+    mesh: &Mesh,
+    dofs: &DofMap,
+    u: &[f64],
+    p: &Elasticity,
+    grad: &dyn Fn([f64; 2]) -> [[f64; 2]; 2],
+) -> f64 {
+    let q = quadrature::square(4);
+    let mut sum = 0.0;
+    for (k, &c) in mesh.active().iter().enumerate() {
+        let r = Rect::from_box(mesh.cell_box(c));
+        for &(xi, eta, w) in &q {
+            let x = r.point(xi, eta);
+            let gh = Elasticity::gradient_at(mesh, dofs, u, k, x);
+            let g = grad(x);
+            let e = [
+                [g[0][0] - gh[0][0], g[0][1] - gh[0][1]],
+                [g[1][0] - gh[1][0], g[1][1] - gh[1][1]],
+            ];
+            let s = p.stress(e);
+            // σ(e):ε(e) = 2μ ε:ε + 2λ (div e)²
+            let eps01 = 0.5 * (e[0][1] + e[1][0]);
+            let val = s[0][0] * e[0][0] + s[1][1] * e[1][1] + 2.0 * s[0][1] * eps01;
+            sum += val * w * r.area();
+        }
+    }
+    sum.sqrt()
+}
+
+fn solve(
+    mesh: &Mesh,
+    p: &Elasticity,
+    fixed_values: &dyn Fn([f64; 2]) -> [f64; 2],
+) -> (DofMap, Vec<f64>) {
+    let dofs = DofMap::new(mesh, 2);
+    let mut system = SparseSystem::new(&dofs);
+    let (a, b) = p.assemble(mesh, &system);
+    let fixed: Vec<(usize, f64)> = p
+        .fixed_dofs(&dofs)
+        .into_iter()
+        .map(|(d, _)| {
+            let v = (d / 2) as u32;
+            (
+                d,
+                if dofs.vertices.is_hanging[v as usize] {
+                    0.0
+                } else {
+                    fixed_values(dofs.vertices.coords[v as usize])[d % 2]
+                },
+            )
+        })
+        .collect();
+    let mut u = system.solve_fixed(&a, &b, &fixed).expect("solve");
+    dofs.distribute_hanging(&mut u);
+    (dofs, u)
+}
+
+#[test]
+fn patch_test_reproduces_linear_displacements_with_hanging_nodes() {
+    let mut mesh = Mesh::new([0.0, 2.0], [0.0, 1.0], 4, 2);
+    for target in [[0.6, 0.4], [0.62, 0.41], [0.63, 0.42]] {
+        let flags: Vec<bool> = mesh
+            .active()
+            .iter()
+            .map(|&c| {
+                let b = mesh.cell_box(c);
+                target[0] >= b[0] && target[0] <= b[2] && target[1] >= b[1] && target[1] <= b[3]
+            })
+            .collect();
+        let none = vec![false; flags.len()];
+        mesh.refine_and_coarsen(&flags, &none);
+    }
+    let lin = |x: [f64; 2]| {
+        [
+            0.1 + 0.3 * x[0] - 0.2 * x[1],
+            -0.05 + 0.15 * x[0] + 0.4 * x[1],
+        ]
+    };
+    let p = Elasticity {
+        mu: 1.0,
+        lambda: 1.0,
+        dirichlet: vec![Side::Left, Side::Right, Side::Bottom, Side::Top],
+        load: None,
+        tractions: vec![],
+    };
+    let (dofs, u) = solve(&mesh, &p, &lin);
+    assert!(!dofs.vertices.hanging.is_empty());
+    let scale = 1.0;
+    for (v, x) in dofs.vertices.coords.iter().enumerate() {
+        let e = lin(*x);
+        for c in 0..2 {
+            assert!(
+                (u[2 * v + c] - e[c]).abs() <= 1e-12 * scale,
+                "vertex {v} comp {c}: {} vs {}",
+                u[2 * v + c],
+                e[c]
+            );
+        }
+    }
+}
+
+#[test]
+fn manufactured_solution_converges_with_rate_one_half_and_stable_effectivity() {
+    // u = (sin πx sin πy, x(1−x)y(1−y)) on [0,1]², μ = λ = 1, a(s,r) = 2μ⟨ε,ε⟩ + 2λ⟨div,div⟩:
+    // div σ = μΔu + (μ + 2λ)∇ div u, f = −div σ.
+    let (mu, lambda) = (1.0, 1.0);
+    let f = move |x: [f64; 2]| {
+        let (s, c) = ((PI * x[0]).sin(), (PI * x[0]).cos());
+        let (sy, cy) = ((PI * x[1]).sin(), (PI * x[1]).cos());
+        let (a, b) = (x[0] * (1.0 - x[0]), x[1] * (1.0 - x[1]));
+        let lap = [-2.0 * PI * PI * s * sy, -2.0 * b - 2.0 * a];
+        // div u = π cos πx sin πy + a (1 − 2y)
+        let grad_div = [
+            -PI * PI * s * sy + (1.0 - 2.0 * x[0]) * (1.0 - 2.0 * x[1]),
+            PI * PI * c * cy - 2.0 * a,
+        ];
+        [
+            -(mu * lap[0] + (mu + 2.0 * lambda) * grad_div[0]),
+            -(mu * lap[1] + (mu + 2.0 * lambda) * grad_div[1]),
+        ]
+    };
+    let grad = |x: [f64; 2]| {
+        let (s, c) = ((PI * x[0]).sin(), (PI * x[0]).cos());
+        let (sy, cy) = ((PI * x[1]).sin(), (PI * x[1]).cos());
+        [
+            [PI * c * sy, PI * s * cy],
+            [
+                (1.0 - 2.0 * x[0]) * x[1] * (1.0 - x[1]),
+                x[0] * (1.0 - x[0]) * (1.0 - 2.0 * x[1]),
+            ],
+        ]
+    };
+    let p = Elasticity {
+        mu,
+        lambda,
+        dirichlet: vec![Side::Left, Side::Right, Side::Bottom, Side::Top],
+        load: Some(VolumeForce::Field(Arc::new(f))),
+        tractions: vec![],
+    };
+    let mut mesh = Mesh::new([0.0, 1.0], [0.0, 1.0], 4, 4);
+    let (mut n, mut err, mut eff) = (vec![], vec![], vec![]);
+    for _ in 0..9 {
+        let (dofs, u) = solve(&mesh, &p, &|_| [0.0, 0.0]);
+        let eta2 =
+            estimators::elasticity::indicators(&mesh, &dofs, &u, &p, &BoundaryTerms::default());
+        let e = energy_error(&mesh, &dofs, &u, &p, &grad);
+        n.push(dofs.n_dofs() as f64);
+        err.push(e);
+        eff.push(estimators::total(&eta2) / e);
+        let eta: Vec<f64> = eta2.iter().map(|v| v.sqrt()).collect();
+        let m = mark_fixed_number(&eta, 0.3, 0.03);
+        mesh.refine_and_coarsen(&m.refine, &m.coarsen);
+    }
+    // Least-squares slope over the last five meshes.
+    let k = n.len() - 5;
+    let (xs, ys): (Vec<f64>, Vec<f64>) = (
+        n[k..].iter().map(|v| v.ln()).collect(),
+        err[k..].iter().map(|v| v.ln()).collect(),
+    );
+    let (mx, my) = (xs.iter().sum::<f64>() / 5.0, ys.iter().sum::<f64>() / 5.0);
+    let slope = xs
+        .iter()
+        .zip(&ys)
+        .map(|(x, y)| (x - mx) * (y - my))
+        .sum::<f64>()
+        / xs.iter().map(|x| (x - mx).powi(2)).sum::<f64>();
+    assert!(
+        (-0.55..=-0.45).contains(&slope),
+        "slope {slope}, errors {err:?}, dofs {n:?}"
+    );
+    let last = &eff[eff.len() - 3..];
+    for e in last {
+        assert!((0.5..=20.0).contains(e), "effectivity {e}");
+    }
+    let (lo, hi) = last
+        .iter()
+        .fold((f64::MAX, 0.0f64), |(a, b), &e| (a.min(e), b.max(e)));
+    assert!(hi / lo - 1.0 <= 0.2, "effectivity varies: {last:?}");
+}
+
+#[test]
+fn one_and_two_threads_give_bitwise_identical_tables() {
+    let s = spec("IV.4");
+    let run = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| study::run(&s, Tier::Quick, &|_, _, _| {}).unwrap())
+    };
+    let (a, b) = (run(1), run(2));
+    assert_eq!(a.rows.len(), b.rows.len());
+    for (x, y) in a.rows.iter().zip(&b.rows) {
+        assert_eq!((x.active_cells, x.dofs), (y.active_cells, y.dofs));
+        assert_eq!(
+            x.estimate.to_bits(),
+            y.estimate.to_bits(),
+            "cycle {}",
+            x.cycle
+        );
+    }
+    for (x, y) in a.probes.iter().zip(&b.probes) {
+        assert_eq!(x.value.to_bits(), y.value.to_bits());
+    }
+}

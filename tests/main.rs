@@ -1,0 +1,6 @@
+//! tribo's test suite, one binary so that the heavy dependencies link once.
+
+mod bad_input;
+mod common;
+mod elasticity;
+mod mesh;

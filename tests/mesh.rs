@@ -1,0 +1,183 @@
+//! The quadtree mesh, hanging-node constraints and the marking rule.
+
+use tribo::adaptivity::{apply_noise_floor, mark_fixed_number};
+use tribo::fe::DofMap;
+use tribo::mesh::{Mesh, Neighbor, FACES};
+
+/// Refine the cells touching point `p` `levels` times.
+fn refine_around(mesh: &mut Mesh, p: [f64; 2], levels: usize) {
+    for _ in 0..levels {
+        let flags: Vec<bool> = mesh
+            .active()
+            .iter()
+            .map(|&c| {
+                let b = mesh.cell_box(c);
+                p[0] >= b[0] && p[0] <= b[2] && p[1] >= b[1] && p[1] <= b[3]
+            })
+            .collect();
+        let none = vec![false; flags.len()];
+        mesh.refine_and_coarsen(&flags, &none);
+    }
+}
+
+#[test]
+fn twelve_levels_of_local_refinement_keep_two_to_one_and_valid_constraints() {
+    let mut mesh = Mesh::new([-16.0, 16.0], [0.0, 1.0], 64, 2);
+    refine_around(&mut mesh, [0.3, 0.7], 12);
+    assert!(mesh.is_balanced(), "2:1 rule violated");
+    let max_level = mesh.active().iter().map(|&c| mesh.level(c)).max().unwrap();
+    assert_eq!(max_level, 12);
+    let dofs = DofMap::new(&mesh, 1);
+    let v = &dofs.vertices;
+    assert!(!v.hanging.is_empty());
+    for h in &v.hanging {
+        // A hanging vertex is the midpoint of its parents, which are not hanging themselves.
+        let (m, a, b) = (
+            v.coords[h.vertex as usize],
+            v.coords[h.parents[0] as usize],
+            v.coords[h.parents[1] as usize],
+        );
+        assert!(
+            (m[0] - 0.5 * (a[0] + b[0])).abs() < 1e-12
+                && (m[1] - 0.5 * (a[1] + b[1])).abs() < 1e-12
+        );
+        assert!(!v.is_hanging[h.parents[0] as usize] && !v.is_hanging[h.parents[1] as usize]);
+    }
+    // Every hanging vertex lies on a face between a coarse and two fine cells, and every such
+    // face has exactly one hanging vertex.
+    let mut faces_with_finer = 0;
+    for &c in mesh.active() {
+        for f in FACES {
+            if let Neighbor::Finer(k) = mesh.neighbor(c, f) {
+                faces_with_finer += 1;
+                assert!(k.iter().all(|&x| mesh.is_active(x)));
+            }
+        }
+    }
+    assert_eq!(faces_with_finer, v.hanging.len());
+    // A linear function interpolated at the parents reproduces itself at hanging vertices.
+    let lin = |p: [f64; 2]| 3.0 * p[0] - 2.0 * p[1] + 0.5;
+    let mut u: Vec<f64> = v.coords.iter().map(|&p| lin(p)).collect();
+    for h in &v.hanging {
+        u[h.vertex as usize] = f64::NAN;
+    }
+    dofs.distribute_hanging(&mut u);
+    for (i, p) in v.coords.iter().enumerate() {
+        assert!((u[i] - lin(*p)).abs() < 1e-12);
+    }
+}
+
+#[test]
+fn refinement_and_coarsening_round_trip() {
+    let mut mesh = Mesh::new([0.0, 1.0], [0.0, 1.0], 4, 4);
+    refine_around(&mut mesh, [0.5, 0.5], 3);
+    let n = mesh.n_active();
+    // Coarsen everything: only complete groups of the finest level, never level 0.
+    let all = vec![true; n];
+    let none = vec![false; n];
+    mesh.refine_and_coarsen(&none, &all);
+    assert!(mesh.is_balanced());
+    assert!(mesh.n_active() < n);
+    for _ in 0..5 {
+        let all = vec![true; mesh.n_active()];
+        let none = vec![false; mesh.n_active()];
+        mesh.refine_and_coarsen(&none, &all);
+    }
+    assert_eq!(mesh.n_active(), 16, "level-0 cells are never coarsened");
+}
+
+#[test]
+fn two_to_one_rule_adds_refinement_flags() {
+    let mut mesh = Mesh::new([0.0, 1.0], [0.0, 1.0], 2, 1);
+    // Refine the left cell twice at its right edge: the right cell must follow once.
+    refine_around(&mut mesh, [0.49, 0.5], 2);
+    assert!(mesh.is_balanced());
+    let right = mesh.locate([0.9, 0.9]).unwrap();
+    assert_eq!(mesh.level(right), 1, "neighbour refined by the 2:1 closure");
+}
+
+#[test]
+fn coarsening_is_refused_where_it_would_break_two_to_one() {
+    let mut mesh = Mesh::new([0.0, 1.0], [0.0, 1.0], 2, 1);
+    refine_around(&mut mesh, [0.49, 0.5], 2);
+    // Try to coarsen the right cell's children while the left side is two levels deep.
+    let flags: Vec<bool> = mesh
+        .active()
+        .iter()
+        .map(|&c| mesh.cell_box(c)[0] >= 0.5)
+        .collect();
+    let none = vec![false; flags.len()];
+    mesh.refine_and_coarsen(&none, &flags);
+    assert!(mesh.is_balanced());
+    let right = mesh.locate([0.9, 0.9]).unwrap();
+    assert_eq!(mesh.level(right), 1);
+}
+
+#[test]
+fn marking_flags_whole_tie_groups() {
+    // 10 cells, 30 % = 3 to refine: the threshold is the 4th largest (5.0) and all four equal
+    // values within the tie band are flagged together.
+    let eta = [
+        9.0,
+        5.0,
+        5.0 * (1.0 + 1e-12),
+        5.0,
+        5.0 * (1.0 - 1e-12),
+        1.0,
+        1.0,
+        0.5,
+        0.2,
+        0.1,
+    ];
+    let m = mark_fixed_number(&eta, 0.3, 0.1);
+    assert_eq!(
+        m.refine,
+        vec![true, true, true, true, true, false, false, false, false, false]
+    );
+    // 10 % = 1 to coarsen: the smallest.
+    assert_eq!(m.n_coarsen(), 1);
+    assert!(m.coarsen[9]);
+}
+
+#[test]
+fn marking_outside_the_tie_band_separates() {
+    // 20 % of 10 = 2: the threshold is the 3rd largest (4.0); 4·(1 − 1e-8) is outside the band.
+    let eta = [
+        9.0,
+        5.0,
+        4.0,
+        4.0 * (1.0 - 1e-8),
+        3.0,
+        1.0,
+        1.0,
+        0.5,
+        0.2,
+        0.1,
+    ];
+    let m = mark_fixed_number(&eta, 0.2, 0.0);
+    assert_eq!(
+        m.refine,
+        vec![true, true, true, false, false, false, false, false, false, false]
+    );
+}
+
+#[test]
+fn marking_all_zero_flags_nothing() {
+    let eta = vec![0.0; 100];
+    let m = mark_fixed_number(&eta, 0.3, 0.03);
+    assert_eq!(m.n_refine(), 0);
+    assert_eq!(m.n_coarsen(), 0);
+    let mut noisy = vec![1e-14; 100];
+    noisy[3] = 2e-13;
+    apply_noise_floor(&mut noisy, 1e-12);
+    assert_eq!(mark_fixed_number(&noisy, 0.3, 0.03).n_refine(), 0);
+}
+
+#[test]
+fn marking_with_zero_threshold_uses_smallest_positive() {
+    let mut eta = vec![0.0; 10];
+    eta[0] = 2.0;
+    eta[1] = 1.0;
+    let m = mark_fixed_number(&eta, 0.3, 0.0);
+    assert_eq!(m.n_refine(), 2);
+}
