@@ -197,6 +197,22 @@ impl SparseSystem {
         self.row_idx.len()
     }
 
+    /// Column pointers of the (full, symmetric) compressed-column pattern.
+    pub fn col_ptr(&self) -> &[usize] {
+        &self.col_ptr
+    }
+
+    /// Row indices of the pattern, sorted within each column.
+    pub fn row_idx(&self) -> &[usize] {
+        &self.row_idx
+    }
+
+    /// Position of entry (i, j) in the value array, if it is in the pattern.
+    pub fn position(&self, i: usize, j: usize) -> Option<usize> {
+        let col = &self.row_idx[self.col_ptr[j]..self.col_ptr[j + 1]];
+        col.binary_search(&i).ok().map(|p| self.col_ptr[j] + p)
+    }
+
     /// Assemble cell matrices and vectors. `cell(k, ke, fe)` fills the `n_local × n_local`
     /// matrix (row-major) and the `n_local` vector of active cell `k`; it runs in parallel,
     /// the summation into the global system runs in cell order (bitwise deterministic).

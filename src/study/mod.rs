@@ -6,12 +6,15 @@
 
 use std::time::Instant;
 
-use crate::adaptivity::mark_fixed_number;
-use crate::estimators::{self, elasticity::BoundaryTerms};
+pub mod contact;
+pub mod elasticity;
+pub mod reynolds;
+
+use crate::adaptivity::{apply_noise_floor, mark_fixed_number};
+use crate::estimators;
 use crate::experiment::{Effect, ExperimentSpec};
-use crate::fe::{DofMap, Rect, SolveError, SparseSystem};
+use crate::fe::{DofMap, Rect, SparseSystem};
 use crate::mesh::Mesh;
-use crate::models::elasticity::Elasticity;
 use crate::results::{
     CellBox, CycleRow, DeformedPicture, MeshPicture, PhaseSeconds, Probe, RunResult,
 };
@@ -66,19 +69,19 @@ pub fn printed_rows(spec: &ExperimentSpec, tier: Tier) -> usize {
 
 /// Run one experiment.
 pub fn run(spec: &ExperimentSpec, tier: Tier, progress: Progress) -> Result<RunResult, RunError> {
-    if spec.scene.effects.contains(&Effect::Elasticity)
-        && !spec.scene.effects.contains(&Effect::Contact)
-    {
-        return run_elasticity(spec, tier, progress);
+    let effects = &spec.scene.effects;
+    if effects.contains(&Effect::Contact) {
+        contact::run(spec, tier, progress)
+    } else if effects.contains(&Effect::Reynolds) {
+        reynolds::run(spec, tier, progress)
+    } else {
+        run_grid_adaptive(
+            spec,
+            tier,
+            progress,
+            &mut elasticity::ElasticityStudy::new(spec),
+        )
     }
-    Err(RunError {
-        table: spec.table.clone(),
-        cycle: 0,
-        message: format!(
-            "the effects {:?} are not implemented yet",
-            spec.scene.effects
-        ),
-    })
 }
 
 fn new_mesh(spec: &ExperimentSpec) -> Mesh {
@@ -137,15 +140,18 @@ pub fn evaluate(mesh: &Mesh, dofs: &DofMap, u: &[f64], comp: usize, p: [f64; 2])
 }
 
 /// Probe values after the last cycle at every (x, y) of the experiment's probe lists.
-fn probes(spec: &ExperimentSpec, mesh: &Mesh, dofs: &DofMap, u: &[f64]) -> Vec<Probe> {
+fn probes(
+    spec: &ExperimentSpec,
+    mesh: &Mesh,
+    dofs: &DofMap,
+    u: &[f64],
+    model: &dyn AdaptiveModel,
+) -> Vec<Probe> {
     let mut out = Vec::new();
     for &y in &spec.probes.y {
         for &x in &spec.probes.x {
             for name in &spec.probes.components {
-                let comp = match name.as_str() {
-                    "s2" => 1,
-                    _ => 0,
-                };
+                let comp = model.component(name);
                 if let Some(value) = evaluate(mesh, dofs, u, comp, [x, y]) {
                     out.push(Probe {
                         x,
@@ -201,84 +207,128 @@ pub fn deformed_picture(
     }
 }
 
-fn solve_error(spec: &ExperimentSpec, cycle: usize, e: SolveError) -> RunError {
-    RunError {
-        table: spec.table.clone(),
-        cycle,
-        message: e.to_string(),
+/// A solution of one cycle: the field (hanging dofs distributed) and solver counters.
+pub struct Solution {
+    pub u: Vec<f64>,
+    /// Integer counters for the row, e.g. `active_set_iterations`.
+    pub counters: Vec<(String, i64)>,
+}
+
+/// The squared indicators η_Q² of one cycle and further columns of the table family.
+pub struct Estimate {
+    pub eta2: Vec<f64>,
+    pub quantities: Vec<(String, f64)>,
+}
+
+/// One model inside the grid-adaptive cycle loop of [`run_grid_adaptive`].
+pub trait AdaptiveModel {
+    /// Dofs per vertex.
+    fn n_components(&self) -> usize;
+
+    /// Assemble and solve on the current mesh; add the time spent to `seconds.assemble` and
+    /// `seconds.solve`. An error message names what failed (the loop adds table and cycle).
+    fn solve(
+        &mut self,
+        mesh: &Mesh,
+        dofs: &DofMap,
+        system: &mut SparseSystem,
+        seconds: &mut PhaseSeconds,
+    ) -> Result<Solution, String>;
+
+    /// Error indicators of the solution.
+    fn estimate(&mut self, mesh: &Mesh, dofs: &DofMap, u: &[f64]) -> Estimate;
+
+    /// Indicators below this value count as zero when marking (rounding noise), if any.
+    fn noise_floor(&self, _estimate: &Estimate) -> Option<f64> {
+        None
+    }
+
+    /// Called after the solve of every cycle before refinement (e.g. to keep s₀ for the next
+    /// Signorini linearisation).
+    fn after_cycle(&mut self, _mesh: &Mesh, _dofs: &DofMap, _u: &[f64]) {}
+
+    /// Pictures and other output of the last printed cycle.
+    fn last_cycle(
+        &mut self,
+        _spec: &ExperimentSpec,
+        _mesh: &Mesh,
+        _dofs: &DofMap,
+        _u: &[f64],
+        _cycle: usize,
+        _result: &mut RunResult,
+    ) {
+    }
+
+    /// Probe component name → field component.
+    fn component(&self, name: &str) -> usize {
+        usize::from(name == "s2")
     }
 }
 
-fn ratio(rows: &[CycleRow], estimate: f64) -> Option<f64> {
-    rows.last().map(|r| estimate / r.estimate)
-}
-
-/// Elasticity (I.17) with the estimator of Theorem III.12 (Tables IV.1–IV.5).
-fn run_elasticity(
+/// The grid-adaptive study: one printed row per cycle after `unprinted_cycles` silent ones.
+pub fn run_grid_adaptive(
     spec: &ExperimentSpec,
     tier: Tier,
     progress: Progress,
+    model: &mut dyn AdaptiveModel,
 ) -> Result<RunResult, RunError> {
-    let data = spec
-        .scene
-        .elasticity
-        .as_ref()
-        .expect("validated: elasticity data");
-    let problem = Elasticity::from_data(data);
-    let terms = BoundaryTerms::default();
     let printed = printed_rows(spec, tier);
     let total = spec.study.unprinted_cycles + printed;
     let mut mesh = new_mesh(spec);
     let mut result = empty_result(spec, tier);
+    let fail = |cycle: usize, message: String| RunError {
+        table: spec.table.clone(),
+        cycle,
+        message,
+    };
     for step in 0..total {
+        let printed_cycle = step.checked_sub(spec.study.unprinted_cycles);
+        let row_cycle = printed_cycle.unwrap_or(0);
         let mut seconds = PhaseSeconds::default();
         let active_cells = mesh.n_active();
+
         let t = Instant::now();
-        let dofs = DofMap::new(&mesh, 2);
+        let dofs = DofMap::new(&mesh, model.n_components());
         let mut system = SparseSystem::new(&dofs);
-        let fixed = problem.fixed_dofs(&dofs);
         seconds.setup = t.elapsed().as_secs_f64();
 
-        let t = Instant::now();
-        let (matrix, rhs) = problem.assemble(&mesh, &system);
-        seconds.assemble = t.elapsed().as_secs_f64();
-
-        let t = Instant::now();
-        let mut u = system
-            .solve_fixed(&matrix, &rhs, &fixed)
-            .map_err(|e| solve_error(spec, step, e))?;
-        dofs.distribute_hanging(&mut u);
-        seconds.solve = t.elapsed().as_secs_f64();
-
-        let t = Instant::now();
-        let eta2 = estimators::elasticity::indicators(&mesh, &dofs, &u, &problem, &terms);
-        let estimate = estimators::total(&eta2);
-        seconds.estimate = t.elapsed().as_secs_f64();
-        if !estimate.is_finite() {
-            return Err(RunError {
-                table: spec.table.clone(),
-                cycle: step,
-                message: "the estimate is not finite".into(),
-            });
+        let solution = model
+            .solve(&mesh, &dofs, &mut system, &mut seconds)
+            .map_err(|m| fail(row_cycle, m))?;
+        let u = solution.u;
+        if let Some(i) = u.iter().position(|v| !v.is_finite()) {
+            return Err(fail(
+                row_cycle,
+                format!("the solution is not finite at dof {i}"),
+            ));
         }
 
-        let printed_cycle = step.checked_sub(spec.study.unprinted_cycles);
+        let t = Instant::now();
+        let mut estimate = model.estimate(&mesh, &dofs, &u);
+        let total_estimate = estimators::total(&estimate.eta2);
+        seconds.estimate = t.elapsed().as_secs_f64();
+        if !total_estimate.is_finite() {
+            return Err(fail(row_cycle, "the error estimate is not finite".into()));
+        }
+
         if let Some(cycle) = printed_cycle {
             if picture_cycles(printed).contains(&cycle) {
                 result.meshes.push(mesh_picture(&mesh, cycle));
             }
             if cycle + 1 == printed {
-                let d = spec.scene.domain;
-                result
-                    .deformed
-                    .push(deformed_picture(&mesh, &dofs, &u, cycle, d.y[1] - d.y[0]));
-                result.probes = probes(spec, &mesh, &dofs, &u);
+                result.probes = probes(spec, &mesh, &dofs, &u, &*model);
+                model.last_cycle(spec, &mesh, &dofs, &u, cycle, &mut result);
             }
         }
+        model.after_cycle(&mesh, &dofs, &u);
 
         let t = Instant::now();
         if step + 1 < total {
-            let eta: Vec<f64> = eta2.iter().map(|e| e.sqrt()).collect();
+            let floor = model.noise_floor(&estimate);
+            if let Some(floor) = floor {
+                apply_noise_floor(&mut estimate.eta2, floor);
+            }
+            let eta: Vec<f64> = estimate.eta2.iter().map(|e| e.sqrt()).collect();
             let marking = mark_fixed_number(
                 &eta,
                 spec.study.refine_fraction,
@@ -289,17 +339,17 @@ fn run_elasticity(
         seconds.refine = t.elapsed().as_secs_f64();
 
         if let Some(cycle) = printed_cycle {
-            let row = CycleRow {
+            let ratio = result.rows.last().map(|r| total_estimate / r.estimate);
+            result.rows.push(CycleRow {
                 cycle,
                 active_cells,
                 dofs: dofs.n_dofs(),
-                estimate,
-                ratio: ratio(&result.rows, estimate),
-                quantities: Vec::new(),
-                counters: Vec::new(),
+                estimate: total_estimate,
+                ratio,
+                quantities: estimate.quantities,
+                counters: solution.counters,
                 seconds,
-            };
-            result.rows.push(row);
+            });
         }
         progress(&spec.table, step + 1, total);
     }
