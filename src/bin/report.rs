@@ -1,1 +1,138 @@
-fn main() {}
+//! `cargo run --release --bin report` — run every experiment file and render the report.
+//!
+//! Writes `report/index.html`, `report/figures/*.svg`, `report/data/<table>.csv` and
+//! `report/data/<table>.probes.csv`. A failing experiment does not stop the others: its error is
+//! printed, the remaining tables are rendered, and the exit status is non-zero.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
+
+use clap::Parser;
+use indicatif::{ProgressBar, ProgressStyle};
+
+use tribo::experiment;
+use tribo::report::{self, data, ReportMeta, Section};
+use tribo::study::{self, Tier};
+
+/// Regenerate the Chapter IV tables of Gimbel (2012) and render them beside the thesis tables.
+#[derive(Parser, Debug)]
+#[command(name = "report", version, about)]
+struct Cli {
+    /// Only these tables, comma-separated (e.g. `--only IV.1,IV.3`).
+    #[arg(long, value_delimiter = ',', value_name = "TABLES")]
+    only: Option<Vec<String>>,
+
+    /// Run the quick (test) tier instead of the full thesis sizes.
+    #[arg(long)]
+    quick: bool,
+
+    /// Directory of experiment files.
+    #[arg(long, value_name = "DIR", default_value = "experiments")]
+    experiments: PathBuf,
+
+    /// Output directory.
+    #[arg(long, value_name = "DIR", default_value = "report")]
+    out: PathBuf,
+
+    /// Do not show the progress bar.
+    #[arg(long)]
+    no_progress: bool,
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match run(&cli) {
+        Ok(true) => ExitCode::SUCCESS,
+        Ok(false) => ExitCode::FAILURE,
+        Err(message) => {
+            eprintln!("error: {message}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+/// Returns Ok(false) when some experiment failed (the others are still reported).
+fn run(cli: &Cli) -> Result<bool, String> {
+    let started = Instant::now();
+    let only: Option<Vec<String>> = cli.only.as_ref().map(|v| {
+        v.iter()
+            .map(|s| s.trim().to_string())
+            .filter(|s| !s.is_empty())
+            .collect()
+    });
+    if matches!(&only, Some(v) if v.is_empty()) {
+        return Err("--only needs at least one table id, e.g. --only IV.1,IV.3".into());
+    }
+    let specs =
+        experiment::load_dir(&cli.experiments, only.as_deref()).map_err(|e| e.to_string())?;
+    if specs.is_empty() {
+        return Err(format!(
+            "no experiment files (*.toml) in {}",
+            cli.experiments.display()
+        ));
+    }
+    let tier = if cli.quick { Tier::Quick } else { Tier::Full };
+    let total_cycles: u64 = specs
+        .iter()
+        .map(|s| (s.study.unprinted_cycles + study::printed_rows(s, tier)) as u64)
+        .sum();
+    let bar = if cli.no_progress {
+        ProgressBar::hidden()
+    } else {
+        ProgressBar::new(total_cycles)
+    };
+    bar.set_style(
+        ProgressStyle::with_template("{elapsed_precise} [{bar:30}] {pos}/{len} cycles  {msg}")
+            .expect("valid template")
+            .progress_chars("=> "),
+    );
+    let mut runs = Vec::new();
+    let mut failed = Vec::new();
+    for spec in &specs {
+        bar.set_message(format!("{} {}", spec.table, spec.title));
+        let base = bar.position();
+        let progress = |_: &str, done: usize, _: usize| bar.set_position(base + done as u64);
+        match study::run(spec, tier, &progress) {
+            Ok(r) => {
+                let thesis = study::thesis_table(spec);
+                data::write_csv(&cli.out.join("data"), &r)
+                    .map_err(|e| format!("cannot write {}: {e}", cli.out.join("data").display()))?;
+                runs.push((r, thesis));
+            }
+            Err(e) => {
+                bar.suspend(|| eprintln!("error: {e}"));
+                failed.push(e.to_string());
+            }
+        }
+        bar.set_position(
+            base + (spec.study.unprinted_cycles + study::printed_rows(spec, tier)) as u64,
+        );
+    }
+    bar.finish_and_clear();
+    let sections: Vec<Section> = runs
+        .iter()
+        .map(|(run, thesis)| Section { run, thesis })
+        .collect();
+    let meta = ReportMeta {
+        tier: tier.name().into(),
+        generated_by: format!("tribo {}", env!("CARGO_PKG_VERSION")),
+        total_seconds: started.elapsed().as_secs_f64(),
+        threads: rayon::current_num_threads(),
+    };
+    report::write_report(&cli.out, &sections, &meta)
+        .map_err(|e| format!("cannot write the report into {}: {e}", cli.out.display()))?;
+    eprintln!(
+        "wrote {} ({} tables, {} tier, {:.1} s){}",
+        cli.out.join("index.html").display(),
+        runs.len(),
+        tier.name(),
+        started.elapsed().as_secs_f64(),
+        if failed.is_empty() {
+            String::new()
+        } else {
+            format!("; {} failed", failed.len())
+        }
+    );
+    Ok(failed.is_empty())
+}

@@ -7,6 +7,7 @@
 //! The module is split by job: this file decides *what* is compared and which figures a section
 //! gets, [`plots`] draws the figures, [`html`] lays out the page.
 
+pub mod data;
 mod html;
 mod plots;
 

@@ -1,0 +1,98 @@
+//! The `report` binary: flags, bad flags, malformed experiment files, and the files it writes.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+fn report() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_report"))
+}
+
+fn temp_dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("tribo-cli-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn experiments() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("experiments")
+}
+
+#[test]
+fn unknown_flag_is_rejected_with_a_message() {
+    let out = report().arg("--bogus").output().unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("--bogus"), "{err}");
+}
+
+#[test]
+fn unknown_table_is_named() {
+    let out = report()
+        .args(["--only", "IV.1,IV.999", "--experiments"])
+        .arg(experiments())
+        .arg("--out")
+        .arg(temp_dir("unknown"))
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("IV.999"), "{err}");
+}
+
+#[test]
+fn malformed_experiment_file_names_file_and_field() {
+    let dir = temp_dir("malformed");
+    let good = std::fs::read_to_string(experiments().join("IV.1.toml")).unwrap();
+    let bad = good.replace("rows = 6", "rows = \"six\"");
+    assert_ne!(good, bad, "the fixture must change the file");
+    std::fs::write(dir.join("IV.1.toml"), bad).unwrap();
+    let out = report()
+        .arg("--experiments")
+        .arg(&dir)
+        .arg("--out")
+        .arg(dir.join("out"))
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("IV.1.toml") && err.contains("study.rows"),
+        "{err}"
+    );
+}
+
+#[test]
+fn quick_run_of_one_table_writes_report_and_data() {
+    let dir = temp_dir("quick");
+    let out = report()
+        .args([
+            "--quick",
+            "--no-progress",
+            "--only",
+            "IV.3",
+            "--experiments",
+        ])
+        .arg(experiments())
+        .arg("--out")
+        .arg(&dir)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let csv = std::fs::read_to_string(dir.join("data/IV.3.csv")).unwrap();
+    let mut lines = csv.lines();
+    assert!(lines
+        .next()
+        .unwrap()
+        .starts_with("cycle,active_cells,dofs,estimate,ratio"));
+    assert_eq!(lines.count(), 4, "quick tier has four rows");
+    let probes = std::fs::read_to_string(dir.join("data/IV.3.probes.csv")).unwrap();
+    assert!(probes.starts_with("x,y,component,value"));
+    assert_eq!(probes.lines().count(), 1 + 14);
+    let html = std::fs::read_to_string(dir.join("index.html")).unwrap();
+    assert!(html.contains("IV.3") && html.contains("figures/"));
+}
