@@ -5,6 +5,7 @@ use std::path::PathBuf;
 use std::sync::{Arc, Mutex, OnceLock};
 
 use tribo::experiment::{self, ExperimentSpec};
+use tribo::mesh::Mesh;
 use tribo::results::RunResult;
 use tribo::study::{self, Tier};
 
@@ -67,4 +68,20 @@ pub fn assert_convergence(table: &str, r: &RunResult) {
         (0.66..=0.76).contains(&gm),
         "{table}: geometric mean ratio {gm} outside [0.66, 0.76]: {ratios:?}"
     );
+}
+
+/// Refine the cells touching point `p` `levels` times.
+pub fn refine_around(mesh: &mut Mesh, p: [f64; 2], levels: usize) {
+    for _ in 0..levels {
+        let flags: Vec<bool> = mesh
+            .active()
+            .iter()
+            .map(|&c| {
+                let b = mesh.cell_box(c);
+                p[0] >= b[0] && p[0] <= b[2] && p[1] >= b[1] && p[1] <= b[3]
+            })
+            .collect();
+        let none = vec![false; flags.len()];
+        mesh.refine_and_coarsen(&flags, &none);
+    }
 }

@@ -148,16 +148,7 @@ fn solve(
 fn patch_test_reproduces_linear_displacements_with_hanging_nodes() {
     let mut mesh = Mesh::new([0.0, 2.0], [0.0, 1.0], 4, 2);
     for target in [[0.6, 0.4], [0.62, 0.41], [0.63, 0.42]] {
-        let flags: Vec<bool> = mesh
-            .active()
-            .iter()
-            .map(|&c| {
-                let b = mesh.cell_box(c);
-                target[0] >= b[0] && target[0] <= b[2] && target[1] >= b[1] && target[1] <= b[3]
-            })
-            .collect();
-        let none = vec![false; flags.len()];
-        mesh.refine_and_coarsen(&flags, &none);
+        crate::common::refine_around(&mut mesh, target, 1);
     }
     let lin = |x: [f64; 2]| {
         [

@@ -1,24 +1,9 @@
 //! The quadtree mesh, hanging-node constraints and the marking rule.
 
+use crate::common::refine_around;
 use tribo::adaptivity::{apply_noise_floor, mark_fixed_number};
 use tribo::fe::DofMap;
 use tribo::mesh::{Mesh, Neighbor, FACES};
-
-/// Refine the cells touching point `p` `levels` times.
-fn refine_around(mesh: &mut Mesh, p: [f64; 2], levels: usize) {
-    for _ in 0..levels {
-        let flags: Vec<bool> = mesh
-            .active()
-            .iter()
-            .map(|&c| {
-                let b = mesh.cell_box(c);
-                p[0] >= b[0] && p[0] <= b[2] && p[1] >= b[1] && p[1] <= b[3]
-            })
-            .collect();
-        let none = vec![false; flags.len()];
-        mesh.refine_and_coarsen(&flags, &none);
-    }
-}
 
 #[test]
 fn twelve_levels_of_local_refinement_keep_two_to_one_and_valid_constraints() {
