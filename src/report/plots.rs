@@ -976,23 +976,25 @@ pub fn deformed(path: &Path, table: &str, pic: &DeformedPicture) -> io::Result<(
         f.height()
     );
 
-    // Legend and caption under the picture.
+    // Legend (only for pictures with an obstacle) and caption under the picture.
     let y = f.top + f.height() + 22.0;
-    let _ = writeln!(
-        svg,
-        "<path d=\"M{margin} {y}h28\" stroke=\"#5b3a1a\" stroke-width=\"3\"/>\
-         <path d=\"M{:.1} {y}h0\" stroke=\"#e31a1c\" stroke-width=\"5\" stroke-linecap=\"round\"/>",
-        margin + 150.0
-    );
-    text(&mut svg, margin + 34.0, y + 5.0, 13.0, "start", "obstacle");
-    text(
-        &mut svg,
-        margin + 158.0,
-        y + 5.0,
-        13.0,
-        "start",
-        &format!("contact points ({})", pic.contact_points.len()),
-    );
+    if !pic.obstacles.is_empty() {
+        let _ = writeln!(
+            svg,
+            "<path d=\"M{margin} {y}h28\" stroke=\"#5b3a1a\" stroke-width=\"3\"/>\
+             <path d=\"M{:.1} {y}h0\" stroke=\"#e31a1c\" stroke-width=\"5\" stroke-linecap=\"round\"/>",
+            margin + 150.0
+        );
+        text(&mut svg, margin + 34.0, y + 5.0, 13.0, "start", "obstacle");
+        text(
+            &mut svg,
+            margin + 158.0,
+            y + 5.0,
+            13.0,
+            "start",
+            &format!("contact points ({})", pic.contact_points.len()),
+        );
+    }
     text(&mut svg, margin, y + 28.0, 14.0, "start", &pic.caption);
     svg.push_str("</svg>\n");
     fs::write(path, svg)

@@ -203,7 +203,10 @@ pub fn deformed_picture(
         quads,
         obstacles: Vec::new(),
         contact_points: Vec::new(),
-        caption: format!("largest displacement component {max:.3e}"),
+        caption: format!(
+            "largest displacement component {}",
+            crate::results::sig4(max)
+        ),
     }
 }
 
