@@ -2,4 +2,5 @@
 
 pub mod elasticity;
 pub mod obstacle;
+pub mod reynolds;
 pub mod thin_film;

@@ -1,0 +1,81 @@
+//! Residual estimators of Theorem III.16 (Reynolds equation, Reynolds norm (II.10)) and
+//! Theorem III.17 (Reynolds with cavitation), spec/estimators.md §5.3–§5.4:
+//!
+//! η_Q² = h_Q² ρ_Q² + h_Q ρ_∂Q²,
+//! ρ_Q = ‖l + (1/g)∂_μ(g²∂_μ(ψ_h/g))‖_Q = ‖l − ψ_h Δg/g‖_Q,
+//! ρ_∂Q² = Σ_{E ⊂ ∂Q interior} ‖½[g ∂_n(ψ_h/g)]‖²_E = Σ ‖½[∂_n ψ_h]‖²_E,
+//!
+//! with l = l_R (III.16) or l_{R,c} (III.17). Identities used: (1/g)∂_μ(g²∂_μ(ψ/g)) = Δψ − ψΔg/g
+//! and Δψ_h = 0 for Q₁ on rectangles; [g∂_n(ψ_h/g)] = [∂_nψ_h] because g is smooth and ψ_h
+//! continuous. Faces on ∂Ω₂ are Dirichlet faces (ψ = ψ₀) and contribute 0. Conventions of §1.3:
+//! ½ inside the norm on interior faces, h_Q = cell diagonal, c = 1, 2×2 Gauss points in the cell
+//! (the points of [`crate::models::reynolds::CellData`]) and 2 per face (exact for the quadratic
+//! squared jump). For III.17 the full residual is used in the cavitation zone too (no multiplier
+//! correction, as the theorem states it).
+
+use rayon::prelude::*;
+
+use crate::fe::{q1, quadrature, DofMap, Rect};
+use crate::mesh::{Mesh, Neighbor, FACES};
+use crate::models::reynolds::{quadrature_points, CellData};
+
+/// Squared indicators η_Q² of Theorem III.16 / III.17 for every active cell.
+pub fn indicators(mesh: &Mesh, dofs: &DofMap, psi: &[f64], data: &CellData) -> Vec<f64> {
+    let quad = quadrature_points();
+    let phis: Vec<[f64; 4]> = quad.iter().map(|&(x, e, _)| q1::values(x, e)).collect();
+    let (fp, fw) = quadrature::gauss(2);
+    let active = mesh.active();
+    active
+        .par_iter()
+        .enumerate()
+        .map(|(k, &c)| {
+            let r = Rect::from_box(mesh.cell_box(c));
+            let h = r.diameter();
+            let u = dofs.corner_values(psi, k, 0);
+            let mut cell = 0.0;
+            for (q, &(_, _, w)) in quad.iter().enumerate() {
+                let phi = phis[q];
+                let v = u[0] * phi[0] + u[1] * phi[1] + u[2] * phi[2] + u[3] * phi[3];
+                let res = data.load[k][q] - v * data.dg_over_g[k][q];
+                cell += res * res * w;
+            }
+            cell *= r.area();
+            let mut faces = 0.0;
+            for face in FACES {
+                let n = face.normal();
+                let [va, vb] = face.vertices();
+                let b = mesh.cell_box(c);
+                let corners = [[b[0], b[1]], [b[2], b[1]], [b[0], b[3]], [b[2], b[3]]];
+                let (pa, pb) = (corners[va], corners[vb]);
+                let segment = |a: [f64; 2], bb: [f64; 2], nb: usize| {
+                    let len = (bb[0] - a[0]).hypot(bb[1] - a[1]);
+                    let rn = Rect::from_box(mesh.cell_box(active[nb]));
+                    let un = dofs.corner_values(psi, nb, 0);
+                    let mut s = 0.0;
+                    for (t, w) in fp.iter().zip(fw) {
+                        let p = [a[0] + t * (bb[0] - a[0]), a[1] + t * (bb[1] - a[1])];
+                        let (xi, eta) = r.reference(p);
+                        let (_, g) = r.eval(u, xi, eta);
+                        let (xin, etan) = rn.reference(p);
+                        let (_, gn) = rn.eval(un, xin, etan);
+                        let j = 0.5 * ((g[0] - gn[0]) * n[0] + (g[1] - gn[1]) * n[1]);
+                        s += j * j * w;
+                    }
+                    s * len
+                };
+                faces += match mesh.neighbor(c, face) {
+                    Neighbor::Boundary(_) => 0.0,
+                    Neighbor::Same(nb) | Neighbor::Coarser(nb) => {
+                        segment(pa, pb, mesh.active_index(nb))
+                    }
+                    Neighbor::Finer([n0, n1]) => {
+                        let mid = [(pa[0] + pb[0]) / 2.0, (pa[1] + pb[1]) / 2.0];
+                        segment(pa, mid, mesh.active_index(n0))
+                            + segment(mid, pb, mesh.active_index(n1))
+                    }
+                };
+            }
+            h * h * cell + h * faces
+        })
+        .collect()
+}

@@ -1,0 +1,350 @@
+//! The Reynolds problem (I.79) = (II.37) and the Reynolds problem with cavitation
+//! (I.82) = (II.39), discretised with Q₁ (II.48), (II.50), (III.61) on the quadtree mesh.
+//!
+//! **Bilinear form.** The Reynolds scalar product (II.9) is
+//! ⟨ψ, φ⟩_R = ∫ (∇φ − φ∇g/g)·(∇ψ − ψ∇g/g) dx. Expanding and integrating the cross term by parts,
+//! −∫ ∇(ψφ)·∇g/g = ∫ ψφ (Δg/g − |∇g|²/g²) − ∫_{∂Ω₂} ψφ ∂_n g/g, gives for every test function
+//! φ ∈ H¹₀(Ω₂) (the boundary term vanishes with φ)
+//!
+//! ⟨ψ, φ⟩_R = ∫ ∇ψ·∇φ dx + ∫ (Δg/g) ψ φ dx,
+//!
+//! i.e. the operator −(1/g)∂_μ(g²∂_μ(ψ/g)) = −Δψ + ψΔg/g of the strong form (I.77) that the
+//! estimator of Theorem III.16 also uses. Only rows of test functions in H¹₀ are solved for (the
+//! Dirichlet rows are eliminated), so both expressions define the same discrete problem up to
+//! quadrature. tribo assembles the second form ([`Form::Potential`], the default): it is
+//! symmetric, needs only g and Δg, and it reproduces constants exactly when Δg = 0 — the exact
+//! solutions ψ ≡ 200 of (IV.9) and (IV.14) and the sign symmetry of the pairs (IV.7)/(IV.8),
+//! (IV.10)/(IV.11), (IV.12)/(IV.13) then hold to rounding, which the product form with inexact
+//! quadrature of ∇g/g only gives to O(h⁴). The product form (II.9) itself is available as
+//! [`Form::Product`]; a test checks that both give the same solution up to quadrature error.
+//!
+//! **Load.** l_R (II.37) and l_{R,c} (II.39) from the general Chapter I formulas
+//! ([`ThinFilm::reynolds_load`], [`ThinFilm::cavitation_load`]), 2×2 Gauss points per cell
+//! (spec/estimators.md §1.2). The load and Δg/g at the quadrature points are computed once per
+//! mesh ([`CellData`]) and shared by assembly and estimator.
+//!
+//! **Cavitation** (I.82): ψ ≥ 0 at every interior non-hanging vertex (hanging values are means
+//! of their parents, boundary values are ψ₀ = 200), solved as the LCP Kψ − F ≥ 0, ψ ≥ 0,
+//! ψ·(Kψ − F) = 0 by a primal–dual active-set method ([`solve_cavitation`]); the pattern of K
+//! never changes, so every iteration costs one numeric Cholesky factorisation with the symbolic
+//! factorisation reused.
+
+use rayon::prelude::*;
+
+use crate::experiment::{self, ReynoldsData};
+use crate::fe::{q1, quadrature, DofMap, SparseSystem};
+use crate::mesh::Mesh;
+use crate::models::thin_film::{CavitationSource, Gap, ThinFilm};
+
+impl From<experiment::GapShape> for Gap {
+    fn from(s: experiment::GapShape) -> Gap {
+        use experiment::GapShape as S;
+        match s {
+            S::Plain { g0 } => Gap::Plain { g0 },
+            S::Linear { g0, slope } => Gap::Linear { g0, slope },
+            S::WaveHorizontal {
+                g0,
+                amplitude,
+                frequency,
+            } => Gap::WaveHorizontal {
+                g0,
+                amplitude,
+                frequency,
+            },
+            S::Hill {
+                g0,
+                amplitude,
+                frequency,
+            } => Gap::Hill {
+                g0,
+                amplitude,
+                frequency,
+            },
+        }
+    }
+}
+
+impl From<experiment::CavitationSource> for CavitationSource {
+    fn from(s: experiment::CavitationSource) -> CavitationSource {
+        match s {
+            experiment::CavitationSource::Printed => CavitationSource::Printed,
+            experiment::CavitationSource::SelfConsistent => CavitationSource::SelfConsistent,
+        }
+    }
+}
+
+/// Which expression of the Reynolds product (II.9) to assemble (module docs).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Form {
+    /// ∫ ∇ψ·∇φ + (Δg/g) ψ φ — equal to (II.9) for φ ∈ H¹₀.
+    #[default]
+    Potential,
+    /// ∫ (∇φ − φ∇g/g)·(∇ψ − ψ∇g/g), (II.9) as printed.
+    Product,
+}
+
+/// Which load: l_R of (II.37) or l_{R,c} of (II.39).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Load {
+    Reynolds,
+    Cavitation,
+}
+
+/// The 2×2 Gauss points of the reference square, in the order of [`CellData`].
+pub fn quadrature_points() -> Vec<(f64, f64, f64)> {
+    quadrature::square(2)
+}
+
+/// Per-cell data at the 2×2 Gauss points (order of [`quadrature_points`]): the load l and Δg/g.
+pub struct CellData {
+    pub load: Vec<[f64; 4]>,
+    pub dg_over_g: Vec<[f64; 4]>,
+}
+
+/// One Reynolds example (§IV.3): film data, boundary pressure ψ₀, reading of γ₃c.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ReynoldsProblem {
+    pub film: ThinFilm,
+    pub boundary_pressure: f64,
+    pub cavitation_source: CavitationSource,
+    pub form: Form,
+}
+
+/// Result of the cavitation solve.
+#[derive(Clone, Debug)]
+pub struct CavitationSolution {
+    /// ψ_h, hanging values distributed.
+    pub psi: Vec<f64>,
+    /// Primal–dual active-set iterations (= numeric factorisations).
+    pub iterations: usize,
+    /// Vertices in the final active set (ψ = 0 imposed).
+    pub active: Vec<bool>,
+    /// max |min(ψᵢ, (Kψ − F)ᵢ)| over interior non-hanging vertices.
+    pub complementarity: f64,
+    /// ‖F‖∞ (scale of the complementarity tolerance).
+    pub load_scale: f64,
+}
+
+/// Maximal number of primal–dual active-set iterations.
+pub const MAX_ACTIVE_SET_ITERATIONS: usize = 100;
+
+impl ReynoldsProblem {
+    pub fn from_data(d: &ReynoldsData) -> ReynoldsProblem {
+        ReynoldsProblem {
+            film: ThinFilm::new(d.gap.into(), d.upper_wall_velocity),
+            boundary_pressure: d.boundary_pressure,
+            cavitation_source: d.cavitation_source.into(),
+            form: Form::default(),
+        }
+    }
+
+    /// l_R (II.37) or l_{R,c} (II.39) at `x`.
+    #[inline]
+    pub fn load(&self, x: [f64; 2], load: Load) -> f64 {
+        match load {
+            Load::Reynolds => self.film.reynolds_load(x),
+            Load::Cavitation => self.film.cavitation_load(x, self.cavitation_source),
+        }
+    }
+
+    /// Load and Δg/g at the quadrature points of every active cell (in parallel).
+    pub fn cell_data(&self, mesh: &Mesh, load: Load) -> CellData {
+        let quad = quadrature_points();
+        let (l, d): (Vec<[f64; 4]>, Vec<[f64; 4]>) = mesh
+            .active()
+            .par_iter()
+            .map(|&c| {
+                let r = crate::fe::Rect::from_box(mesh.cell_box(c));
+                let mut l = [0.0; 4];
+                let mut d = [0.0; 4];
+                for (q, &(xi, eta, _)) in quad.iter().enumerate() {
+                    let x = r.point(xi, eta);
+                    let (g, _, lap) = self.film.gap(x);
+                    l[q] = self.load(x, load);
+                    d[q] = lap / g;
+                }
+                (l, d)
+            })
+            .unzip();
+        CellData {
+            load: l,
+            dg_over_g: d,
+        }
+    }
+
+    /// Dirichlet dofs ψ = ψ₀ on ∂Ω₂ and every hanging dof (value 0 during the solve, then
+    /// distributed from its parents).
+    pub fn fixed_dofs(&self, dofs: &DofMap) -> Vec<(usize, f64)> {
+        let v = &dofs.vertices;
+        let (ex, ey) = (
+            v.keys.iter().map(|k| k.0).max().unwrap_or(0),
+            v.keys.iter().map(|k| k.1).max().unwrap_or(0),
+        );
+        let mut fixed = Vec::new();
+        for (i, &(x, y)) in v.keys.iter().enumerate() {
+            if x == 0 || y == 0 || x == ex || y == ey {
+                fixed.push((i, self.boundary_pressure));
+            } else if v.is_hanging[i] {
+                fixed.push((i, 0.0));
+            }
+        }
+        fixed
+    }
+
+    /// Stiffness matrix and load vector (2×2 Gauss), with the cell data of [`Self::cell_data`].
+    pub fn assemble(
+        &self,
+        mesh: &Mesh,
+        system: &SparseSystem,
+        data: &CellData,
+    ) -> (Vec<f64>, Vec<f64>) {
+        let active = mesh.active();
+        let quad = quadrature_points();
+        let phis: Vec<[f64; 4]> = quad.iter().map(|&(x, e, _)| q1::values(x, e)).collect();
+        let form = self.form;
+        system.assemble(active.len(), |k, ke, fe| {
+            let r = crate::fe::Rect::from_box(mesh.cell_box(active[k]));
+            let area = r.area();
+            for (q, &(xi, eta, w)) in quad.iter().enumerate() {
+                let g = q1::gradients(xi, eta, r.hx, r.hy);
+                let phi = phis[q];
+                let jw = w * area;
+                match form {
+                    Form::Potential => {
+                        let m = data.dg_over_g[k][q];
+                        for a in 0..4 {
+                            for b in 0..4 {
+                                ke[a * 4 + b] +=
+                                    (g[a][0] * g[b][0] + g[a][1] * g[b][1] + m * phi[a] * phi[b])
+                                        * jw;
+                            }
+                        }
+                    }
+                    Form::Product => {
+                        let x = r.point(xi, eta);
+                        let (gv, dg, _) = self.film.gap(x);
+                        let t = [dg[0] / gv, dg[1] / gv];
+                        let v: [[f64; 2]; 4] = std::array::from_fn(|a| {
+                            [g[a][0] - phi[a] * t[0], g[a][1] - phi[a] * t[1]]
+                        });
+                        for a in 0..4 {
+                            for b in 0..4 {
+                                ke[a * 4 + b] += (v[a][0] * v[b][0] + v[a][1] * v[b][1]) * jw;
+                            }
+                        }
+                    }
+                }
+                let l = data.load[k][q];
+                for a in 0..4 {
+                    fe[a] += l * phi[a] * jw;
+                }
+            }
+        })
+    }
+}
+
+/// Primal–dual active-set method (semismooth Newton) for the LCP of (III.61):
+/// find ψ with ψᵢ ≥ 0, λᵢ = (Kψ − F)ᵢ ≥ 0, ψᵢλᵢ = 0 on the constrained vertices, the dofs in
+/// `fixed` (Dirichlet, hanging) prescribed.
+///
+/// Iteration: A = {i : λᵢ − cᵢψᵢ > 0} with cᵢ = Kᵢᵢ > 0 (λ = 0 off A, ψ = 0 on A), up to
+/// rounding bands of 1e-12·max(1, ‖F‖∞) for λ and 1e-13·max|ψ| for ψ; solve with ψ = 0 on A; stop when A does not
+/// change. `initial` is the first active set (e.g. the vertices where the unconstrained solution
+/// or the previous cycle's solution is ≤ 0). Tiny negative values (rounding, |ψᵢ| below
+/// 1e-12·max|ψ|) left on inactive vertices are set to 0, so ψ ≥ 0 holds at every vertex.
+pub fn solve_cavitation(
+    system: &mut SparseSystem,
+    dofs: &DofMap,
+    values: &[f64],
+    rhs: &[f64],
+    fixed: &[(usize, f64)],
+    initial: Vec<bool>,
+) -> Result<CavitationSolution, String> {
+    let n = dofs.n_dofs();
+    let mut constrained = vec![true; n];
+    for &(d, _) in fixed {
+        constrained[d] = false;
+    }
+    let diag = system.diagonal(values);
+    let mut active: Vec<bool> = initial
+        .iter()
+        .zip(&constrained)
+        .map(|(&a, &c)| a && c)
+        .collect();
+    let load_scale = rhs
+        .iter()
+        .zip(&constrained)
+        .filter(|(_, &c)| c)
+        .fold(0.0f64, |m, (f, _)| m.max(f.abs()));
+    let lambda_tol = 1e-12 * load_scale.max(1.0);
+    let mut iterations = 0;
+    let mut all_fixed: Vec<(usize, f64)> = Vec::with_capacity(fixed.len() + n / 4);
+    loop {
+        iterations += 1;
+        all_fixed.clear();
+        all_fixed.extend_from_slice(fixed);
+        all_fixed.extend(
+            active
+                .iter()
+                .enumerate()
+                .filter(|(_, &a)| a)
+                .map(|(i, _)| (i, 0.0)),
+        );
+        all_fixed.sort_unstable_by_key(|f| f.0);
+        let mut psi = system
+            .solve_fixed(values, rhs, &all_fixed)
+            .map_err(|e| e.to_string())?;
+        dofs.distribute_hanging(&mut psi);
+        let kpsi = system.multiply(values, &psi);
+        let psi_tol = 1e-13 * psi.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let next: Vec<bool> = (0..n)
+            .into_par_iter()
+            .map(|i| {
+                if !constrained[i] {
+                    return false;
+                }
+                if active[i] {
+                    // λᵢ − cᵢ·0 > 0, with rounding-level negative multipliers kept active
+                    kpsi[i] - rhs[i] > -lambda_tol
+                } else {
+                    // 0 − cᵢψᵢ > 0, with rounding-level negative values left inactive
+                    diag[i] * psi[i] < -diag[i] * psi_tol
+                }
+            })
+            .collect();
+        let changed = next != active;
+        if !changed || iterations >= MAX_ACTIVE_SET_ITERATIONS {
+            if changed {
+                return Err(format!(
+                    "the primal–dual active-set method did not converge in {iterations} iterations"
+                ));
+            }
+            let scale = psi.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            for i in 0..n {
+                if constrained[i] && psi[i] < 0.0 {
+                    if psi[i] < -1e-12 * scale {
+                        return Err(format!(
+                            "cavitation: ψ = {} < 0 at an inactive vertex after convergence",
+                            psi[i]
+                        ));
+                    }
+                    psi[i] = 0.0;
+                }
+            }
+            dofs.distribute_hanging(&mut psi);
+            let kpsi = system.multiply(values, &psi);
+            let complementarity = (0..n)
+                .filter(|&i| constrained[i])
+                .map(|i| psi[i].min(kpsi[i] - rhs[i]).abs())
+                .fold(0.0f64, f64::max);
+            return Ok(CavitationSolution {
+                psi,
+                iterations,
+                active,
+                complementarity,
+                load_scale,
+            });
+        }
+        active = next;
+    }
+}

@@ -1,0 +1,309 @@
+//! Tables IV.36–IV.49 (Reynolds, Theorem III.16) and IV.64–IV.69 (Reynolds with cavitation,
+//! Theorem III.17) on the quick tier, plus the checks of issue 4: analytic value of (IV.7),
+//! constant solutions, sign-symmetric pairs, thesis agreement, `auto` cavitation, hard case.
+
+use std::f64::consts::PI;
+
+use crate::common::{assert_convergence, quick, rel, spec};
+use tribo::experiment::{Cavitation, CavitationSource};
+use tribo::fe::{DofMap, SparseSystem};
+use tribo::mesh::Mesh;
+use tribo::models::reynolds::{Form, Load, ReynoldsProblem};
+use tribo::models::thin_film::EXAMPLES;
+use tribo::study::reynolds::{ReynoldsStudy, PREVIOUS_ESTIMATE};
+use tribo::study::{self, run_grid_adaptive, Tier};
+
+const TABLES: [&str; 20] = [
+    "IV.36", "IV.37", "IV.38", "IV.39", "IV.40", "IV.41", "IV.42", "IV.43", "IV.44", "IV.45",
+    "IV.46", "IV.47", "IV.48", "IV.49", "IV.64", "IV.65", "IV.66", "IV.67", "IV.68", "IV.69",
+];
+const CAVITATION: [&str; 6] = ["IV.64", "IV.65", "IV.66", "IV.67", "IV.68", "IV.69"];
+/// Exact solution constant: the thesis refined on noise (IV.38) or printed 0.34 (IV.43).
+const CONSTANT: [&str; 2] = ["IV.38", "IV.43"];
+/// Copies of IV.44–IV.46 in the thesis (thesis.duplicate_of).
+const DUPLICATES: [&str; 3] = ["IV.47", "IV.48", "IV.49"];
+/// Cavitation tables whose meshes follow the thesis less closely (experiment notes): the full
+/// residual of Theorem III.17 is constant in the cavitation zone, so tribo refines the zone where
+/// the thesis's indicators vanished there. Checked against looser bounds below.
+const CAVITATION_MESH_DIFFERS: [&str; 3] = ["IV.64", "IV.66", "IV.68"];
+
+#[test]
+fn golden_snapshots() {
+    for t in TABLES {
+        let r = quick(t);
+        insta::with_settings!({ snapshot_path => "../golden", prepend_module_to_snapshot => false }, {
+            insta::assert_snapshot!(t, r.snapshot());
+        });
+    }
+}
+
+/// u(½, ½) of −Δu = 1 on the unit square, u = 0 on the boundary (double sine series).
+fn poisson_centre() -> f64 {
+    let mut s = 0.0;
+    for m in (1..400).step_by(2) {
+        for n in (1..400).step_by(2) {
+            let (mf, nf) = (m as f64, n as f64);
+            let sign = if ((m + n) / 2 - 1) % 2 == 0 {
+                1.0
+            } else {
+                -1.0
+            };
+            s += sign * 16.0 / (PI.powi(4) * mf * nf * (mf * mf + nf * nf));
+        }
+    }
+    s
+}
+
+#[test]
+fn plain_squeeze_matches_the_series_solution() {
+    let u = poisson_centre();
+    assert!((u - 0.0736713).abs() < 1e-6, "series: {u}");
+    let exact = 200.0 + 12000.0 * u;
+    let r = quick("IV.36");
+    let p = r
+        .probes
+        .iter()
+        .find(|p| p.x == 0.5 && p.y == 0.5)
+        .expect("probe at the centre");
+    assert!(
+        rel(p.value, exact).abs() <= 5e-4,
+        "ψ(½,½) = {} vs {exact}",
+        p.value
+    );
+}
+
+#[test]
+fn constant_exact_solutions_are_reproduced_and_the_mesh_stays() {
+    for t in CONSTANT {
+        let r = quick(t);
+        for p in &r.probes {
+            assert!(rel(p.value, 200.0).abs() <= 1e-9, "{t}: ψ = {}", p.value);
+        }
+        for row in &r.rows {
+            assert!(row.estimate < 1e-6, "{t}: estimate {}", row.estimate);
+            assert_eq!(row.active_cells, 4096, "{t}: refined on noise");
+        }
+    }
+}
+
+#[test]
+fn pairs_without_curvature_are_sign_symmetric() {
+    for (a, b) in [("IV.36", "IV.37"), ("IV.39", "IV.40"), ("IV.41", "IV.42")] {
+        let (ra, rb) = (quick(a), quick(b));
+        assert_eq!(ra.rows.len(), rb.rows.len());
+        for (x, y) in ra.rows.iter().zip(&rb.rows) {
+            assert_eq!(
+                (x.active_cells, x.dofs),
+                (y.active_cells, y.dofs),
+                "{a}/{b}"
+            );
+            assert!(
+                rel(x.estimate, y.estimate).abs() <= 1e-9,
+                "{a}/{b} cycle {}: {} vs {}",
+                x.cycle,
+                x.estimate,
+                y.estimate
+            );
+        }
+        let mut sign_change = false;
+        for (p, q) in ra.probes.iter().zip(&rb.probes) {
+            let (da, db) = (p.value - 200.0, q.value - 200.0);
+            assert!(
+                (da + db).abs() <= 1e-7 * da.abs().max(1.0),
+                "{a}/{b}: {da} vs {db}"
+            );
+            sign_change |= da * db < 0.0;
+        }
+        assert!(sign_change, "{a}/{b}: ψ − 200 does not change sign");
+    }
+}
+
+#[test]
+fn dofs_follow_the_thesis() {
+    for t in TABLES {
+        if CONSTANT.contains(&t) || DUPLICATES.contains(&t) {
+            continue;
+        }
+        let bound = if CAVITATION_MESH_DIFFERS.contains(&t) {
+            0.10
+        } else {
+            0.03
+        };
+        let thesis = study::thesis_table(&spec(t));
+        for row in &quick(t).rows {
+            let d = thesis.value(row.cycle, "dofs").unwrap();
+            assert!(
+                rel(row.dofs as f64, d).abs() <= bound,
+                "{t} cycle {}: dofs {} vs thesis {d}",
+                row.cycle,
+                row.dofs
+            );
+        }
+    }
+}
+
+/// The thesis prints the estimate of the previous mesh (column `estimate_previous_mesh`): the
+/// ratio tribo/thesis of that column varies by at most 10 % along a table.
+#[test]
+fn estimate_ratio_to_the_thesis_is_constant_along_a_table() {
+    for t in TABLES {
+        if CONSTANT.contains(&t) || DUPLICATES.contains(&t) {
+            continue;
+        }
+        let thesis = study::thesis_table(&spec(t));
+        let ratios: Vec<f64> = quick(t)
+            .rows
+            .iter()
+            .map(|row| {
+                row.value(PREVIOUS_ESTIMATE).unwrap() / thesis.value(row.cycle, "estimate").unwrap()
+            })
+            .collect();
+        let (lo, hi) = ratios
+            .iter()
+            .fold((f64::INFINITY, 0.0f64), |(a, b), &r| (a.min(r), b.max(r)));
+        let limit = if ["IV.64", "IV.68"].contains(&t) {
+            1.8
+        } else {
+            1.10
+        };
+        assert!(hi / lo <= limit, "{t}: ratios tribo/thesis {ratios:?}");
+    }
+}
+
+/// The rule of tests/common.rs (every ratio in [0.60, 0.85], geometric mean in [0.66, 0.76]).
+/// The quick tier holds a single ratio inside the window [2, 7], and fixed-number marking of
+/// 30 % makes the ratio alternate with period two (the thesis too: 0.827, 0.659, 0.807, 0.712 in
+/// IV.36), so the quick tier applies the rule to one full period, printed rows 1–2; the full
+/// tier applies `assert_convergence` on [2, 7] (`full_tier_convergence`, ignored by default).
+#[test]
+fn convergence_rate_inside_the_window() {
+    for t in TABLES {
+        if CONSTANT.contains(&t) || t == "IV.64" {
+            continue;
+        }
+        let ratios: Vec<f64> = quick(t).rows.iter().filter_map(|r| r.ratio).collect();
+        assert_eq!(ratios.len(), 2, "{t}");
+        for q in &ratios {
+            assert!((0.60..=0.85).contains(q), "{t}: ratios {ratios:?}");
+        }
+        let gm = (ratios[0] * ratios[1]).sqrt();
+        assert!(
+            (0.66..=0.76).contains(&gm),
+            "{t}: geometric mean {gm}: {ratios:?}"
+        );
+    }
+}
+
+/// Full tier: the convergence rule on printed rows 2–7 (about a minute per table).
+#[test]
+#[ignore]
+fn full_tier_convergence() {
+    for t in TABLES {
+        if CONSTANT.contains(&t) {
+            continue;
+        }
+        let r = study::run(&spec(t), Tier::Full, &|_, _, _| {}).expect("runs");
+        assert_convergence(t, &r);
+    }
+}
+
+#[test]
+fn cavitation_solutions_are_admissible() {
+    for t in CAVITATION {
+        let r = quick(t);
+        for row in &r.rows {
+            let it = row.value("active_set_iterations").expect("counter");
+            assert!((1.0..100.0).contains(&it), "{t}: {it} iterations");
+        }
+        for p in &r.probes {
+            assert!(p.value >= 0.0, "{t}: ψ = {} < 0", p.value);
+        }
+        let f = &r.fields[0];
+        assert!(!f.zone.is_empty(), "{t}: no cavitation zone");
+    }
+}
+
+#[test]
+fn hard_case_hill_gap_with_velocity_1000() {
+    for t in ["IV.49", "IV.69"] {
+        let r = quick(t);
+        assert_eq!(r.rows.len(), 3);
+        assert!(r.rows.iter().all(|row| row.estimate.is_finite()));
+        assert!(r.probes.iter().all(|p| p.value.is_finite()));
+    }
+}
+
+/// Which of the fourteen examples switch the cavitation model on under `auto` (first solve on
+/// the 64×64 grid). The thesis treats six with cavitation; with the Chapter I source terms the
+/// hill gap with horizontal velocity (IV.20) stays positive.
+#[test]
+fn auto_cavitation_switches_where_the_pressure_gets_negative() {
+    let mut switched = Vec::new();
+    let mut minima = Vec::new();
+    for (k, eq) in EXAMPLES.iter().enumerate() {
+        let table = format!("IV.{}", 36 + k);
+        let mut s = spec(&table);
+        s.scene.reynolds.as_mut().unwrap().cavitation = Cavitation::Auto;
+        s.study.quick_rows = 0;
+        let mut model = ReynoldsStudy::new(&s);
+        run_grid_adaptive(&s, Tier::Quick, &|_, _, _| {}, &mut model).expect("runs");
+        minima.push((*eq, model.first_min_psi.unwrap()));
+        if model.switched_at.is_some() {
+            switched.push(*eq);
+        }
+    }
+    eprintln!("smallest ψ of the Reynolds solution per example: {minima:?}");
+    assert_eq!(
+        switched,
+        ["IV.8", "IV.11", "IV.16", "IV.17", "IV.19"],
+        "minima {minima:?}"
+    );
+}
+
+/// The alternative reading γ₃c → 2γ₃ − γ₃c runs; for the plain gap (IV.8) both coincide.
+#[test]
+fn self_consistent_cavitation_source() {
+    let mut out = Vec::new();
+    for t in ["IV.64", "IV.65", "IV.66", "IV.67", "IV.68", "IV.69"] {
+        let mut s = spec(t);
+        s.scene.reynolds.as_mut().unwrap().cavitation_source = CavitationSource::SelfConsistent;
+        s.study.quick_rows = 1;
+        let r = study::run(&s, Tier::Quick, &|_, _, _| {}).expect("runs");
+        let printed = quick(t).rows[0].estimate;
+        out.push((t, r.rows[0].estimate / printed - 1.0));
+        if t == "IV.64" {
+            assert_eq!(r.rows[0].estimate, printed);
+        }
+    }
+    eprintln!("relative change of the cycle-0 estimate, self-consistent vs printed γ₃c: {out:?}");
+}
+
+/// The potential form ∫∇ψ·∇φ + (Δg/g)ψφ and the printed product form (II.9) give the same
+/// solution up to quadrature error (wave and hill gaps, 32×32 grid).
+#[test]
+fn potential_and_product_forms_agree() {
+    for t in ["IV.44", "IV.48"] {
+        let s = spec(t);
+        let mut p = ReynoldsProblem::from_data(s.scene.reynolds.as_ref().unwrap());
+        let mesh = Mesh::new([0.0, 1.0], [0.0, 1.0], 32, 32);
+        let dofs = DofMap::new(&mesh, 1);
+        let fixed = p.fixed_dofs(&dofs);
+        let data = p.cell_data(&mesh, Load::Reynolds);
+        let mut sol = Vec::new();
+        for form in [Form::Potential, Form::Product] {
+            p.form = form;
+            let mut system = SparseSystem::new(&dofs);
+            let (a, b) = p.assemble(&mesh, &system, &data);
+            sol.push(system.solve_fixed(&a, &b, &fixed).unwrap());
+        }
+        let scale = sol[0].iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let diff = sol[0]
+            .iter()
+            .zip(&sol[1])
+            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+        assert!(
+            diff <= 2e-2 * scale,
+            "{t}: max difference {diff} of {scale}"
+        );
+    }
+}
