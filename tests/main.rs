@@ -3,6 +3,7 @@
 mod bad_input;
 mod cli;
 mod common;
+mod contact;
 mod elasticity;
 mod mesh;
 mod reynolds;

@@ -3,6 +3,7 @@
 //! faces, the full residual on Neumann faces, constant c = 1. Every estimator returns the squared
 //! indicator η_Q² per active cell; the printed estimate is √(Σ_Q η_Q²).
 
+pub mod contact;
 pub mod elasticity;
 pub mod reynolds;
 

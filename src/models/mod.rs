@@ -1,5 +1,6 @@
 //! The models of Chapters I–II: elasticity, contact obstacles, thin-film data.
 
+pub mod contact;
 pub mod elasticity;
 pub mod obstacle;
 pub mod reynolds;

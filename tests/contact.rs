@@ -1,0 +1,364 @@
+//! Tables IV.6–IV.17: z-contact (§IV.2.1) and Signorini contact (§IV.2.2) with the estimator of
+//! Theorem III.15 on the quick tier (cycles 0–3), the physics checks of the contact solver
+//! (linearised constraint, complementarity, penetration) and the hard jump-obstacle cases.
+//!
+//! The convergence windows of all twelve tables (last four / last three cycles) lie wholly
+//! beyond the quick rows, so the convergence rule is checked on the full tier only
+//! (`full_tier_agreement_and_convergence`, ignored by default; run with `-- --ignored`).
+
+use crate::common::{quick, rel, spec};
+use tribo::experiment::{ContactModel, ObstacleShape};
+use tribo::fe::{DofMap, SparseSystem};
+use tribo::mesh::Mesh;
+use tribo::results::{PhaseSeconds, RunResult};
+use tribo::study::contact::{ContactStudy, CycleState};
+use tribo::study::{self, AdaptiveModel, Tier};
+
+const TABLES: [&str; 12] = [
+    "IV.6", "IV.7", "IV.8", "IV.9", "IV.10", "IV.11", "IV.12", "IV.13", "IV.14", "IV.15", "IV.16",
+    "IV.17",
+];
+const SIGNORINI: [&str; 6] = ["IV.12", "IV.13", "IV.14", "IV.15", "IV.16", "IV.17"];
+
+#[test]
+fn golden_snapshots() {
+    for t in TABLES {
+        let r = quick(t);
+        insta::with_settings!({ snapshot_path => "../golden", prepend_module_to_snapshot => false }, {
+            insta::assert_snapshot!(t, r.snapshot());
+        });
+    }
+}
+
+#[test]
+fn cycle_zero_estimates_equal_the_printed_values() {
+    for (t, printed) in [("IV.6", 1.2261), ("IV.12", 0.8374)] {
+        let r = quick(t);
+        let e = r.rows[0].estimate;
+        assert!(
+            ((e * 1e4).round() / 1e4 - printed).abs() < 1e-12,
+            "{t}: cycle-0 estimate {e} is not {printed}"
+        );
+        assert_eq!((r.rows[0].active_cells, r.rows[0].dofs), (128, 390), "{t}");
+    }
+}
+
+/// Cycle 0 of a Signorini run linearises about s₀ = 0, so it equals the z-solution.
+#[test]
+fn signorini_cycle_zero_equals_the_z_solution() {
+    for (z, s) in [
+        ("IV.6", "IV.12"),
+        ("IV.7", "IV.13"),
+        ("IV.8", "IV.14"),
+        ("IV.9", "IV.15"),
+        ("IV.10", "IV.16"),
+        ("IV.11", "IV.17"),
+    ] {
+        let (rz, rs) = (quick(z), quick(s));
+        let (a, b) = (&rz.rows[0], &rs.rows[0]);
+        assert_eq!(a.counters, b.counters, "{z} vs {s}: active sets of cycle 0");
+        assert_eq!(
+            a.value("penetration"),
+            b.value("penetration"),
+            "{z} vs {s}: cycle-0 solutions"
+        );
+    }
+}
+
+fn assert_rows(t: &str, r: &RunResult, dofs_tol: f64, estimate_tol: Option<f64>) -> Vec<f64> {
+    let thesis = study::thesis_table(&spec(t));
+    let mut ratios = Vec::new();
+    for row in &r.rows {
+        let dofs = thesis.value(row.cycle, "dofs").unwrap();
+        let est = thesis.value(row.cycle, "estimate").unwrap();
+        assert!(
+            rel(row.dofs as f64, dofs).abs() <= dofs_tol,
+            "{t} cycle {}: dofs {} vs thesis {dofs}",
+            row.cycle,
+            row.dofs
+        );
+        if let Some(tol) = estimate_tol {
+            assert!(
+                rel(row.estimate, est).abs() <= tol,
+                "{t} cycle {}: estimate {} vs thesis {est}",
+                row.cycle,
+                row.estimate
+            );
+        }
+        ratios.push(row.estimate / est);
+    }
+    ratios
+}
+
+#[test]
+fn constant_obstacle_agrees_with_the_thesis() {
+    for t in ["IV.6", "IV.12"] {
+        assert_rows(t, &quick(t), 0.10, Some(0.15));
+    }
+}
+
+/// Periodic obstacles: the obstacle terms of the thesis's codes are not calibrated, so only the
+/// ratio tribo/thesis of the estimate has to be steady (≤ 15 % variation across the rows).
+///
+/// IV.8 (no load, the body is lifted by the obstacle alone) does not meet this: the ratio falls
+/// from 0.53 to 0.39 over cycles 0–3 because the thesis's z-code carries an obstacle term that
+/// tribo's calibrated z-code (Table IV.6) lacks — thesis² − tribo² ≈ 2·obstacle_estimate² in
+/// cycles 0 and 1 (see the notes of IV.8). The test pins the measured band so that a change is
+/// noticed.
+fn ratio_spread(t: &str) -> (f64, f64, Vec<f64>) {
+    let ratios = assert_rows(t, &quick(t), 0.10, None);
+    let (lo, hi) = ratios
+        .iter()
+        .fold((f64::INFINITY, 0.0f64), |(l, h), &q| (l.min(q), h.max(q)));
+    (lo, hi, ratios)
+}
+
+#[test]
+fn periodic_obstacles_agree_up_to_a_constant_factor() {
+    for t in ["IV.7", "IV.13", "IV.14"] {
+        let (lo, hi, ratios) = ratio_spread(t);
+        assert!(
+            hi / lo - 1.0 <= 0.15,
+            "{t}: ratio tribo/thesis varies from {lo} to {hi}: {ratios:?}"
+        );
+    }
+    let (lo, hi, ratios) = ratio_spread("IV.8");
+    assert!(
+        lo > 0.35 && hi < 0.6,
+        "IV.8: ratio tribo/thesis left its documented band: {ratios:?}"
+    );
+}
+
+/// The offset of the periodic z-tables is the obstacle term: in cycles 0 and 1,
+/// thesis² − tribo² = α · obstacle_estimate² with α within 5 % of 2.
+#[test]
+fn periodic_offset_is_explained_by_the_obstacle_term() {
+    for t in ["IV.7", "IV.8"] {
+        let r = quick(t);
+        let thesis = study::thesis_table(&spec(t));
+        for row in &r.rows[..2] {
+            let e = thesis.value(row.cycle, "estimate").unwrap();
+            let o = row.value("obstacle_estimate").unwrap();
+            let alpha = (e * e - row.estimate * row.estimate) / (o * o);
+            assert!(
+                (alpha / 2.0 - 1.0).abs() < 0.05,
+                "{t} cycle {}: α = {alpha}",
+                row.cycle
+            );
+        }
+    }
+}
+
+#[test]
+fn table_iv17_is_computed_from_the_saw_scene() {
+    let s = spec("IV.17");
+    assert_eq!(s.thesis.duplicate_of.as_deref(), Some("IV.13"));
+    let obstacle = &s.scene.contact.as_ref().unwrap().obstacles[0];
+    assert!(matches!(obstacle.shape, ObstacleShape::Saw { .. }));
+    let (a, b) = (quick("IV.17"), quick("IV.13"));
+    assert!(
+        (a.rows[0].estimate - b.rows[0].estimate).abs() > 0.1,
+        "tribo's IV.17 must not copy IV.13"
+    );
+}
+
+#[test]
+fn active_set_iterations_are_recorded() {
+    for t in TABLES {
+        for row in &quick(t).rows {
+            let it = row.value("active_set_iterations").expect("column");
+            assert!((1.0..=50.0).contains(&it), "{t} cycle {}: {it}", row.cycle);
+        }
+    }
+}
+
+/// Run the quick tier with a study we keep, so the final constraints can be inspected.
+fn quick_with_state(t: &str) -> (ContactStudy, RunResult) {
+    let s = spec(t);
+    let mut model = ContactStudy::new(&s);
+    let r = study::run_grid_adaptive(&s, Tier::Quick, &|_, _, _| {}, &mut model)
+        .unwrap_or_else(|e| panic!("{e}"));
+    (model, r)
+}
+
+fn check_state(t: &str, dofs: &DofMap, u: &[f64], state: &CycleState) {
+    let sol = &state.solution;
+    let max_lambda = sol.multipliers.iter().fold(0.0f64, |m, l| m.max(l.abs()));
+    let max_gap = sol.gaps.iter().fold(0.0f64, |m, g| m.max(g.abs()));
+    assert!(max_lambda > 0.0, "{t}: no contact force");
+    for (i, c) in state.constraints.iter().enumerate() {
+        assert!(
+            !dofs.vertices.is_hanging[c.vertex as usize],
+            "{t}: hanging vertex constrained"
+        );
+        let s = [u[dofs.dof(c.vertex, 0)], u[dofs.dof(c.vertex, 1)]];
+        let ns = c.normal[0] * s[0] + c.normal[1] * s[1];
+        // (s − s₀)·n ≤ g  ⇔  n·s ≤ bound
+        assert!(
+            ns <= c.bound + 1e-10,
+            "{t}: constraint {i} violated by {}",
+            ns - c.bound
+        );
+        let (l, g) = (sol.multipliers[i], sol.gaps[i]);
+        assert!(l >= -1e-10 * max_lambda, "{t}: multiplier {l} < 0 at {i}");
+        assert!(
+            g >= -1e-10 * (1.0 + c.bound.abs()),
+            "{t}: gap {g} < 0 at {i}"
+        );
+        assert!(
+            (l * g).abs() <= 1e-10 * max_lambda * max_gap.max(1.0),
+            "{t}: complementarity λ·gap = {} at {i}",
+            l * g
+        );
+        if sol.active[i] {
+            assert!(
+                l > 0.0 && g == 0.0,
+                "{t}: active constraint {i}: λ {l}, gap {g}"
+            );
+        }
+    }
+}
+
+#[test]
+fn constraints_and_complementarity_hold_at_the_solution() {
+    for t in ["IV.6", "IV.9", "IV.11"].into_iter().chain(SIGNORINI) {
+        let (model, _) = quick_with_state(t);
+        let (_, dofs, u) = model.last_solution().unwrap();
+        check_state(t, dofs, u, model.state.as_ref().unwrap());
+    }
+}
+
+#[test]
+fn signorini_penetrates_much_less_than_z_contact_for_two_obstacles() {
+    let (z, s) = (quick("IV.10"), quick("IV.16"));
+    let pz = z.rows.last().unwrap().value("penetration").unwrap();
+    let ps = s.rows.last().unwrap().value("penetration").unwrap();
+    assert!(pz > 0.1, "z-contact penetrates (thesis Fig. IV.20): {pz}");
+    assert!(ps < 0.25 * pz, "Signorini {ps} vs z {pz}");
+    // The Signorini table shows its own solution and the z-solution on the same mesh.
+    assert_eq!(s.deformed.len(), 2);
+    assert!(s.deformed.iter().all(|p| p.caption.contains("penetration")));
+    assert!(!s.deformed[0].contact_points.is_empty());
+    assert_eq!(s.deformed[0].obstacles.len(), 2);
+}
+
+/// Refine the cells touching each point `levels` times.
+fn refine_at(mesh: &mut Mesh, points: &[[f64; 2]], levels: usize) {
+    for _ in 0..levels {
+        let mut flags = vec![false; mesh.n_active()];
+        for p in points {
+            for dx in [-1e-9, 1e-9] {
+                let c = mesh.locate([p[0] + dx, p[1]]).expect("inside");
+                flags[mesh.active_index(c)] = true;
+            }
+        }
+        let none = vec![false; mesh.n_active()];
+        mesh.refine_and_coarsen(&flags, &none);
+    }
+}
+
+fn solve_once(model: &mut ContactStudy, mesh: &Mesh) -> (DofMap, Vec<f64>) {
+    let dofs = DofMap::new(mesh, 2);
+    let mut system = SparseSystem::new(&dofs);
+    let mut seconds = PhaseSeconds::default();
+    let sol = model
+        .solve(mesh, &dofs, &mut system, &mut seconds)
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert!(sol.u.iter().all(|v| v.is_finite()));
+    (dofs, sol.u)
+}
+
+/// The θ₀.₀₁ jump obstacles on the coarsest mesh and after 12 levels of local refinement at the
+/// jumps: finite solutions and a converged active set, for z-contact and for Signorini contact
+/// linearised about the z-solution.
+#[test]
+fn jump_obstacles_stay_stable_under_local_refinement() {
+    for (t, points) in [
+        ("IV.9", vec![[0.0, 1.0]]),
+        ("IV.10", vec![[-1.0, 0.0], [2.0, 1.0]]),
+    ] {
+        let s = spec(t);
+        for levels in [0, 12] {
+            let mut mesh = Mesh::new(
+                s.scene.domain.x,
+                s.scene.domain.y,
+                s.scene.coarse_cells[0],
+                s.scene.coarse_cells[1],
+            );
+            refine_at(&mut mesh, &points, levels);
+            let mut z = ContactStudy::new(&s);
+            let (dofs, u) = solve_once(&mut z, &mesh);
+            check_state(t, &dofs, &u, z.state.as_ref().unwrap());
+            let mut sig = z.with_model(ContactModel::Signorini);
+            sig.set_linearisation(&mesh, &dofs, &u);
+            let (dofs, u) = solve_once(&mut sig, &mesh);
+            check_state(t, &dofs, &u, sig.state.as_ref().unwrap());
+            let it = sig.state.as_ref().unwrap().solution.iterations;
+            assert!(it <= 50, "{t}, {levels} levels: {it} iterations");
+        }
+    }
+}
+
+/// Full tier: per-row comparison with the thesis and the convergence rule over each window.
+/// Prints the table; run with `cargo test --release full_tier -- --ignored --nocapture`.
+#[test]
+#[ignore]
+fn full_tier_agreement_and_convergence() {
+    let only = std::env::var("TRIBO_TABLES").ok();
+    let mut failures = Vec::new();
+    for t in TABLES {
+        if let Some(o) = &only {
+            if !o.split(',').any(|x| x == t) {
+                continue;
+            }
+        }
+        let s = spec(t);
+        let start = std::time::Instant::now();
+        let r = study::run(&s, Tier::Full, &|_, _, _| {}).unwrap_or_else(|e| panic!("{e}"));
+        let thesis = study::thesis_table(&s);
+        println!("== {t} ({:.1} s)", start.elapsed().as_secs_f64());
+        for row in &r.rows {
+            let d = thesis.value(row.cycle, "dofs").unwrap_or(f64::NAN);
+            let e = thesis.value(row.cycle, "estimate").unwrap_or(f64::NAN);
+            let extra: String = row
+                .quantities
+                .iter()
+                .map(|(n, v)| format!(" {n} {v:.4e}"))
+                .collect();
+            println!(
+                "cycle {} dofs {} (thesis {d}, {:+.1} %) estimate {:.4} (thesis {e}, ratio {:.4}) it {:?} s {:.2}{extra}",
+                row.cycle,
+                row.dofs,
+                100.0 * rel(row.dofs as f64, d),
+                row.estimate,
+                row.estimate / e,
+                row.value("active_set_iterations"),
+                row.seconds.total(),
+            );
+        }
+        if let Err(e) = std::panic::catch_unwind(|| crate::common::assert_convergence(t, &r)) {
+            failures.push(format!("{t}: {e:?}"));
+            println!("convergence rule FAILS for {t}");
+        } else {
+            println!("convergence rule holds for {t}");
+        }
+    }
+    assert!(failures.is_empty(), "{failures:?}");
+}
+
+#[test]
+#[ignore]
+fn print_obstacle_offsets() {
+    for t in ["IV.6", "IV.7", "IV.8", "IV.11", "IV.9", "IV.10"] {
+        let r = quick(t);
+        let thesis = study::thesis_table(&spec(t));
+        for row in &r.rows {
+            let e = thesis.value(row.cycle, "estimate").unwrap();
+            let o = row.value("obstacle_estimate").unwrap();
+            let alpha = (e * e - row.estimate * row.estimate) / (o * o);
+            let with2 = (row.estimate.powi(2) + 2.0 * o * o).sqrt();
+            let d = thesis.value(row.cycle, "dofs").unwrap();
+            println!("{t} cycle {} dofs {:+.3} est {:.4} thesis {e} est/thesis {:.4} obst {o:.4} alpha {alpha:.3} with2/thesis {:.4}", row.cycle, rel(row.dofs as f64, d), row.estimate, row.estimate / e, with2 / e);
+        }
+    }
+}
