@@ -18,7 +18,7 @@
 //! * **Signorini-code** (Tables IV.12–IV.17): cell residual + ½ interior jumps only (no boundary
 //!   residuals at all); η_C and η_{−C} only on the Γ_C faces of cells with a vertex in Σ_p1, with
 //!   the nodal fields n and b = g + n·(x + s₀) of the linearisation interpolated linearly along
-//!   the face (∇(n·s_h) = (∇s_h)ᵀn + (∂_t n·s_h) t). Reproduces 0.8374 of Table IV.12.
+//!   the face and frozen in the gradient (∇(n·s_h) := (∇s_h)ᵀn). Reproduces 0.8374 of Table IV.12.
 //!   η_C2 (points between nodes where the discrete solution penetrates) is not included.
 //!
 //! Γ_C faces use the 4-point Gauss rule (the obstacle terms are not polynomial).
@@ -144,7 +144,6 @@ pub fn indicators(
                         // I_h(b n − x) at the two nodes.
                         let ia = [ba * na[0] - xa[0], ba * na[1] - xa[1]];
                         let ib = [bb * nb[0] - xb[0], bb * nb[1] - xb[1]];
-                        let dn = [(nb[0] - na[0]) / len, (nb[1] - na[1]) / len];
                         let (mut ec, mut eg) = (0.0, 0.0);
                         for (t, w) in gp.iter().zip(gw) {
                             let p = [xa[0] + t * len, xa[1]];
@@ -152,12 +151,11 @@ pub fn indicators(
                             let n = [lerp(na[0], nb[0]), lerp(na[1], nb[1])];
                             let b = lerp(ba, bb);
                             let g = Elasticity::gradient_at(mesh, dofs, u, k, p);
-                            let s = [
-                                lerp(u[dofs.dof(va, 0)], u[dofs.dof(vb, 0)]),
-                                lerp(u[dofs.dof(va, 1)], u[dofs.dof(vb, 1)]),
-                            ];
+                            // n is frozen: ∇(n·s_h) = (∇s_h)ᵀ n. The product-rule part
+                            // (∂_t n · s_h) t would multiply the whole displacement by the
+                            // kinks of the nodal normal field and never decay under refinement.
                             let d = [
-                                n[0] * g[0][0] + n[1] * g[1][0] + dn[0] * s[0] + dn[1] * s[1],
+                                n[0] * g[0][0] + n[1] * g[1][0],
                                 n[0] * g[0][1] + n[1] * g[1][1],
                             ];
                             ec += (d[0] * d[0] + d[1] * d[1]) * w * len;
