@@ -1,0 +1,56 @@
+//! Scratch: run Reynolds tables at a tier and print rows, thesis comparison and per-phase seconds.
+//! cargo run --release --example reynolds_table -- full IV.36 [IV.37 ...]
+use std::time::Instant;
+use tribo::experiment;
+use tribo::study::{self, Tier};
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let tier = if args[0] == "full" {
+        Tier::Full
+    } else {
+        Tier::Quick
+    };
+    let t_all = Instant::now();
+    for t in &args[1..] {
+        let spec =
+            experiment::load(std::path::Path::new(&format!("experiments/{t}.toml"))).unwrap();
+        let thesis = study::thesis_table(&spec);
+        let t0 = Instant::now();
+        let r = match study::run(&spec, tier, &|_, _, _| {}) {
+            Ok(r) => r,
+            Err(e) => {
+                println!("{t}: ERROR {e}");
+                continue;
+            }
+        };
+        let wall = t0.elapsed().as_secs_f64();
+        println!("== {t} wall {wall:.2}s");
+        let mut sum = tribo::results::PhaseSeconds::default();
+        for row in &r.rows {
+            let td = thesis.value(row.cycle, "dofs").unwrap_or(f64::NAN);
+            let te = thesis.value(row.cycle, "estimate").unwrap_or(f64::NAN);
+            let s = row.seconds;
+            sum.setup += s.setup;
+            sum.assemble += s.assemble;
+            sum.solve += s.solve;
+            sum.estimate += s.estimate;
+            sum.refine += s.refine;
+            println!(
+                "{} cells {:>8} dofs {:>8} (thesis {:>8}, {:+.2}%) est {:.4e} (ratio/thesis {:.4}) r {:.4} {:?} | setup {:.2} asm {:.2} solve {:.2} est {:.2} ref {:.2}",
+                row.cycle, row.active_cells, row.dofs, td, 100.0 * (row.dofs as f64 / td - 1.0), row.estimate,
+                row.estimate / te, row.ratio.unwrap_or(f64::NAN), row.counters,
+                s.setup, s.assemble, s.solve, s.estimate, s.refine
+            );
+        }
+        println!("phases (printed rows): setup {:.2} assemble {:.2} solve {:.2} estimate {:.2} refine {:.2}", sum.setup, sum.assemble, sum.solve, sum.estimate, sum.refine);
+        for p in &r.probes {
+            print!("{:.4} ", p.value);
+        }
+        println!();
+        for n in &r.notes {
+            println!("note: {n}");
+        }
+    }
+    println!("total wall {:.2}s", t_all.elapsed().as_secs_f64());
+}
