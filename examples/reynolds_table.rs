@@ -1,5 +1,7 @@
 //! Scratch: run Reynolds tables at a tier and print rows, thesis comparison and per-phase seconds.
 //! cargo run --release --example reynolds_table -- full IV.36 [IV.37 ...]
+//! `alt` in place of a table name switches the following tables to cavitation_source =
+//! "self-consistent" (R₃c from 2γ₃ − γ₃c instead of the printed γ₃c).
 use std::time::Instant;
 use tribo::experiment;
 use tribo::study::{self, Tier};
@@ -12,9 +14,19 @@ fn main() {
         Tier::Quick
     };
     let t_all = Instant::now();
+    let mut alt = false;
     for t in &args[1..] {
-        let spec =
+        if t == "alt" {
+            alt = true;
+            continue;
+        }
+        let mut spec =
             experiment::load(std::path::Path::new(&format!("experiments/{t}.toml"))).unwrap();
+        if alt {
+            if let Some(r) = spec.scene.reynolds.as_mut() {
+                r.cavitation_source = experiment::CavitationSource::SelfConsistent;
+            }
+        }
         let thesis = study::thesis_table(&spec);
         let t0 = Instant::now();
         let r = match study::run(&spec, tier, &|_, _, _| {}) {
@@ -25,7 +37,10 @@ fn main() {
             }
         };
         let wall = t0.elapsed().as_secs_f64();
-        println!("== {t} wall {wall:.2}s");
+        println!(
+            "== {t}{} wall {wall:.2}s",
+            if alt { " (self-consistent source)" } else { "" }
+        );
         let mut sum = tribo::results::PhaseSeconds::default();
         for row in &r.rows {
             let td = thesis.value(row.cycle, "dofs").unwrap_or(f64::NAN);

@@ -260,26 +260,31 @@ fn manufactured_solution_converges_with_rate_one_half_and_stable_effectivity() {
 
 #[test]
 fn one_and_two_threads_give_bitwise_identical_tables() {
-    let s = spec("IV.4");
-    let run = |threads: usize| {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap()
-            .install(|| study::run(&s, Tier::Quick, &|_, _, _| {}).unwrap())
-    };
-    let (a, b) = (run(1), run(2));
-    assert_eq!(a.rows.len(), b.rows.len());
-    for (x, y) in a.rows.iter().zip(&b.rows) {
-        assert_eq!((x.active_cells, x.dofs), (y.active_cells, y.dofs));
-        assert_eq!(
-            x.estimate.to_bits(),
-            y.estimate.to_bits(),
-            "cycle {}",
-            x.cycle
-        );
-    }
-    for (x, y) in a.probes.iter().zip(&b.probes) {
-        assert_eq!(x.value.to_bits(), y.value.to_bits());
+    // Elasticity IV.4, Reynolds IV.36 and Reynolds with cavitation IV.65 (quick tier).
+    for t in ["IV.4", "IV.36", "IV.65"] {
+        let s = spec(t);
+        let run = |threads: usize| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+                .install(|| study::run(&s, Tier::Quick, &|_, _, _| {}).unwrap())
+        };
+        let (a, b) = (run(1), run(2));
+        assert_eq!(a.rows.len(), b.rows.len(), "{t}");
+        for (x, y) in a.rows.iter().zip(&b.rows) {
+            assert_eq!((x.active_cells, x.dofs), (y.active_cells, y.dofs), "{t}");
+            assert_eq!(
+                x.estimate.to_bits(),
+                y.estimate.to_bits(),
+                "{t} cycle {}",
+                x.cycle
+            );
+            assert_eq!(x.counters, y.counters, "{t} cycle {}", x.cycle);
+        }
+        assert_eq!(a.probes.len(), b.probes.len(), "{t}");
+        for (x, y) in a.probes.iter().zip(&b.probes) {
+            assert_eq!(x.value.to_bits(), y.value.to_bits(), "{t}");
+        }
     }
 }

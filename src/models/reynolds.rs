@@ -101,6 +101,21 @@ pub struct CellData {
     pub dg_over_g: Vec<[f64; 4]>,
 }
 
+/// [`CellData`] of one mesh with the integer keys of its cells, for reuse on the next mesh
+/// ([`ReynoldsProblem::cell_data_reusing`]).
+pub struct CellDataCache {
+    pub load: Load,
+    /// (cell key, active index), sorted by key.
+    sorted: Vec<(u128, u32)>,
+    pub data: CellData,
+}
+
+/// Integer key of a cell: its lower-left and upper-right corner.
+fn cell_key(mesh: &Mesh, c: u32) -> u128 {
+    let k = mesh.corner_keys(c);
+    ((k[0].0 as u128) << 96) | ((k[0].1 as u128) << 64) | ((k[3].0 as u128) << 32) | k[3].1 as u128
+}
+
 /// One Reynolds example (§IV.3): film data, boundary pressure ψ₀, reading of γ₃c.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ReynoldsProblem {
@@ -169,6 +184,61 @@ impl ReynoldsProblem {
         CellData {
             load: l,
             dg_over_g: d,
+        }
+    }
+
+    /// [`Self::cell_data`] reusing the values of cells that are unchanged since `previous`
+    /// (same load, same integer corners — the quadrature points are then the same, so the
+    /// values are bitwise those of a fresh evaluation). Returns the data of `mesh` and the cache
+    /// for the next mesh. About 40 % of the cells survive a cycle of 30 % refinement, and the
+    /// load from the general Chapter I formulas is the most expensive part of assembly.
+    pub fn cell_data_reusing(
+        &self,
+        mesh: &Mesh,
+        load: Load,
+        previous: Option<&CellDataCache>,
+    ) -> CellDataCache {
+        let quad = quadrature_points();
+        let active = mesh.active();
+        let keys: Vec<u128> = active.par_iter().map(|&c| cell_key(mesh, c)).collect();
+        let previous = previous.filter(|p| p.load == load);
+        let (l, d): (Vec<[f64; 4]>, Vec<[f64; 4]>) = active
+            .par_iter()
+            .zip(&keys)
+            .map(|(&c, key)| {
+                if let Some(p) = previous {
+                    if let Ok(i) = p.sorted.binary_search_by_key(key, |e| e.0) {
+                        let k = p.sorted[i].1 as usize;
+                        return (p.data.load[k], p.data.dg_over_g[k]);
+                    }
+                }
+                let r = crate::fe::Rect::from_box(mesh.cell_box(c));
+                let mut l = [0.0; 4];
+                let mut d = [0.0; 4];
+                for (q, &(xi, eta, _)) in quad.iter().enumerate() {
+                    let x = r.point(xi, eta);
+                    let (g, _, lap) = self.film.gap(x);
+                    l[q] = self.load(x, load);
+                    d[q] = lap / g;
+                }
+                (l, d)
+            })
+            .collect::<Vec<_>>()
+            .into_iter()
+            .unzip();
+        let mut sorted: Vec<(u128, u32)> = keys
+            .into_iter()
+            .enumerate()
+            .map(|(k, key)| (key, k as u32))
+            .collect();
+        sorted.par_sort_unstable_by_key(|e| e.0);
+        CellDataCache {
+            load,
+            sorted,
+            data: CellData {
+                load: l,
+                dg_over_g: d,
+            },
         }
     }
 
