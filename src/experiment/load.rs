@@ -362,6 +362,12 @@ impl Check<'_> {
                 n,
             )?;
         }
+        self.ensure(
+            scene.global_refinements <= 12,
+            "scene.global_refinements",
+            "at most 12 global refinements",
+            scene.global_refinements,
+        )?;
         self.effects(scene)?;
         if let Some(elasticity) = &scene.elasticity {
             self.elasticity(elasticity)?;

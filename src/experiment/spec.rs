@@ -51,6 +51,12 @@ pub struct Scene {
     pub domain: Rectangle,
     /// Number of coarse cells in x and y (the level-0 quadtree roots).
     pub coarse_cells: [usize; 2],
+    /// Global refinements of the coarse grid before the first solve. The cells they create can
+    /// be coarsened again (level-0 cells cannot): the fluid tables' row-0 cell counts (7777,
+    /// 7747, 7699, … < 7783 = 4096 + 3·1229) show that the thesis's 64×64 grid was a once-coarser
+    /// grid refined globally, deal.II style (`refine_global`).
+    #[serde(default)]
+    pub global_refinements: usize,
     pub effects: Vec<Effect>,
     pub elasticity: Option<ElasticityData>,
     pub contact: Option<ContactData>,

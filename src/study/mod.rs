@@ -90,7 +90,11 @@ pub fn run(spec: &ExperimentSpec, tier: Tier, progress: Progress) -> Result<RunR
 
 fn new_mesh(spec: &ExperimentSpec) -> Mesh {
     let s = &spec.scene;
-    Mesh::new(s.domain.x, s.domain.y, s.coarse_cells[0], s.coarse_cells[1])
+    let mut mesh = Mesh::new(s.domain.x, s.domain.y, s.coarse_cells[0], s.coarse_cells[1]);
+    for _ in 0..s.global_refinements {
+        mesh.refine_global();
+    }
+    mesh
 }
 
 fn empty_result(spec: &ExperimentSpec, tier: Tier) -> RunResult {
