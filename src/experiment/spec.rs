@@ -9,6 +9,11 @@
 
 use serde::Deserialize;
 
+/// Obstacle shapes, gaps and the γ₃c reading are the models' own types, read directly from
+/// the file.
+pub use crate::models::obstacle::{SawReading, Shape as ObstacleShape};
+pub use crate::models::thin_film::{CavitationSource, Gap as GapShape};
+
 /// One experiment file (`experiments/IV.n.toml`).
 #[derive(Clone, Debug, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
@@ -162,44 +167,6 @@ pub struct Obstacle {
     pub shape: ObstacleShape,
 }
 
-/// How to read the saw obstacle of §IV.2.1.6.
-#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq, Default)]
-#[serde(rename_all = "kebab-case")]
-pub enum SawReading {
-    /// The continuous saw through (−4,0), (−2,−1), (1,0), (5,2), (6,0) that the printed slopes encode.
-    #[default]
-    Continuous,
-    /// The literal printed formula, with jumps at x₁ = −2 and 5.
-    Literal,
-}
-
-/// Obstacle b(x₁) as a displacement bound (§IV.2.1, θ_s of (IV.3)).
-#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
-#[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
-pub enum ObstacleShape {
-    /// b = level
-    Constant { level: f64 },
-    /// b = offset + amplitude · sin(periods · 2π (x₁ + 16) / 32)
-    Periodic {
-        offset: f64,
-        amplitude: f64,
-        periods: f64,
-    },
-    /// b = base + height · θ_s(x₁ − at)
-    Jump {
-        base: f64,
-        height: f64,
-        at: f64,
-        s: f64,
-    },
-    /// The saw obstacle of §IV.2.1.6 built from θ_s pieces.
-    Saw {
-        s: f64,
-        #[serde(default)]
-        reading: SawReading,
-    },
-}
-
 /// Whether the Reynolds cavitation model (I.82) is used.
 #[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
 #[serde(rename_all = "kebab-case")]
@@ -208,39 +175,6 @@ pub enum Cavitation {
     On,
     /// Solve without cavitation first; switch it on only when ψ drops below zero.
     Auto,
-}
-
-/// Which γ₃c to use in R₃c (spec/models.md §15 item 9).
-#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq, Default)]
-#[serde(rename_all = "kebab-case")]
-pub enum CavitationSource {
-    /// γ₃c as printed in (I.61).
-    #[default]
-    Printed,
-    /// The self-consistent reading 2γ₃ − γ₃c.
-    SelfConsistent,
-}
-
-/// Gap width g(x₁, x₂) of the fluid examples (IV.7)–(IV.20), lower wall z₀ = 0.
-#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
-#[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
-pub enum GapShape {
-    /// g = g0
-    Plain { g0: f64 },
-    /// g = g0 + slope · x₁
-    Linear { g0: f64, slope: f64 },
-    /// g = g0 + amplitude · sin(2π · frequency · x₁)
-    WaveHorizontal {
-        g0: f64,
-        amplitude: f64,
-        frequency: f64,
-    },
-    /// g = g0 + amplitude · sin²(2π · frequency · x₁) · sin²(2π · frequency · x₂)
-    Hill {
-        g0: f64,
-        amplitude: f64,
-        frequency: f64,
-    },
 }
 
 #[derive(Clone, Debug, Deserialize, PartialEq)]

@@ -25,48 +25,7 @@
 
 use crate::experiment::{self, ContactModel, Side};
 use crate::fe::{DofMap, SparseSystem};
-use crate::models::obstacle::{self, ContactSide, Shape};
-
-impl From<experiment::SawReading> for obstacle::SawReading {
-    fn from(r: experiment::SawReading) -> Self {
-        match r {
-            experiment::SawReading::Continuous => obstacle::SawReading::Continuous,
-            experiment::SawReading::Literal => obstacle::SawReading::Literal,
-        }
-    }
-}
-
-impl From<experiment::ObstacleShape> for Shape {
-    fn from(s: experiment::ObstacleShape) -> Self {
-        match s {
-            experiment::ObstacleShape::Constant { level } => Shape::Constant { level },
-            experiment::ObstacleShape::Periodic {
-                offset,
-                amplitude,
-                periods,
-            } => Shape::Periodic {
-                offset,
-                amplitude,
-                periods,
-            },
-            experiment::ObstacleShape::Jump {
-                base,
-                height,
-                at,
-                s,
-            } => Shape::Jump {
-                base,
-                height,
-                at,
-                s,
-            },
-            experiment::ObstacleShape::Saw { s, reading } => Shape::Saw {
-                s,
-                reading: reading.into(),
-            },
-        }
-    }
-}
+use crate::models::obstacle::ContactSide;
 
 /// One side of the domain in Γ_C with its obstacle.
 #[derive(Clone, Copy, Debug, PartialEq)]

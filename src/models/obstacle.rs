@@ -20,6 +20,8 @@
 
 use std::fmt;
 
+use serde::Deserialize;
+
 /// Default θ_s parameter of the saw obstacle. The thesis prints θ_s without a value (l. 5485);
 /// 0.01 is the value used by all the other θ-obstacles (l. 5351, 5415, 5423).
 pub const DEFAULT_SAW_S: f64 = 0.01;
@@ -88,10 +90,12 @@ fn theta_prime_max(s: f64, lo: f64, hi: f64) -> f64 {
 
 /// How the printed saw formula (l. 5485) is read. Both readings replace the printed x₂ by x₁
 /// (the obstacle is a function on Γ_C = {x₂ = 0}, so x₂ ≡ 0 there would make it constant).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
+#[serde(rename_all = "kebab-case")]
 pub enum SawReading {
     /// The continuous saw through the nodes (−4,0), (−2,−1), (1,0), (5,2), (6,0), constant 0
     /// outside [−4,6]; every printed piece gets the value of its left node as offset.
+    #[default]
     Continuous,
     /// The formula exactly as printed (offsets of the 2nd and 4th piece missing); it jumps by
     /// +1 at x₁ = −2, −1 at x₁ = 1, −2 at x₁ = 5 and +2 at x₁ = 6.
@@ -103,8 +107,9 @@ pub enum SawReading {
 const SAW_X: [f64; 5] = [-4.0, -2.0, 1.0, 5.0, 6.0];
 const SAW_Y: [f64; 5] = [0.0, -1.0, 0.0, 2.0, 0.0];
 
-/// Obstacle function b(x₁).
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// Obstacle function b(x₁) (also the `shape` of an obstacle in an experiment file).
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
 pub enum Shape {
     /// b = level.
     Constant { level: f64 },

@@ -31,47 +31,10 @@
 
 use rayon::prelude::*;
 
-use crate::experiment::{self, ReynoldsData};
+use crate::experiment::ReynoldsData;
 use crate::fe::{q1, quadrature, DofMap, SparseSystem};
 use crate::mesh::Mesh;
-use crate::models::thin_film::{CavitationSource, Gap, ThinFilm};
-
-impl From<experiment::GapShape> for Gap {
-    fn from(s: experiment::GapShape) -> Gap {
-        use experiment::GapShape as S;
-        match s {
-            S::Plain { g0 } => Gap::Plain { g0 },
-            S::Linear { g0, slope } => Gap::Linear { g0, slope },
-            S::WaveHorizontal {
-                g0,
-                amplitude,
-                frequency,
-            } => Gap::WaveHorizontal {
-                g0,
-                amplitude,
-                frequency,
-            },
-            S::Hill {
-                g0,
-                amplitude,
-                frequency,
-            } => Gap::Hill {
-                g0,
-                amplitude,
-                frequency,
-            },
-        }
-    }
-}
-
-impl From<experiment::CavitationSource> for CavitationSource {
-    fn from(s: experiment::CavitationSource) -> CavitationSource {
-        match s {
-            experiment::CavitationSource::Printed => CavitationSource::Printed,
-            experiment::CavitationSource::SelfConsistent => CavitationSource::SelfConsistent,
-        }
-    }
-}
+use crate::models::thin_film::{CavitationSource, ThinFilm};
 
 /// Which expression of the Reynolds product (II.9) to assemble (module docs).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]

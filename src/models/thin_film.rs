@@ -23,6 +23,8 @@
 
 use std::ops::{Add, AddAssign, Div, Mul, Neg, Sub};
 
+use serde::Deserialize;
+
 // ---------------------------------------------------------------------------------------------
 // Jet
 // ---------------------------------------------------------------------------------------------
@@ -263,8 +265,10 @@ impl Div for Jet {
 // Gap functions
 // ---------------------------------------------------------------------------------------------
 
-/// Gap width g(x₁, x₂) = z₁ − z₀ of the fluid examples [Ch.IV §IV.3, (IV.7)–(IV.20)].
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// Gap width g(x₁, x₂) = z₁ − z₀ of the fluid examples [Ch.IV §IV.3, (IV.7)–(IV.20)]
+/// (also the `gap` of a Reynolds scene in an experiment file).
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
 pub enum Gap {
     /// g = g0. (IV.7)–(IV.9): g0 = 0.1.
     Plain { g0: f64 },
@@ -393,7 +397,8 @@ impl Gap {
 // ---------------------------------------------------------------------------------------------
 
 /// Which cavitation correction γ₃c to use (spec/models.md §7 and §15 item 9).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Deserialize)]
+#[serde(rename_all = "kebab-case")]
 pub enum CavitationSource {
     /// (I.61) as printed.
     #[default]
