@@ -85,3 +85,22 @@ pub fn refine_around(mesh: &mut Mesh, p: [f64; 2], levels: usize) {
         mesh.refine_and_coarsen(&flags, &none);
     }
 }
+
+/// Every table's quick tier against its golden snapshot `golden/<table>.snap`.
+pub fn assert_golden(tables: &[&str]) {
+    for &t in tables {
+        let r = quick(t);
+        insta::with_settings!({ snapshot_path => "../golden", prepend_module_to_snapshot => false }, {
+            insta::assert_snapshot!(t, r.snapshot());
+        });
+    }
+}
+
+/// The cycle-0 estimate of a table rounds to the printed 4 decimals.
+pub fn assert_printed_cycle_zero(table: &str, printed: f64) {
+    let e = quick(table).rows[0].estimate;
+    assert!(
+        ((e * 1e4).round() / 1e4 - printed).abs() < 1e-12,
+        "{table}: cycle-0 estimate {e} is not {printed}"
+    );
+}

@@ -29,12 +29,7 @@ const CAVITATION_MESH_DIFFERS: [&str; 3] = ["IV.64", "IV.66", "IV.68"];
 
 #[test]
 fn golden_snapshots() {
-    for t in TABLES {
-        let r = quick(t);
-        insta::with_settings!({ snapshot_path => "../golden", prepend_module_to_snapshot => false }, {
-            insta::assert_snapshot!(t, r.snapshot());
-        });
-    }
+    crate::common::assert_golden(&TABLES);
 }
 
 /// u(½, ½) of −Δu = 1 on the unit square, u = 0 on the boundary (double sine series).
