@@ -6,10 +6,13 @@
 //! factorisation — stays the same while only the set of fixed dofs changes (as in deal.II): an
 //! active-set iteration costs one numeric factorisation.
 
-use faer::linalg::solvers::Solve;
-use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::perm::PermRef;
+use faer::sparse::linalg::cholesky::{
+    factorize_symbolic_cholesky, SymbolicCholesky, SymmetricOrdering,
+};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
-use faer::{MatMut, Side};
+use faer::{Conj, MatMut, Side};
 use rayon::prelude::*;
 
 use super::dofs::DofMap;
@@ -55,7 +58,10 @@ pub struct SparseSystem {
     entries: Vec<MatEntry>,
     rhs_start: Vec<usize>,
     rhs_entries: Vec<Expanded>,
-    symbolic: Option<SymbolicLlt<usize>>,
+    /// Fill-reducing ordering (new → old dof, old → new dof) from [`nested_dissection`].
+    perm_fwd: Vec<usize>,
+    perm_inv: Vec<usize>,
+    symbolic: Option<SymbolicCholesky<usize>>,
 }
 
 impl SparseSystem {
@@ -174,6 +180,15 @@ impl SparseSystem {
         }
         let entries = per_cell.concat();
         let rhs_entries = expanded.concat();
+        let order = nested_dissection(&v.keys, &col_ptr, &row_idx, nc);
+        let perm_fwd: Vec<usize> = order
+            .iter()
+            .flat_map(|&v| (0..nc).map(move |c| v as usize * nc + c))
+            .collect();
+        let mut perm_inv = vec![0usize; n];
+        for (new, &old) in perm_fwd.iter().enumerate() {
+            perm_inv[old] = new;
+        }
         SparseSystem {
             n,
             n_local,
@@ -185,6 +200,8 @@ impl SparseSystem {
             entries,
             rhs_start,
             rhs_entries,
+            perm_fwd,
+            perm_inv,
             symbolic: None,
         }
     }
@@ -305,19 +322,46 @@ impl SparseSystem {
             b[d] = scale * val;
         }
         if self.symbolic.is_none() {
-            let sym = self.symbolic_ref();
+            let perm = PermRef::new_checked(&self.perm_fwd, &self.perm_inv, self.n);
             self.symbolic = Some(
-                SymbolicLlt::try_new(sym, Side::Lower)
-                    .map_err(|e| SolveError::Factorisation(format!("{e:?}")))?,
+                factorize_symbolic_cholesky(
+                    self.symbolic_ref(),
+                    Side::Lower,
+                    SymmetricOrdering::Custom(perm),
+                    Default::default(),
+                )
+                .map_err(|e| SolveError::Factorisation(format!("{e:?}")))?,
             );
         }
-        let sym = self.symbolic_ref();
-        let mat = SparseColMatRef::new(sym, &a);
-        let llt =
-            Llt::try_new_with_symbolic(self.symbolic.clone().expect("symbolic"), mat, Side::Lower)
-                .map_err(|e| SolveError::Factorisation(format!("{e:?}")))?;
+        let symbolic = self.symbolic.as_ref().expect("symbolic");
+        let mat = SparseColMatRef::new(self.symbolic_ref(), &a);
+        let par = faer::get_global_parallelism();
+        let mut l_values = vec![0.0f64; symbolic.len_val()];
+        let mut mem = MemBuffer::try_new(
+            symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()),
+        )
+        .map_err(|e| SolveError::Factorisation(format!("{e:?}")))?;
+        let llt = symbolic
+            .factorize_numeric_llt(
+                &mut l_values,
+                mat,
+                Side::Lower,
+                Default::default(),
+                par,
+                MemStack::new(&mut mem),
+                Default::default(),
+            )
+            .map_err(|e| SolveError::Factorisation(format!("{e:?}")))?;
         let mut x = b;
-        llt.solve_in_place(MatMut::from_column_major_slice_mut(&mut x, self.n, 1));
+        drop(mem);
+        let mut mem = MemBuffer::try_new(symbolic.solve_in_place_scratch::<f64>(1, par))
+            .map_err(|e| SolveError::Factorisation(format!("{e:?}")))?;
+        llt.solve_in_place_with_conj(
+            Conj::No,
+            MatMut::from_column_major_slice_mut(&mut x, self.n, 1),
+            par,
+            MemStack::new(&mut mem),
+        );
         if let Some(i) = x.iter().position(|v| !v.is_finite()) {
             return Err(SolveError::NonFinite(i));
         }
@@ -340,4 +384,113 @@ fn weight(wexp: u8) -> f64 {
         2 => 0.25,
         w => 0.5f64.powi(w as i32),
     }
+}
+
+/// Vertex sets at most this large are not bisected further.
+const ND_LEAF: usize = 64;
+/// Vertex sets at least this large bisect their halves in parallel.
+const ND_PARALLEL: usize = 4096;
+
+/// Geometric nested-dissection ordering of the vertices (fill-reducing ordering for the
+/// Cholesky factor): bisect the vertex set at the median of its integer positions along the
+/// longer side of its bounding box, take the vertices of the upper half coupled to the lower
+/// half as separator, order both halves recursively and the separator last.
+///
+/// On the quadtree meshes of the thesis this gives less fill than AMD and costs a fraction of
+/// its time. The result depends only on the mesh (the halves are concatenated in a fixed order),
+/// not on the thread count. Returns the vertices in elimination order.
+fn nested_dissection(
+    keys: &[(u32, u32)],
+    col_ptr: &[usize],
+    row_idx: &[usize],
+    nc: usize,
+) -> Vec<u32> {
+    use std::sync::atomic::{AtomicBool, Ordering};
+    let removed: Vec<AtomicBool> = (0..keys.len()).map(|_| AtomicBool::new(false)).collect();
+
+    struct Ctx<'a> {
+        keys: &'a [(u32, u32)],
+        col_ptr: &'a [usize],
+        row_idx: &'a [usize],
+        nc: usize,
+        removed: &'a [AtomicBool],
+        leaf: usize,
+    }
+
+    fn coord(k: (u32, u32), axis: usize) -> u32 {
+        if axis == 0 {
+            k.0
+        } else {
+            k.1
+        }
+    }
+
+    fn dissect(ctx: &Ctx<'_>, mut verts: Vec<u32>) -> Vec<u32> {
+        if verts.len() <= ctx.leaf {
+            verts.sort_unstable();
+            return verts;
+        }
+        let (mut lo, mut hi) = ([u32::MAX; 2], [0u32; 2]);
+        for &v in &verts {
+            let k = ctx.keys[v as usize];
+            for (a, c) in [k.0, k.1].into_iter().enumerate() {
+                lo[a] = lo[a].min(c);
+                hi[a] = hi[a].max(c);
+            }
+        }
+        let axis = usize::from(hi[1] - lo[1] > hi[0] - lo[0]);
+        let mid = verts.len() / 2;
+        let key = |v: &u32| coord(ctx.keys[*v as usize], axis);
+        verts.select_nth_unstable_by_key(mid, key);
+        let mut m = key(&verts[mid]);
+        if verts.iter().all(|v| key(v) >= m) {
+            // Ties at the lower end: split above the median value instead.
+            match verts.iter().map(key).filter(|&c| c > m).min() {
+                Some(next) => m = next,
+                None => {
+                    verts.sort_unstable();
+                    return verts;
+                }
+            }
+        }
+        let (low, high): (Vec<u32>, Vec<u32>) = verts.into_iter().partition(|v| key(v) < m);
+        // Separator: vertices of the upper half coupled to a (not yet removed) vertex below m.
+        let is_separator = |&v: &u32| {
+            let d = v as usize * ctx.nc;
+            ctx.row_idx[ctx.col_ptr[d]..ctx.col_ptr[d + 1]]
+                .iter()
+                .any(|&d| {
+                    let w = d / ctx.nc;
+                    coord(ctx.keys[w], axis) < m && !ctx.removed[w].load(Ordering::Relaxed)
+                })
+        };
+        let separator: Vec<u32> = high.iter().copied().filter(is_separator).collect();
+        for &v in &separator {
+            ctx.removed[v as usize].store(true, Ordering::Relaxed);
+        }
+        let high: Vec<u32> = high
+            .into_iter()
+            .filter(|&v| !ctx.removed[v as usize].load(Ordering::Relaxed))
+            .collect();
+        let (mut a, b) = if low.len() + high.len() >= ND_PARALLEL {
+            rayon::join(|| dissect(ctx, low), || dissect(ctx, high))
+        } else {
+            (dissect(ctx, low), dissect(ctx, high))
+        };
+        a.extend(b);
+        let mut separator = separator;
+        separator.sort_unstable();
+        a.extend(separator);
+        a
+    }
+
+    let ctx = Ctx {
+        keys,
+        col_ptr,
+        row_idx,
+        nc,
+        removed: &removed,
+        leaf: ND_LEAF,
+    };
+    dissect(&ctx, (0..keys.len() as u32).collect())
 }
