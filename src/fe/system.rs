@@ -51,8 +51,6 @@ pub struct SparseSystem {
     n_local: usize,
     col_ptr: Vec<usize>,
     row_idx: Vec<usize>,
-    /// Position of the mirrored entry (j,i) of entry (i,j).
-    mirror: Vec<u32>,
     diag: Vec<usize>,
     cell_start: Vec<usize>,
     entries: Vec<MatEntry>,
@@ -83,103 +81,162 @@ impl SparseSystem {
                 None
             }
         };
-        let expanded: Vec<Vec<Expanded>> = (0..v.cell_vertices.len())
-            .into_par_iter()
-            .map(|k| {
-                let mut e = Vec::with_capacity(n_local + 4);
-                for (lv, &vert) in v.cell_vertices[k].iter().enumerate() {
-                    for c in 0..nc {
-                        let local = (lv * nc + c) as u8;
-                        match hang(vert) {
-                            None => e.push(Expanded {
-                                global: (vert as usize * nc + c) as u32,
-                                local,
-                                wexp: 0,
-                            }),
-                            Some(p) => {
-                                for q in p {
-                                    e.push(Expanded {
-                                        global: (q as usize * nc + c) as u32,
-                                        local,
-                                        wexp: 1,
-                                    });
-                                }
+        // Expanded local dofs of every cell, flat: cell k owns rhs_entries[rhs_start[k]..rhs_start[k + 1]].
+        let n_cells = v.cell_vertices.len();
+        let expand = |k: usize, push: &mut dyn FnMut(Expanded)| {
+            for (lv, &vert) in v.cell_vertices[k].iter().enumerate() {
+                for c in 0..nc {
+                    let local = (lv * nc + c) as u8;
+                    match hang(vert) {
+                        None => push(Expanded {
+                            global: (vert as usize * nc + c) as u32,
+                            local,
+                            wexp: 0,
+                        }),
+                        Some(p) => {
+                            for q in p {
+                                push(Expanded {
+                                    global: (q as usize * nc + c) as u32,
+                                    local,
+                                    wexp: 1,
+                                });
                             }
                         }
                     }
                 }
-                e
+            }
+        };
+        let counts: Vec<usize> = (0..n_cells)
+            .into_par_iter()
+            .map(|k| {
+                let mut m = 0;
+                expand(k, &mut |_| m += 1);
+                m
             })
             .collect();
-        // Column-major keys (j << 32 | i).
-        let mut keys: Vec<u64> = expanded
-            .par_iter()
-            .flat_map_iter(|e| {
-                e.iter().flat_map(move |a| {
-                    e.iter()
-                        .map(move |b| ((b.global as u64) << 32) | a.global as u64)
-                })
-            })
-            .chain((0..n as u64).into_par_iter().map(|i| (i << 32) | i))
-            .collect();
-        keys.par_sort_unstable();
-        keys.dedup();
-        let nnz = keys.len();
-        let mut col_ptr = vec![0usize; n + 1];
-        for &k in &keys {
-            col_ptr[(k >> 32) as usize + 1] += 1;
+        let mut rhs_start = Vec::with_capacity(n_cells + 1);
+        let mut cell_start = Vec::with_capacity(n_cells + 1);
+        rhs_start.push(0);
+        cell_start.push(0);
+        for &m in &counts {
+            rhs_start.push(rhs_start.last().unwrap() + m);
+            cell_start.push(cell_start.last().unwrap() + m * m);
+        }
+        drop(counts);
+        let mut rhs_entries = vec![
+            Expanded {
+                global: 0,
+                local: 0,
+                wexp: 0
+            };
+            rhs_start[n_cells]
+        ];
+        split_by_offsets(&mut rhs_entries, &rhs_start)
+            .into_par_iter()
+            .enumerate()
+            .for_each(|(k, out)| {
+                let mut i = 0;
+                expand(k, &mut |e| {
+                    out[i] = e;
+                    i += 1;
+                });
+            });
+        // Cells touching each global dof (after expansion), in cell order.
+        let mut touch_start = vec![0usize; n + 1];
+        for e in &rhs_entries {
+            touch_start[e.global as usize + 1] += 1;
         }
         for j in 0..n {
-            col_ptr[j + 1] += col_ptr[j];
+            touch_start[j + 1] += touch_start[j];
         }
-        let row_idx: Vec<usize> = keys
-            .par_iter()
-            .map(|&k| (k & 0xffff_ffff) as usize)
+        let mut touch = vec![0u32; rhs_entries.len()];
+        {
+            let mut next = touch_start[..n].to_vec();
+            for k in 0..n_cells {
+                for e in &rhs_entries[rhs_start[k]..rhs_start[k + 1]] {
+                    let g = e.global as usize;
+                    touch[next[g]] = k as u32;
+                    next[g] += 1;
+                }
+            }
+        }
+        // Column j: every dof sharing a cell with j, plus j itself; built in parallel blocks of
+        // columns and stitched in column order.
+        const BLOCK: usize = 4096;
+        let blocks: Vec<(Vec<usize>, Vec<usize>)> = (0..n.div_ceil(BLOCK))
+            .into_par_iter()
+            .map(|b| {
+                let cols = b * BLOCK..((b + 1) * BLOCK).min(n);
+                let mut lens = Vec::with_capacity(cols.len());
+                let mut rows = Vec::with_capacity(cols.len() * 10 * nc);
+                let mut buf: Vec<usize> = Vec::new();
+                for j in cols {
+                    buf.clear();
+                    buf.push(j);
+                    for &k in &touch[touch_start[j]..touch_start[j + 1]] {
+                        let k = k as usize;
+                        buf.extend(
+                            rhs_entries[rhs_start[k]..rhs_start[k + 1]]
+                                .iter()
+                                .map(|e| e.global as usize),
+                        );
+                    }
+                    buf.sort_unstable();
+                    buf.dedup();
+                    lens.push(buf.len());
+                    rows.extend_from_slice(&buf);
+                }
+                (lens, rows)
+            })
             .collect();
-        drop(keys);
+        drop(touch);
+        drop(touch_start);
+        let mut col_ptr = Vec::with_capacity(n + 1);
+        col_ptr.push(0usize);
+        for (lens, _) in &blocks {
+            for &l in lens {
+                col_ptr.push(col_ptr.last().unwrap() + l);
+            }
+        }
+        let nnz = col_ptr[n];
+        let mut row_idx = Vec::with_capacity(nnz);
+        for (_, rows) in blocks {
+            row_idx.extend_from_slice(&rows);
+        }
+        assert!(
+            nnz < u32::MAX as usize,
+            "matrix too large for 32-bit positions"
+        );
         let find = |i: usize, j: usize| -> usize {
             let col = &row_idx[col_ptr[j]..col_ptr[j + 1]];
             col_ptr[j] + col.binary_search(&i).expect("entry in pattern")
         };
         let diag: Vec<usize> = (0..n).into_par_iter().map(|i| find(i, i)).collect();
-        let mirror: Vec<u32> = (0..n)
+        let mut entries = vec![
+            MatEntry {
+                pos: 0,
+                lij: 0,
+                wexp: 0
+            };
+            cell_start[n_cells]
+        ];
+        split_by_offsets(&mut entries, &cell_start)
             .into_par_iter()
-            .flat_map_iter(|j| {
-                let row_idx = &row_idx;
-                (col_ptr[j]..col_ptr[j + 1]).map(move |p| (row_idx[p], j))
-            })
-            .map(|(i, j)| find(j, i) as u32)
-            .collect();
-        assert!(
-            nnz < u32::MAX as usize,
-            "matrix too large for 32-bit positions"
-        );
-        let per_cell: Vec<Vec<MatEntry>> = expanded
-            .par_iter()
-            .map(|e| {
-                let mut out = Vec::with_capacity(e.len() * e.len());
+            .enumerate()
+            .for_each(|(k, out)| {
+                let e = &rhs_entries[rhs_start[k]..rhs_start[k + 1]];
+                let mut i = 0;
                 for a in e {
                     for b in e {
-                        out.push(MatEntry {
+                        out[i] = MatEntry {
                             pos: find(a.global as usize, b.global as usize) as u32,
                             lij: (a.local as usize * n_local + b.local as usize) as u16,
                             wexp: a.wexp + b.wexp,
-                        });
+                        };
+                        i += 1;
                     }
                 }
-                out
-            })
-            .collect();
-        let mut cell_start = Vec::with_capacity(per_cell.len() + 1);
-        let mut rhs_start = Vec::with_capacity(per_cell.len() + 1);
-        cell_start.push(0);
-        rhs_start.push(0);
-        for (m, e) in per_cell.iter().zip(&expanded) {
-            cell_start.push(cell_start.last().unwrap() + m.len());
-            rhs_start.push(rhs_start.last().unwrap() + e.len());
-        }
-        let entries = per_cell.concat();
-        let rhs_entries = expanded.concat();
+            });
         let order = nested_dissection(&v.keys, &col_ptr, &row_idx, nc);
         let perm_fwd: Vec<usize> = order
             .iter()
@@ -194,7 +251,6 @@ impl SparseSystem {
             n_local,
             col_ptr,
             row_idx,
-            mirror,
             diag,
             cell_start,
             entries,
@@ -314,7 +370,9 @@ impl SparseSystem {
                     b[i] -= a[p] * val;
                 }
                 a[p] = 0.0;
-                a[self.mirror[p] as usize] = 0.0;
+                // The mirrored entry (d, i) in column i.
+                let col = &self.row_idx[self.col_ptr[i]..self.col_ptr[i + 1]];
+                a[self.col_ptr[i] + col.binary_search(&d).expect("symmetric pattern")] = 0.0;
             }
         }
         for &(d, val) in fixed {
@@ -493,4 +551,15 @@ fn nested_dissection(
         leaf: ND_LEAF,
     };
     dissect(&ctx, (0..keys.len() as u32).collect())
+}
+
+/// Split `data` into the consecutive pieces `offsets[k]..offsets[k + 1]`.
+fn split_by_offsets<'a, T>(mut data: &'a mut [T], offsets: &[usize]) -> Vec<&'a mut [T]> {
+    let mut out = Vec::with_capacity(offsets.len().saturating_sub(1));
+    for w in offsets.windows(2) {
+        let (head, tail) = data.split_at_mut(w[1] - w[0]);
+        out.push(head);
+        data = tail;
+    }
+    out
 }
