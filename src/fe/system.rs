@@ -294,22 +294,34 @@ impl SparseSystem {
         F: Fn(usize, &mut [f64], &mut [f64]) + Sync,
     {
         let nl = self.n_local;
-        let mut ke = vec![0.0; n_cells * nl * nl];
-        let mut fe = vec![0.0; n_cells * nl];
-        ke.par_chunks_mut(nl * nl)
-            .zip(fe.par_chunks_mut(nl))
-            .enumerate()
-            .for_each(|(k, (m, f))| cell(k, m, f));
-        let mut values = vec![0.0; self.nnz()];
-        let mut rhs = vec![0.0; self.n];
-        for k in 0..n_cells {
-            let m = &ke[k * nl * nl..(k + 1) * nl * nl];
-            for e in &self.entries[self.cell_start[k]..self.cell_start[k + 1]] {
-                values[e.pos as usize] += m[e.lij as usize] * weight(e.wexp);
-            }
-            let f = &fe[k * nl..(k + 1) * nl];
-            for e in &self.rhs_entries[self.rhs_start[k]..self.rhs_start[k + 1]] {
-                rhs[e.global as usize] += f[e.local as usize] * weight(e.wexp);
+        // Cells are computed in parallel blocks into one reused buffer and summed block by
+        // block: no cell-matrix array of the whole mesh.
+        const BLOCK: usize = 8192;
+        let mut ke = vec![0.0; BLOCK.min(n_cells) * nl * nl];
+        let mut fe = vec![0.0; BLOCK.min(n_cells) * nl];
+        // Written, not calloc'ed: a fresh zero page that is read before it is written costs a
+        // copy-on-write fault with a TLB shootdown on every page.
+        let mut values = zeros(self.nnz());
+        let mut rhs = zeros(self.n);
+        for first in (0..n_cells).step_by(BLOCK) {
+            let len = BLOCK.min(n_cells - first);
+            ke[..len * nl * nl].fill(0.0);
+            fe[..len * nl].fill(0.0);
+            ke[..len * nl * nl]
+                .par_chunks_mut(nl * nl)
+                .zip(fe[..len * nl].par_chunks_mut(nl))
+                .enumerate()
+                .for_each(|(i, (m, f))| cell(first + i, m, f));
+            for i in 0..len {
+                let k = first + i;
+                let m = &ke[i * nl * nl..(i + 1) * nl * nl];
+                for e in &self.entries[self.cell_start[k]..self.cell_start[k + 1]] {
+                    values[e.pos as usize] += m[e.lij as usize] * weight(e.wexp);
+                }
+                let f = &fe[i * nl..(i + 1) * nl];
+                for e in &self.rhs_entries[self.rhs_start[k]..self.rhs_start[k + 1]] {
+                    rhs[e.global as usize] += f[e.local as usize] * weight(e.wexp);
+                }
             }
         }
         (values, rhs)
@@ -562,4 +574,9 @@ fn split_by_offsets<'a, T>(mut data: &'a mut [T], offsets: &[usize]) -> Vec<&'a 
         data = tail;
     }
     out
+}
+
+/// A vector of `len` zeros, written (in parallel) rather than allocated zeroed.
+fn zeros(len: usize) -> Vec<f64> {
+    (0..len).into_par_iter().map(|_| 0.0).collect()
 }
