@@ -210,8 +210,7 @@ impl ContactStudy {
         label: &str,
     ) -> DeformedPicture {
         let u = &state.solution.u;
-        let mut pic = super::deformed_picture(mesh, dofs, u, cycle, 1.0e9);
-        debug_assert_eq!(pic.scale, 1.0);
+        let mut pic = super::deformed_picture(mesh, dofs, u, cycle, None);
         let (x0, x1) = mesh
             .active()
             .iter()

@@ -80,7 +80,7 @@ impl AdaptiveModel for ElasticityStudy {
             dofs,
             u,
             cycle,
-            d.y[1] - d.y[0],
+            Some(d.y[1] - d.y[0]),
         ));
     }
 }

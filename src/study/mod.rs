@@ -174,20 +174,20 @@ fn probes(
     out
 }
 
-/// The deformed body x + scale·s(x), with the displacement magnified so that the largest one
-/// is a visible fraction of the domain height.
+/// The deformed body x + scale·s(x). With `magnify_to = Some(height)` small displacements are
+/// magnified so that the largest one is half of `height`; with `None` the picture is true scale
+/// (contact pictures, whose obstacle curves are in true scale too).
 pub fn deformed_picture(
     mesh: &Mesh,
     dofs: &DofMap,
     u: &[f64],
     cycle: usize,
-    height: f64,
+    magnify_to: Option<f64>,
 ) -> DeformedPicture {
     let max = u.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-    let scale = if max > 0.0 && max < 0.5 * height {
-        (0.5 * height / max).round().max(1.0)
-    } else {
-        1.0
+    let scale = match magnify_to {
+        Some(height) if max > 0.0 && max < 0.5 * height => (0.5 * height / max).round().max(1.0),
+        _ => 1.0,
     };
     let quads = mesh
         .active()
