@@ -29,6 +29,29 @@ fn plot_err<E: std::fmt::Debug>(e: E) -> io::Error {
     io::Error::other(format!("plotting failed: {e:?}"))
 }
 
+/// Grid, tick labels (1, 2, 5 × 10^k) and axis descriptions of a log–log chart.
+fn log_log_grid<DB: DrawingBackend>(
+    chart: &mut ChartContext<'_, DB, Cartesian2d<NiceLog, NiceLog>>,
+    x_desc: &str,
+    y_desc: &str,
+) -> io::Result<()> {
+    chart
+        .configure_mesh()
+        .x_desc(x_desc)
+        .y_desc(y_desc)
+        .x_labels(12)
+        .y_labels(12)
+        .x_label_formatter(&log_tick)
+        .y_label_formatter(&log_tick)
+        .light_line_style(RGBColor(235, 235, 235))
+        .bold_line_style(RGBColor(205, 205, 205))
+        .label_style(("sans-serif", 17))
+        .axis_desc_style(("sans-serif", 17))
+        .draw()
+        .map_err(plot_err)?;
+    Ok(())
+}
+
 /// A point that can sit on a log–log axis.
 fn loggable(p: &(f64, f64)) -> bool {
     p.0.is_finite() && p.1.is_finite() && p.0 > 0.0 && p.1 > 0.0
@@ -249,20 +272,7 @@ pub fn convergence(path: &Path, run: &RunResult, thesis: &ThesisTable) -> io::Re
             .y_label_area_size(70)
             .build_cartesian_2d(NiceLog::new((x_lo, x_hi)), NiceLog::new((y_lo, y_hi)))
             .map_err(plot_err)?;
-        chart
-            .configure_mesh()
-            .x_desc("degrees of freedom")
-            .y_desc("estimate")
-            .x_labels(12)
-            .y_labels(12)
-            .x_label_formatter(&log_tick)
-            .y_label_formatter(&log_tick)
-            .light_line_style(RGBColor(235, 235, 235))
-            .bold_line_style(RGBColor(205, 205, 205))
-            .label_style(("sans-serif", 17))
-            .axis_desc_style(("sans-serif", 17))
-            .draw()
-            .map_err(plot_err)?;
+        log_log_grid(&mut chart, "degrees of freedom", "estimate")?;
 
         if curves.is_empty() {
             root.draw(&Text::new(
@@ -377,20 +387,7 @@ fn cost_accuracy(
         .y_label_area_size(70)
         .build_cartesian_2d(NiceLog::new((x_lo, x_hi)), NiceLog::new((y_lo, y_hi)))
         .map_err(plot_err)?;
-    chart
-        .configure_mesh()
-        .x_desc("cumulative wall seconds")
-        .y_desc("estimate")
-        .x_labels(12)
-        .y_labels(12)
-        .x_label_formatter(&log_tick)
-        .y_label_formatter(&log_tick)
-        .light_line_style(RGBColor(235, 235, 235))
-        .bold_line_style(RGBColor(205, 205, 205))
-        .label_style(("sans-serif", 17))
-        .axis_desc_style(("sans-serif", 17))
-        .draw()
-        .map_err(plot_err)?;
+    log_log_grid(&mut chart, "cumulative wall seconds", "estimate")?;
     if points.is_empty() {
         area.draw(&Text::new(
             "no positive timings and estimates to plot",
