@@ -33,7 +33,7 @@ use rayon::prelude::*;
 
 use crate::experiment::ReynoldsData;
 use crate::fe::{q1, quadrature, DofMap, SparseSystem};
-use crate::mesh::Mesh;
+use crate::mesh::{CellId, Mesh};
 use crate::models::thin_film::{CavitationSource, ThinFilm};
 
 /// Which expression of the Reynolds product (II.9) to assemble (module docs).
@@ -127,27 +127,21 @@ impl ReynoldsProblem {
 
     /// Load and Δg/g at the quadrature points of every active cell (in parallel).
     pub fn cell_data(&self, mesh: &Mesh, load: Load) -> CellData {
-        let quad = quadrature_points();
-        let (l, d): (Vec<[f64; 4]>, Vec<[f64; 4]>) = mesh
-            .active()
-            .par_iter()
-            .map(|&c| {
-                let r = crate::fe::Rect::from_box(mesh.cell_box(c));
-                let mut l = [0.0; 4];
-                let mut d = [0.0; 4];
-                for (q, &(xi, eta, _)) in quad.iter().enumerate() {
-                    let x = r.point(xi, eta);
-                    let (g, _, lap) = self.film.gap(x);
-                    l[q] = self.load(x, load);
-                    d[q] = lap / g;
-                }
-                (l, d)
-            })
-            .unzip();
-        CellData {
-            load: l,
-            dg_over_g: d,
+        self.cell_data_reusing(mesh, load, None).data
+    }
+
+    /// Load and Δg/g at the four quadrature points of active cell `c`.
+    fn cell_values(&self, mesh: &Mesh, c: CellId, load: Load) -> ([f64; 4], [f64; 4]) {
+        let r = crate::fe::Rect::from_box(mesh.cell_box(c));
+        let mut l = [0.0; 4];
+        let mut d = [0.0; 4];
+        for (q, &(xi, eta, _)) in quadrature_points().iter().enumerate() {
+            let x = r.point(xi, eta);
+            let (g, _, lap) = self.film.gap(x);
+            l[q] = self.load(x, load);
+            d[q] = lap / g;
         }
+        (l, d)
     }
 
     /// [`Self::cell_data`] reusing the values of cells that are unchanged since `previous`
@@ -161,7 +155,6 @@ impl ReynoldsProblem {
         load: Load,
         previous: Option<&CellDataCache>,
     ) -> CellDataCache {
-        let quad = quadrature_points();
         let active = mesh.active();
         let keys: Vec<u128> = active.par_iter().map(|&c| cell_key(mesh, c)).collect();
         let previous = previous.filter(|p| p.load == load);
@@ -175,16 +168,7 @@ impl ReynoldsProblem {
                         return (p.data.load[k], p.data.dg_over_g[k]);
                     }
                 }
-                let r = crate::fe::Rect::from_box(mesh.cell_box(c));
-                let mut l = [0.0; 4];
-                let mut d = [0.0; 4];
-                for (q, &(xi, eta, _)) in quad.iter().enumerate() {
-                    let x = r.point(xi, eta);
-                    let (g, _, lap) = self.film.gap(x);
-                    l[q] = self.load(x, load);
-                    d[q] = lap / g;
-                }
-                (l, d)
+                self.cell_values(mesh, c, load)
             })
             .collect::<Vec<_>>()
             .into_iter()
