@@ -104,3 +104,35 @@ pub fn assert_printed_cycle_zero(table: &str, printed: f64) {
         "{table}: cycle-0 estimate {e} is not {printed}"
     );
 }
+
+/// Every row within `dofs_tol` of the thesis dofs and, if given, `estimate_tol` of its estimate;
+/// returns the ratios tribo/thesis of the estimate.
+pub fn assert_thesis_rows(
+    t: &str,
+    r: &RunResult,
+    dofs_tol: f64,
+    estimate_tol: Option<f64>,
+) -> Vec<f64> {
+    let thesis = study::thesis_table(&spec(t));
+    let mut ratios = Vec::new();
+    for row in &r.rows {
+        let dofs = thesis.value(row.cycle, "dofs").unwrap();
+        let est = thesis.value(row.cycle, "estimate").unwrap();
+        assert!(
+            rel(row.dofs as f64, dofs).abs() <= dofs_tol,
+            "{t} cycle {}: dofs {} vs thesis {dofs}",
+            row.cycle,
+            row.dofs
+        );
+        if let Some(tol) = estimate_tol {
+            assert!(
+                rel(row.estimate, est).abs() <= tol,
+                "{t} cycle {}: estimate {} vs thesis {est}",
+                row.cycle,
+                row.estimate
+            );
+        }
+        ratios.push(row.estimate / est);
+    }
+    ratios
+}

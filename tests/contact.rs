@@ -56,35 +56,10 @@ fn signorini_cycle_zero_equals_the_z_solution() {
     }
 }
 
-fn assert_rows(t: &str, r: &RunResult, dofs_tol: f64, estimate_tol: Option<f64>) -> Vec<f64> {
-    let thesis = study::thesis_table(&spec(t));
-    let mut ratios = Vec::new();
-    for row in &r.rows {
-        let dofs = thesis.value(row.cycle, "dofs").unwrap();
-        let est = thesis.value(row.cycle, "estimate").unwrap();
-        assert!(
-            rel(row.dofs as f64, dofs).abs() <= dofs_tol,
-            "{t} cycle {}: dofs {} vs thesis {dofs}",
-            row.cycle,
-            row.dofs
-        );
-        if let Some(tol) = estimate_tol {
-            assert!(
-                rel(row.estimate, est).abs() <= tol,
-                "{t} cycle {}: estimate {} vs thesis {est}",
-                row.cycle,
-                row.estimate
-            );
-        }
-        ratios.push(row.estimate / est);
-    }
-    ratios
-}
-
 #[test]
 fn constant_obstacle_agrees_with_the_thesis() {
     for t in ["IV.6", "IV.12"] {
-        assert_rows(t, &quick(t), 0.10, Some(0.15));
+        crate::common::assert_thesis_rows(t, &quick(t), 0.10, Some(0.15));
     }
 }
 
@@ -97,7 +72,7 @@ fn constant_obstacle_agrees_with_the_thesis() {
 /// cycles 0 and 1 (see the notes of IV.8). The test pins the measured band so that a change is
 /// noticed.
 fn ratio_spread(t: &str) -> (f64, f64, Vec<f64>) {
-    let ratios = assert_rows(t, &quick(t), 0.10, None);
+    let ratios = crate::common::assert_thesis_rows(t, &quick(t), 0.10, None);
     let (lo, hi) = ratios
         .iter()
         .fold((f64::INFINITY, 0.0f64), |(l, h), &q| (l.min(q), h.max(q)));

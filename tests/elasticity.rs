@@ -4,7 +4,7 @@
 use std::f64::consts::PI;
 use std::sync::Arc;
 
-use crate::common::{quick, rel, spec};
+use crate::common::{quick, spec};
 use tribo::adaptivity::mark_fixed_number;
 use tribo::estimators::{self, elasticity::BoundaryTerms};
 use tribo::experiment::Side;
@@ -50,23 +50,7 @@ fn cycle_one_has_248_cells() {
 fn quick_tier_agrees_with_the_thesis() {
     for t in TABLES {
         let r = quick(t);
-        let thesis = study::thesis_table(&spec(t));
-        for row in &r.rows {
-            let dofs = thesis.value(row.cycle, "dofs").unwrap();
-            let est = thesis.value(row.cycle, "estimate").unwrap();
-            assert!(
-                rel(row.dofs as f64, dofs).abs() <= 0.03,
-                "{t} cycle {}: dofs {} vs thesis {dofs}",
-                row.cycle,
-                row.dofs
-            );
-            assert!(
-                rel(row.estimate, est).abs() <= 0.05,
-                "{t} cycle {}: estimate {} vs thesis {est}",
-                row.cycle,
-                row.estimate
-            );
-        }
+        crate::common::assert_thesis_rows(t, &r, 0.03, Some(0.05));
     }
 }
 

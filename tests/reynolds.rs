@@ -128,16 +128,7 @@ fn dofs_follow_the_thesis() {
         } else {
             0.03
         };
-        let thesis = study::thesis_table(&spec(t));
-        for row in &quick(t).rows {
-            let d = thesis.value(row.cycle, "dofs").unwrap();
-            assert!(
-                rel(row.dofs as f64, d).abs() <= bound,
-                "{t} cycle {}: dofs {} vs thesis {d}",
-                row.cycle,
-                row.dofs
-            );
-        }
+        crate::common::assert_thesis_rows(t, &quick(t), bound, None);
     }
 }
 
