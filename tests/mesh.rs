@@ -1,7 +1,7 @@
 //! The quadtree mesh, hanging-node constraints and the marking rule.
 
 use crate::common::refine_around;
-use tribo::adaptivity::{apply_noise_floor, mark_fixed_number};
+use tribo::adaptivity::{apply_noise_floor, mark_fixed_number, PLATEAU_CELLS};
 use tribo::fe::DofMap;
 use tribo::mesh::{Mesh, Neighbor, FACES};
 
@@ -165,4 +165,41 @@ fn marking_with_zero_threshold_uses_smallest_positive() {
     eta[1] = 1.0;
     let m = mark_fixed_number(&eta, 0.3, 0.0);
     assert_eq!(m.n_refine(), 2);
+}
+
+#[test]
+fn a_plateau_at_the_coarsening_threshold_gives_exactly_the_requested_number() {
+    // 1000 cells: 900 distinct large values and a plateau of 100 equal small ones (as in a
+    // cavitated zone). 3 % = 30 to coarsen: the tie band alone would flag all 100.
+    let mut eta: Vec<f64> = (0..1000).map(|i| 10.0 + i as f64).collect();
+    for e in eta.iter_mut().step_by(10) {
+        *e = 1.0;
+    }
+    let m = mark_fixed_number(&eta, 0.3, 0.03);
+    assert_eq!(m.n_coarsen(), 30);
+    assert!((0..1000).all(|i| !m.coarsen[i] || eta[i] == 1.0));
+    // The chosen plateau cells are scattered, not the first 30 in cell order.
+    let chosen: Vec<usize> = (0..1000).filter(|&i| m.coarsen[i]).collect();
+    assert!(*chosen.last().unwrap() > 500, "{chosen:?}");
+    // Refinement is untouched: the 301 largest (threshold = 301st largest, no ties).
+    assert_eq!(m.n_refine(), 301);
+    // The same call gives the same flags.
+    assert_eq!(m, mark_fixed_number(&eta, 0.3, 0.03));
+}
+
+#[test]
+fn a_plateau_at_the_refinement_threshold_is_thinned_but_symmetry_groups_are_not() {
+    // 100 large distinct values, then a plateau of 400 equal values: 30 % of 500 = 150, so the
+    // threshold (151st largest) lies in the plateau and 51 of its cells are taken.
+    let mut eta: Vec<f64> = (0..100).map(|i| 1000.0 + i as f64).collect();
+    eta.extend(std::iter::repeat_n(5.0, 400));
+    let m = mark_fixed_number(&eta, 0.3, 0.0);
+    assert_eq!(m.n_refine(), 151);
+    // A tie group of PLATEAU_CELLS cells at the threshold is a symmetry group: all flagged.
+    // 200 cells: 50 large, the group, 134 small; the 61st largest lies in the group.
+    let mut eta: Vec<f64> = (0..50).map(|i| 1000.0 + i as f64).collect();
+    eta.extend(std::iter::repeat_n(5.0, PLATEAU_CELLS));
+    eta.extend((0..200 - 50 - PLATEAU_CELLS).map(|i| 1.0 + i as f64 * 1e-3));
+    let m = mark_fixed_number(&eta, 0.3, 0.0);
+    assert_eq!(m.n_refine(), 50 + PLATEAU_CELLS);
 }

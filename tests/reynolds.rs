@@ -22,10 +22,10 @@ const CAVITATION: [&str; 6] = ["IV.64", "IV.65", "IV.66", "IV.67", "IV.68", "IV.
 const CONSTANT: [&str; 2] = ["IV.38", "IV.43"];
 /// Copies of IV.44–IV.46 in the thesis (thesis.duplicate_of).
 const DUPLICATES: [&str; 3] = ["IV.47", "IV.48", "IV.49"];
-/// Cavitation tables whose meshes follow the thesis less closely (experiment notes): the full
-/// residual of Theorem III.17 is constant in the cavitation zone, so tribo refines the zone where
-/// the thesis's indicators vanished there. Checked against looser bounds below.
-const CAVITATION_MESH_DIFFERS: [&str; 3] = ["IV.64", "IV.66", "IV.68"];
+/// Cavitation tables whose row 1 (the second printed mesh) has 3.3 % (IV.64) and 3.7 % (IV.68)
+/// more dofs than the thesis on a cell count within 0.3 %: tribo's refined cells leave more
+/// hanging vertices there. Checked against 4 % instead of 3 % (experiment notes).
+const CAVITATION_MESH_DIFFERS: [&str; 2] = ["IV.64", "IV.68"];
 
 #[test]
 fn golden_snapshots() {
@@ -119,12 +119,8 @@ fn dofs_follow_the_thesis() {
         if CONSTANT.contains(&t) || DUPLICATES.contains(&t) {
             continue;
         }
-        // IV.64: the cavitated zone carries bitwise-tied indicators, which the tie band flags
-        // for coarsening as a whole after the first solve (see the experiment's notes).
-        let bound = if t == "IV.64" {
-            0.13
-        } else if CAVITATION_MESH_DIFFERS.contains(&t) {
-            0.10
+        let bound = if CAVITATION_MESH_DIFFERS.contains(&t) {
+            0.04
         } else {
             0.03
         };
@@ -151,11 +147,9 @@ fn estimate_ratio_to_the_thesis_is_constant_along_a_table() {
         let (lo, hi) = ratios
             .iter()
             .fold((f64::INFINITY, 0.0f64), |(a, b), &r| (a.min(r), b.max(r)));
-        let limit = if ["IV.64", "IV.68"].contains(&t) {
-            1.8
-        } else {
-            1.10
-        };
+        // IV.68: the estimate of the initial 64×64 solve (row 0) is 1.57× the thesis's, the
+        // later rows 1.34–1.41× (experiment notes).
+        let limit = if t == "IV.68" { 1.20 } else { 1.10 };
         assert!(hi / lo <= limit, "{t}: ratios tribo/thesis {ratios:?}");
     }
 }
@@ -168,7 +162,7 @@ fn estimate_ratio_to_the_thesis_is_constant_along_a_table() {
 #[test]
 fn convergence_rate_inside_the_window() {
     for t in TABLES {
-        if CONSTANT.contains(&t) || t == "IV.64" {
+        if CONSTANT.contains(&t) {
             continue;
         }
         let ratios: Vec<f64> = quick(t).rows.iter().filter_map(|r| r.ratio).collect();
@@ -185,15 +179,11 @@ fn convergence_rate_inside_the_window() {
 }
 
 /// Full tier: the convergence rule on printed rows 2–7 (about four minutes for all tables).
-/// IV.64 is left out as on the quick tier: its cavitation zone carries exactly tied indicators
-/// (constant load on equal cells), so fixed-number marking alternates between the zone and the
-/// boundary layer and the ratio jumps (measured full tier: 1.284 in row 2, 0.536 in row 3,
-/// geometric mean 0.760; experiment notes of IV.64).
 #[test]
 #[ignore]
 fn full_tier_convergence() {
     for t in TABLES {
-        if CONSTANT.contains(&t) || t == "IV.64" {
+        if CONSTANT.contains(&t) {
             continue;
         }
         let r = study::run(&spec(t), Tier::Full, &|_, _, _| {}).expect("runs");
