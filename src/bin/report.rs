@@ -11,8 +11,8 @@ use std::time::Instant;
 use clap::Parser;
 use indicatif::{ProgressBar, ProgressStyle};
 
-use tribo::experiment;
-use tribo::report::{self, data, ReportMeta, Section};
+use tribo::experiment::{self, ExperimentSpec};
+use tribo::report::{self, data, Alternative, ReportMeta, Section};
 use tribo::study::{self, Tier};
 
 /// Regenerate the Chapter IV tables of Gimbel (2012) and render them beside the thesis tables.
@@ -73,9 +73,11 @@ fn run(cli: &Cli) -> Result<bool, String> {
         ));
     }
     let tier = if cli.quick { Tier::Quick } else { Tier::Full };
+    let cycles =
+        |s: &ExperimentSpec| (s.study.unprinted_cycles + study::printed_rows(s, tier)) as u64;
     let total_cycles: u64 = specs
         .iter()
-        .map(|s| (s.study.unprinted_cycles + study::printed_rows(s, tier)) as u64)
+        .map(|s| cycles(s) * (1 + study::alternative_readings(s).len() as u64))
         .sum();
     let bar = if cli.no_progress {
         ProgressBar::hidden()
@@ -96,9 +98,29 @@ fn run(cli: &Cli) -> Result<bool, String> {
         match study::run(spec, tier, &progress) {
             Ok(r) => {
                 let thesis = study::thesis_table(spec);
-                data::write_csv(&cli.out.join("data"), &r)
-                    .map_err(|e| format!("cannot write {}: {e}", cli.out.join("data").display()))?;
-                runs.push((r, thesis));
+                write_data(&cli.out, &r)?;
+                let mut alternatives = Vec::new();
+                for alt in study::alternative_readings(spec) {
+                    bar.set_message(format!("{} {} ({})", spec.table, spec.title, alt.suffix));
+                    let base = bar.position();
+                    let progress =
+                        |_: &str, done: usize, _: usize| bar.set_position(base + done as u64);
+                    match study::run(&alt.spec, tier, &progress) {
+                        Ok(mut run) => {
+                            run.table = format!("{}.{}", spec.table, alt.suffix);
+                            write_data(&cli.out, &run)?;
+                            alternatives.push(Alternative {
+                                label: alt.label,
+                                run,
+                            });
+                        }
+                        Err(e) => {
+                            bar.suspend(|| eprintln!("error ({}): {e}", alt.suffix));
+                            failed.push(e.to_string());
+                        }
+                    }
+                }
+                runs.push((r, thesis, alternatives));
             }
             Err(e) => {
                 bar.suspend(|| eprintln!("error: {e}"));
@@ -106,13 +128,17 @@ fn run(cli: &Cli) -> Result<bool, String> {
             }
         }
         bar.set_position(
-            base + (spec.study.unprinted_cycles + study::printed_rows(spec, tier)) as u64,
+            base + cycles(spec) * (1 + study::alternative_readings(spec).len() as u64),
         );
     }
     bar.finish_and_clear();
     let sections: Vec<Section> = runs
         .iter()
-        .map(|(run, thesis)| Section { run, thesis })
+        .map(|(run, thesis, alternatives)| Section {
+            run,
+            thesis,
+            alternatives,
+        })
         .collect();
     let meta = ReportMeta {
         tier: tier.name().into(),
@@ -135,4 +161,10 @@ fn run(cli: &Cli) -> Result<bool, String> {
         }
     );
     Ok(failed.is_empty())
+}
+
+/// Write `out/data/<table>.csv` and its probes.
+fn write_data(out: &std::path::Path, run: &tribo::results::RunResult) -> Result<(), String> {
+    let dir = out.join("data");
+    data::write_csv(&dir, run).map_err(|e| format!("cannot write {}: {e}", dir.display()))
 }

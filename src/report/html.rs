@@ -7,8 +7,8 @@
 use std::collections::BTreeSet;
 use std::fmt::Write as _;
 
-use super::{rel_diff, tolerance, Figure, ReportMeta, Section, Summary};
-use crate::results::CycleRow;
+use super::{rel_diff, tolerance, Alternative, Figure, ReportMeta, Section, Summary};
+use crate::results::{CycleRow, RunResult};
 
 /// The figures written for one section, in the order they appear.
 pub(crate) struct SectionFigures {
@@ -326,6 +326,9 @@ fn table_section(h: &mut String, s: &Section, figs: &SectionFigures) {
         );
     }
     comparison_table(h, s);
+    for alt in s.alternatives {
+        alternative_table(h, run, alt);
+    }
 
     if !run.notes.is_empty() {
         h.push_str("<h3>Readings and known differences</h3>\n<ul class=\"notes\">\n");
@@ -372,6 +375,52 @@ fn table_section(h: &mut String, s: &Section, figs: &SectionFigures) {
         h.push_str("</tbody></table>\n");
     }
     h.push_str("</section>\n");
+}
+
+/// How much an alternative reading changes the table: dofs and estimate of both runs per cycle
+/// and the relative change, plus the range of the change in the heading.
+fn alternative_table(h: &mut String, run: &RunResult, alt: &Alternative) {
+    let pairs: Vec<(&CycleRow, &CycleRow)> = run
+        .rows
+        .iter()
+        .filter_map(|r| Some((r, alt.run.rows.iter().find(|a| a.cycle == r.cycle)?)))
+        .collect();
+    let range = |f: &dyn Fn(&CycleRow) -> f64| {
+        pairs.iter().filter_map(|(r, a)| rel_diff(f(a), f(r))).fold(
+            None,
+            |acc: Option<(f64, f64)>, d| {
+                Some(acc.map_or((d, d), |(lo, hi)| (lo.min(d), hi.max(d))))
+            },
+        )
+    };
+    let span = |r: Option<(f64, f64)>| match r {
+        Some((lo, hi)) => format!("{} … {}", fmt_pct(lo), fmt_pct(hi)),
+        None => "—".into(),
+    };
+    let _ = write!(
+        h,
+        "<h3>Alternative reading: {}</h3>\n<p class=\"legend\">Computed in this run. Against the \
+         table above: estimate {}, dofs {}.</p>\n<div class=\"scroll\"><table><thead><tr>\
+         <th>cycle</th><th>dofs</th><th>dofs (alt.)</th><th>Δ</th><th>estimate</th>\
+         <th>estimate (alt.)</th><th>Δ</th></tr></thead><tbody>\n",
+        escape(&alt.label),
+        span(range(&|r| r.estimate)),
+        span(range(&|r| r.dofs as f64)),
+    );
+    for (r, a) in &pairs {
+        let _ = writeln!(
+            h,
+            "<tr><td>{}</td><td>{}</td><td>{}</td>{}<td>{}</td><td>{}</td>{}</tr>",
+            r.cycle,
+            r.dofs,
+            a.dofs,
+            diff_cell("dofs", rel_diff(a.dofs as f64, r.dofs as f64)),
+            fmt_sig(r.estimate),
+            fmt_sig(a.estimate),
+            diff_cell("estimate", rel_diff(a.estimate, r.estimate)),
+        );
+    }
+    h.push_str("</tbody></table></div>\n");
 }
 
 /// tribo beside the thesis: for each printed column tribo | thesis | Δ, then the estimate ratio,

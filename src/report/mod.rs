@@ -22,6 +22,15 @@ use crate::thesis::ThesisTable;
 pub struct Section<'a> {
     pub run: &'a RunResult,
     pub thesis: &'a ThesisTable,
+    /// Runs of alternative readings of the same scene ([`crate::study::alternative_readings`]),
+    /// shown as differences against `run`.
+    pub alternatives: &'a [Alternative],
+}
+
+/// A run of an alternative reading, with what it changes.
+pub struct Alternative {
+    pub label: String,
+    pub run: RunResult,
 }
 
 /// Facts about the whole report run, shown in the page header.

@@ -59,6 +59,41 @@ pub fn thesis_table(spec: &ExperimentSpec) -> ThesisTable {
     }
 }
 
+/// An alternative reading of a scene that the report runs beside the experiment as written, to
+/// show how much the choice matters.
+pub struct AlternativeReading {
+    /// What changes, for the report's heading.
+    pub label: String,
+    /// Suffix of the alternative's data file (`report/data/<table>.<suffix>.csv`).
+    pub suffix: String,
+    pub spec: ExperimentSpec,
+}
+
+/// The alternative readings the report compares an experiment with. Today one: for Reynolds
+/// with cavitation and the printed γ₃c of (I.61), the self-consistent 2γ₃ − γ₃c
+/// (spec/models.md §15 item 9; issue: "the report shows how much it changes IV.65–IV.69").
+pub fn alternative_readings(spec: &ExperimentSpec) -> Vec<AlternativeReading> {
+    let mut out = Vec::new();
+    if let Some(r) = &spec.scene.reynolds {
+        if r.cavitation != crate::experiment::Cavitation::Off
+            && r.cavitation_source == crate::models::thin_film::CavitationSource::Printed
+        {
+            let mut alt = spec.clone();
+            if let Some(ra) = alt.scene.reynolds.as_mut() {
+                ra.cavitation_source = crate::models::thin_film::CavitationSource::SelfConsistent;
+            }
+            out.push(AlternativeReading {
+                label: "R₃c from 2γ₃ − γ₃c instead of the printed γ₃c of (I.61) \
+                        (cavitation_source = \"self-consistent\")"
+                    .into(),
+                suffix: "self-consistent".into(),
+                spec: alt,
+            });
+        }
+    }
+    out
+}
+
 /// Number of printed rows of a tier.
 pub fn printed_rows(spec: &ExperimentSpec, tier: Tier) -> usize {
     match tier {
