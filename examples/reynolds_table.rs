@@ -23,8 +23,8 @@ fn main() {
         let mut spec =
             experiment::load(std::path::Path::new(&format!("experiments/{t}.toml"))).unwrap();
         if alt {
-            if let Some(r) = spec.scene.reynolds.as_mut() {
-                r.cavitation_source = experiment::CavitationSource::SelfConsistent;
+            if let Some(reading) = study::alternative_readings(&spec).pop() {
+                spec = reading.spec;
             }
         }
         let thesis = study::thesis_table(&spec);

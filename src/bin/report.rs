@@ -94,13 +94,15 @@ fn run(cli: &Cli) -> Result<bool, String> {
     for spec in &specs {
         bar.set_message(format!("{} {}", spec.table, spec.title));
         let base = bar.position();
+        let readings = study::alternative_readings(spec);
+        let runs_of_spec = 1 + readings.len() as u64;
         let progress = |_: &str, done: usize, _: usize| bar.set_position(base + done as u64);
         match study::run(spec, tier, &progress) {
             Ok(r) => {
                 let thesis = study::thesis_table(spec);
                 write_data(&cli.out, &r)?;
                 let mut alternatives = Vec::new();
-                for alt in study::alternative_readings(spec) {
+                for alt in readings {
                     bar.set_message(format!("{} {} ({})", spec.table, spec.title, alt.suffix));
                     let base = bar.position();
                     let progress =
@@ -127,9 +129,7 @@ fn run(cli: &Cli) -> Result<bool, String> {
                 failed.push(e.to_string());
             }
         }
-        bar.set_position(
-            base + cycles(spec) * (1 + study::alternative_readings(spec).len() as u64),
-        );
+        bar.set_position(base + cycles(spec) * runs_of_spec);
     }
     bar.finish_and_clear();
     let sections: Vec<Section> = runs

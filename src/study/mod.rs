@@ -12,7 +12,7 @@ pub mod reynolds;
 
 use crate::adaptivity::{apply_noise_floor, mark_fixed_number};
 use crate::estimators;
-use crate::experiment::{Effect, ExperimentSpec};
+use crate::experiment::{Cavitation, CavitationSource, Effect, ExperimentSpec};
 use crate::fe::{DofMap, Rect, SparseSystem};
 use crate::mesh::Mesh;
 use crate::results::{
@@ -75,12 +75,10 @@ pub struct AlternativeReading {
 pub fn alternative_readings(spec: &ExperimentSpec) -> Vec<AlternativeReading> {
     let mut out = Vec::new();
     if let Some(r) = &spec.scene.reynolds {
-        if r.cavitation != crate::experiment::Cavitation::Off
-            && r.cavitation_source == crate::models::thin_film::CavitationSource::Printed
-        {
+        if r.cavitation != Cavitation::Off && r.cavitation_source == CavitationSource::Printed {
             let mut alt = spec.clone();
             if let Some(ra) = alt.scene.reynolds.as_mut() {
-                ra.cavitation_source = crate::models::thin_film::CavitationSource::SelfConsistent;
+                ra.cavitation_source = CavitationSource::SelfConsistent;
             }
             out.push(AlternativeReading {
                 label: "R₃c from 2γ₃ − γ₃c instead of the printed γ₃c of (I.61) \
