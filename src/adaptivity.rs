@@ -75,7 +75,7 @@ pub fn mark_fixed_number(
         for (f, &e) in refine.iter_mut().zip(indicators) {
             *f = e >= tie.0 && e > 0.0;
         }
-        let beyond = indicators.iter().filter(|&&e| e > tie.1).count();
+        let beyond = sorted.partition_point(|&e| e > tie.1);
         thin_plateau(
             &mut refine,
             indicators,
@@ -89,7 +89,7 @@ pub fn mark_fixed_number(
         for ((f, &e), &r) in coarsen.iter_mut().zip(indicators).zip(&refine) {
             *f = !r && e <= tie.1;
         }
-        let beyond = indicators.iter().filter(|&&e| e < tie.0).count();
+        let beyond = n - sorted.partition_point(|&e| e >= tie.0);
         thin_plateau(&mut coarsen, indicators, tie, n_coa.saturating_sub(beyond));
     }
     Marking { refine, coarsen }

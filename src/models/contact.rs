@@ -41,7 +41,7 @@ pub fn contact_boundaries(data: &experiment::ContactData) -> Vec<ContactBoundary
         .iter()
         .map(|o| ContactBoundary {
             side: o.side,
-            obstacle: ContactSide::new(o.shape.into(), o.side == Side::Top),
+            obstacle: ContactSide::new(o.shape, o.side == Side::Top),
         })
         .collect()
 }

@@ -109,9 +109,9 @@ pub const MAX_ACTIVE_SET_ITERATIONS: usize = 100;
 impl ReynoldsProblem {
     pub fn from_data(d: &ReynoldsData) -> ReynoldsProblem {
         ReynoldsProblem {
-            film: ThinFilm::new(d.gap.into(), d.upper_wall_velocity),
+            film: ThinFilm::new(d.gap, d.upper_wall_velocity),
             boundary_pressure: d.boundary_pressure,
-            cavitation_source: d.cavitation_source.into(),
+            cavitation_source: d.cavitation_source,
             form: Form::default(),
         }
     }
