@@ -2,6 +2,8 @@
 
 use serde::Serialize;
 
+use crate::experiment::AdditivePart;
+
 /// One printed Chapter IV table.
 #[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct ThesisTable {
@@ -15,6 +17,8 @@ pub struct ThesisTable {
     pub rows: Vec<Vec<f64>>,
     /// Set when the printed table is a known copy of another table.
     pub duplicate_of: Option<String>,
+    /// A part of the printed estimate that another table prints alone (IV.43 for IV.41/IV.42).
+    pub additive_part: Option<AdditivePart>,
 }
 
 impl ThesisTable {
@@ -25,6 +29,15 @@ impl ThesisTable {
             .iter()
             .find(|r| r.first().map(|v| *v as usize) == Some(cycle))
             .and_then(|r| r.get(c).copied())
+    }
+
+    /// The printed estimate of row `cycle` with the additive part removed in quadrature,
+    /// √(estimate² − part²), if the table has one (`None` where the part is not smaller).
+    pub fn estimate_without_part(&self, cycle: usize) -> Option<f64> {
+        let part = self.additive_part.as_ref()?.estimate.get(cycle).copied()?;
+        let e = self.value(cycle, "estimate")?;
+        (e.is_finite() && part.is_finite() && e.abs() > part.abs())
+            .then(|| (e * e - part * part).sqrt())
     }
 
     /// Number of printed rows.

@@ -344,6 +344,20 @@ fn contradictory_fields_name_file_and_field() {
             "cycle 3",
         ),
         (
+            "additive-part-too-short",
+            format!("{VALID}additive_part = {{ table = \"IV.43\", estimate = [0.34, 0.34] }}\n"),
+            "thesis.additive_part.estimate",
+            "6 values, one per printed row, found 2 values",
+        ),
+        (
+            "additive-part-of-itself",
+            format!(
+                "{VALID}additive_part = {{ table = \"IV.1\", estimate = [0, 0, 0, 0, 0, 0] }}\n"
+            ),
+            "thesis.additive_part.table",
+            "another Chapter IV table",
+        ),
+        (
             "thesis-columns-without-cycle",
             edit("columns = [\"cycle\", ", "columns = ["),
             "thesis.columns[0]",

@@ -758,6 +758,34 @@ impl Check<'_> {
                 format!("`{original}`"),
             )?;
         }
+        if let Some(part) = &thesis.additive_part {
+            self.ensure(
+                table_number(&part.table).is_some() && part.table != table,
+                "thesis.additive_part.table",
+                "the id of another Chapter IV table, e.g. `IV.43`",
+                format!("`{}`", part.table),
+            )?;
+            self.ensure(
+                columns.iter().any(|c| c == "estimate"),
+                "thesis.additive_part",
+                "a table with an `estimate` column",
+                "no `estimate` in thesis.columns",
+            )?;
+            self.ensure(
+                part.estimate.len() == thesis.rows.len(),
+                "thesis.additive_part.estimate",
+                &format!("{} values, one per printed row", thesis.rows.len()),
+                format!("{} values", part.estimate.len()),
+            )?;
+            for (i, v) in part.estimate.iter().enumerate() {
+                self.ensure(
+                    v.is_finite() && *v >= 0.0,
+                    &format!("thesis.additive_part.estimate[{i}]"),
+                    "a finite value ≥ 0",
+                    v,
+                )?;
+            }
+        }
         Ok(())
     }
 

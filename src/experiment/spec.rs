@@ -7,7 +7,7 @@
 //! The types here only describe the file; [`super::load`] parses and validates it and reports
 //! errors naming the file, the field and what was expected.
 
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 /// Obstacle shapes, gaps and the γ₃c reading are the models' own types, read directly from
 /// the file.
@@ -242,4 +242,20 @@ pub struct ThesisRows {
     /// Set when the printed table is known to be a copy of another (e.g. IV.17 = IV.13).
     #[serde(default)]
     pub duplicate_of: Option<String>,
+    /// A part of the printed estimate that the thesis prints alone in another table (IV.41 and
+    /// IV.42 carry IV.43's mesh-independent 0.34). The report then also compares tribo with
+    /// √(thesis² − part²).
+    #[serde(default)]
+    pub additive_part: Option<AdditivePart>,
+}
+
+/// Reference data for [`ThesisRows::additive_part`]: the printed estimates of the other table,
+/// one per printed row.
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct AdditivePart {
+    /// The table that prints the part alone, e.g. `IV.43`.
+    pub table: String,
+    /// Its printed `estimate` column, row by row.
+    pub estimate: Vec<f64>,
 }

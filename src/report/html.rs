@@ -7,8 +7,12 @@
 use std::collections::BTreeSet;
 use std::fmt::Write as _;
 
-use super::{rel_diff, tolerance, Alternative, Figure, ReportMeta, Section, Summary};
+use super::{
+    compared_value, compares_previous_estimate, rel_diff, tolerance, Alternative, Figure,
+    ReportMeta, Section, Summary,
+};
 use crate::results::{CycleRow, RunResult};
+use crate::study::reynolds::PREVIOUS_ESTIMATE;
 
 /// The figures written for one section, in the order they appear.
 pub(crate) struct SectionFigures {
@@ -436,7 +440,17 @@ fn comparison_table(h: &mut String, s: &Section) {
         .filter(|c| *c != "cycle")
         .collect();
     let has_estimate = compared.contains(&"estimate");
+    let shifted = compares_previous_estimate(run);
+    let part = thesis.additive_part.as_ref().filter(|_| has_estimate);
     let extra = tribo_only_columns(&run.rows, &thesis.columns);
+    // With the shifted comparison, tribo's estimate on the printed mesh is a tribo-only column.
+    let extra_label = |n: &str| {
+        if shifted && n == PREVIOUS_ESTIMATE {
+            "estimate on this mesh".to_string()
+        } else {
+            n.to_string()
+        }
+    };
     let phases = ["setup", "assemble", "solve", "estimate", "refine", "total"];
 
     let cycles: BTreeSet<usize> = run
@@ -458,12 +472,44 @@ fn comparison_table(h: &mut String, s: &Section) {
          <span class=\"swatch\"></span> |Δ| beyond 3 % (cells, dofs) or 5 % (other columns). \
          — : not computed in this tier or not printed.</p>\n",
     );
+    if shifted {
+        h.push_str(
+            "<p class=\"legend\">The thesis prints each row's mesh after refinement next to the \
+             estimate of the solve before it; its estimate and ratio are compared with tribo's \
+             estimate of the previous solve (column estimate_previous_mesh).</p>\n",
+        );
+    }
+    if let Some(p) = part {
+        let _ = writeln!(
+            h,
+            "<p class=\"legend\">{t} prints a mesh-independent part of the thesis's estimate \
+             alone; the column tribo/√(thesis² − {t}²) compares tribo with the printed estimate \
+             without that part.</p>",
+            t = escape(&p.table)
+        );
+    }
     h.push_str("<div class=\"scroll\"><table>\n<thead><tr><th rowspan=\"2\">cycle</th>");
     for c in &compared {
-        let _ = write!(h, "<th class=\"group\" colspan=\"3\">{}</th>", escape(c));
+        let label = if shifted && matches!(*c, "estimate" | "ratio") {
+            format!("{c} (of the solve before)")
+        } else {
+            c.to_string()
+        };
+        let _ = write!(
+            h,
+            "<th class=\"group\" colspan=\"3\">{}</th>",
+            escape(&label)
+        );
     }
     if has_estimate {
         h.push_str("<th class=\"group\" rowspan=\"2\">tribo/thesis<br>(estimate)</th>");
+    }
+    if let Some(p) = part {
+        let _ = write!(
+            h,
+            "<th class=\"group\" rowspan=\"2\">tribo/√(thesis² − {}²)</th>",
+            escape(&p.table)
+        );
     }
     if !extra.is_empty() {
         let _ = write!(
@@ -477,18 +523,27 @@ fn comparison_table(h: &mut String, s: &Section) {
         h.push_str("<th>tribo</th><th>thesis</th><th>Δ</th>");
     }
     for (n, _) in &extra {
-        let _ = write!(h, "<th>{}</th>", escape(n));
+        let _ = write!(h, "<th>{}</th>", escape(&extra_label(n)));
     }
     for p in phases {
         let _ = write!(h, "<th>{p}</th>");
     }
     h.push_str("</tr></thead>\n<tbody>\n");
 
+    let ratio_cell = |q: Option<f64>| match q {
+        Some(q) if (q - 1.0).abs() > tolerance("estimate") => {
+            format!("<td class=\"first off\">{}</td>", fmt_sig(q))
+        }
+        Some(q) => format!("<td class=\"first\">{}</td>", fmt_sig(q)),
+        None => "<td class=\"first na\">—</td>".into(),
+    };
     for cycle in cycles {
-        let row = run.rows.iter().find(|r| r.cycle == cycle);
+        let index = run.rows.iter().position(|r| r.cycle == cycle);
+        let row = index.map(|i| &run.rows[i]);
+        let compared_at = |c: &str| index.and_then(|i| compared_value(&run.rows, i, c));
         let _ = write!(h, "<tr><td>{cycle}</td>");
         for c in &compared {
-            let t = row.and_then(|r| r.value(c));
+            let t = compared_at(c);
             let p = thesis.value(cycle, c);
             // The thesis prints `inf` for the first ratio; tribo has none there. Both mean "no
             // previous cycle", shown as an en dash rather than a number.
@@ -509,22 +564,23 @@ fn comparison_table(h: &mut String, s: &Section) {
                 diff_cell(c, t.zip(p).and_then(|(t, p)| rel_diff(t, p)))
             );
         }
+        let estimate = compared_at("estimate");
+        let ratio_to = |p: Option<f64>| {
+            estimate
+                .zip(p)
+                .and_then(|(e, p)| (p.is_finite() && p != 0.0).then(|| e / p))
+        };
         if has_estimate {
-            let ratio = row
-                .zip(thesis.value(cycle, "estimate"))
-                .and_then(|(r, p)| (p.is_finite() && p != 0.0).then(|| r.estimate / p));
-            h.push_str(&match ratio {
-                Some(q) if (q - 1.0).abs() > tolerance("estimate") => {
-                    format!("<td class=\"first off\">{}</td>", fmt_sig(q))
-                }
-                Some(q) => format!("<td class=\"first\">{}</td>", fmt_sig(q)),
-                None => "<td class=\"first na\">—</td>".into(),
-            });
+            h.push_str(&ratio_cell(ratio_to(thesis.value(cycle, "estimate"))));
+        }
+        if part.is_some() {
+            h.push_str(&ratio_cell(ratio_to(thesis.estimate_without_part(cycle))));
         }
         for (i, (n, integer)) in extra.iter().enumerate() {
             let class = if i == 0 { "first" } else { "" };
             let v = row.and_then(|r| match n.as_str() {
                 "ratio" => r.ratio,
+                PREVIOUS_ESTIMATE if shifted => Some(r.estimate),
                 _ => r.value(n),
             });
             let _ = match v {

@@ -1279,6 +1279,7 @@ mod tests {
             columns: vec!["cycle".into(), "dofs".into(), "estimate".into()],
             rows: vec![vec![0.0, f64::NAN, -1.0]],
             duplicate_of: None,
+            additive_part: None,
         };
         for rows in [
             vec![],

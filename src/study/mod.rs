@@ -56,6 +56,7 @@ pub fn thesis_table(spec: &ExperimentSpec) -> ThesisTable {
         columns: spec.thesis.columns.clone(),
         rows: spec.thesis.rows.clone(),
         duplicate_of: spec.thesis.duplicate_of.clone(),
+        additive_part: spec.thesis.additive_part.clone(),
     }
 }
 
