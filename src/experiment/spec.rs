@@ -146,6 +146,10 @@ pub enum ContactModel {
 pub enum ContactEstimator {
     /// Cell residual, ½ interior jumps, full Neumann residual, ‖∇(n·s_h)‖² on all Γ_C faces.
     ZCode,
+    /// The z-code plus the obstacle part of η_{C,Q}, h_Q‖∂₁I_h b‖² on all Γ_C faces: the
+    /// reading for the smooth and kinked obstacles of Tables IV.7, IV.8 and IV.11, whose printed
+    /// rows carry an obstacle term; the jump obstacles of IV.9 and IV.10 cannot have had it.
+    ZCodeObstacleSlope,
     /// Cell residual and ½ interior jumps only, η_C on contact cells (Σ_p1).
     SignoriniCode,
 }

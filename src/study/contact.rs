@@ -310,7 +310,10 @@ impl AdaptiveModel for ContactStudy {
                 ratio(e.gap, self.previous_parts.map(|p| p.1)),
             ));
         }
-        if self.estimator == ContactEstimator::ZCode {
+        if matches!(
+            self.estimator,
+            ContactEstimator::ZCode | ContactEstimator::ZCodeObstacleSlope
+        ) {
             quantities.push(("obstacle_estimate".to_string(), e.obstacle.sqrt()));
         }
         self.previous_parts = Some((e.contact, e.gap));
