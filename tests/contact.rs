@@ -307,6 +307,23 @@ fn full_tier_agreement_and_convergence() {
         } else {
             println!("convergence rule holds for {t}");
         }
+        // The agreement rules of the constant and the periodic obstacles, on every printed row.
+        let agreement = std::panic::catch_unwind(|| match t {
+            "IV.6" | "IV.12" => {
+                crate::common::assert_thesis_rows(t, &r, 0.10, Some(0.15));
+            }
+            "IV.7" | "IV.8" | "IV.13" | "IV.14" => {
+                let q = crate::common::assert_thesis_rows(t, &r, 0.10, None);
+                let (lo, hi) = q
+                    .iter()
+                    .fold((f64::INFINITY, 0.0f64), |(l, h), &x| (l.min(x), h.max(x)));
+                assert!(hi / lo - 1.0 <= 0.15, "{t}: tribo/thesis {q:?}");
+            }
+            _ => {}
+        });
+        if let Err(e) = agreement {
+            failures.push(format!("{t}: {e:?}"));
+        }
     }
     assert!(failures.is_empty(), "{failures:?}");
 }
