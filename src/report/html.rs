@@ -13,6 +13,7 @@ use super::{
 };
 use crate::results::{CycleRow, RunResult};
 use crate::study::reynolds::PREVIOUS_ESTIMATE;
+use crate::thesis::ThesisTable;
 
 /// The figures written for one section, in the order they appear.
 pub(crate) struct SectionFigures {
@@ -331,7 +332,7 @@ fn table_section(h: &mut String, s: &Section, figs: &SectionFigures) {
     }
     comparison_table(h, s);
     for alt in s.alternatives {
-        alternative_table(h, run, alt);
+        alternative_table(h, run, thesis, alt);
     }
 
     if !run.notes.is_empty() {
@@ -383,7 +384,7 @@ fn table_section(h: &mut String, s: &Section, figs: &SectionFigures) {
 
 /// How much an alternative reading changes the table: dofs and estimate of both runs per cycle
 /// and the relative change, plus the range of the change in the heading.
-fn alternative_table(h: &mut String, run: &RunResult, alt: &Alternative) {
+fn alternative_table(h: &mut String, run: &RunResult, thesis: &ThesisTable, alt: &Alternative) {
     let pairs: Vec<(&CycleRow, &CycleRow)> = run
         .rows
         .iter()
@@ -406,15 +407,23 @@ fn alternative_table(h: &mut String, run: &RunResult, alt: &Alternative) {
         "<h3>Alternative reading: {}</h3>\n<p class=\"legend\">Computed in this run. Against the \
          table above: estimate {}, dofs {}.</p>\n<div class=\"scroll\"><table><thead><tr>\
          <th>cycle</th><th>dofs</th><th>dofs (alt.)</th><th>Δ</th><th>estimate</th>\
-         <th>estimate (alt.)</th><th>Δ</th></tr></thead><tbody>\n",
+         <th>estimate (alt.)</th><th>Δ</th><th>tribo/thesis</th><th>alt./thesis</th>\
+         </tr></thead><tbody>\n",
         escape(&alt.label),
         span(range(&|r| r.estimate)),
         span(range(&|r| r.dofs as f64)),
     );
+    // The estimate ratio to the printed row, compared as in the table above.
+    let to_thesis = |rows: &[CycleRow], cycle: usize| {
+        let i = rows.iter().position(|r| r.cycle == cycle)?;
+        let p = thesis.value(cycle, "estimate")?;
+        let e = compared_value(rows, i, "estimate")?;
+        (p.is_finite() && p != 0.0).then(|| fmt_sig(e / p))
+    };
     for (r, a) in &pairs {
         let _ = writeln!(
             h,
-            "<tr><td>{}</td><td>{}</td><td>{}</td>{}<td>{}</td><td>{}</td>{}</tr>",
+            "<tr><td>{}</td><td>{}</td><td>{}</td>{}<td>{}</td><td>{}</td>{}{}{}</tr>",
             r.cycle,
             r.dofs,
             a.dofs,
@@ -422,6 +431,8 @@ fn alternative_table(h: &mut String, run: &RunResult, alt: &Alternative) {
             fmt_sig(r.estimate),
             fmt_sig(a.estimate),
             diff_cell("estimate", rel_diff(a.estimate, r.estimate)),
+            opt_cell(to_thesis(&run.rows, r.cycle)),
+            opt_cell(to_thesis(&alt.run.rows, r.cycle)),
         );
     }
     h.push_str("</tbody></table></div>\n");
