@@ -107,9 +107,6 @@ impl ReynoldsStudy {
         }
     }
 
-    /// Initial active set of the cavitation solve: vertices where the previous cycle's solution
-    /// is zero (interpolated to the new vertices), or where the Reynolds solution `psi` of this
-    /// mesh is negative.
     /// Assemble with the given load, reusing the cell data of cells unchanged since the
     /// previous mesh; the time goes to `seconds.assemble`.
     fn assemble(
@@ -129,6 +126,9 @@ impl ReynoldsStudy {
         out
     }
 
+    /// Initial active set of the cavitation solve: with `psi` (the Reynolds solution of this
+    /// mesh), the vertices where it is negative; otherwise the vertices where the previous
+    /// cycle's solution, interpolated to the new vertices, is ≤ 0.
     fn initial_active(&self, dofs: &DofMap, psi: Option<&[f64]>) -> Vec<bool> {
         if let Some(psi) = psi {
             return psi.iter().map(|&v| v < 0.0).collect();
