@@ -8,8 +8,8 @@ use std::collections::BTreeSet;
 use std::fmt::Write as _;
 
 use super::{
-    compared_value, compares_previous_estimate, rel_diff, tolerance, Alternative, Figure,
-    ReportMeta, Section, Summary,
+    compared_value, compares_previous_estimate, estimate_ratio, rel_diff, tolerance, Alternative,
+    Figure, ReportMeta, Section, Summary,
 };
 use crate::results::{CycleRow, RunResult};
 use crate::study::reynolds::PREVIOUS_ESTIMATE;
@@ -416,9 +416,7 @@ fn alternative_table(h: &mut String, run: &RunResult, thesis: &ThesisTable, alt:
     // The estimate ratio to the printed row, compared as in the table above.
     let to_thesis = |rows: &[CycleRow], cycle: usize| {
         let i = rows.iter().position(|r| r.cycle == cycle)?;
-        let p = thesis.value(cycle, "estimate")?;
-        let e = compared_value(rows, i, "estimate")?;
-        (p.is_finite() && p != 0.0).then(|| fmt_sig(e / p))
+        estimate_ratio(rows, i, thesis.value(cycle, "estimate")).map(fmt_sig)
     };
     for (r, a) in &pairs {
         let _ = writeln!(
@@ -575,12 +573,7 @@ fn comparison_table(h: &mut String, s: &Section) {
                 diff_cell(c, t.zip(p).and_then(|(t, p)| rel_diff(t, p)))
             );
         }
-        let estimate = compared_at("estimate");
-        let ratio_to = |p: Option<f64>| {
-            estimate
-                .zip(p)
-                .and_then(|(e, p)| (p.is_finite() && p != 0.0).then(|| e / p))
-        };
+        let ratio_to = |p: Option<f64>| index.and_then(|i| estimate_ratio(&run.rows, i, p));
         if has_estimate {
             h.push_str(&ratio_cell(ratio_to(thesis.value(cycle, "estimate"))));
         }

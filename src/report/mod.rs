@@ -270,6 +270,13 @@ pub(crate) fn compared_value(rows: &[CycleRow], i: usize, column: &str) -> Optio
     }
 }
 
+/// tribo's compared estimate of row `i` ([`compared_value`]) divided by a printed value; `None`
+/// where either is missing or the printed value is 0 or not finite.
+pub(crate) fn estimate_ratio(rows: &[CycleRow], i: usize, printed: Option<f64>) -> Option<f64> {
+    let p = printed.filter(|p| p.is_finite() && *p != 0.0)?;
+    Some(compared_value(rows, i, "estimate")? / p)
+}
+
 /// The signed relative difference of largest magnitude in `column` over the computed cycles.
 fn max_abs_diff(section: &Section, column: &str) -> Option<f64> {
     let rows = &section.run.rows;
