@@ -58,6 +58,7 @@ gap = { kind = "plain", g0 = 0.1 }
 upper_wall_velocity = [0.0, 0.0, -10.0]
 boundary_pressure = 200.0
 cavitation = "off"
+estimator = "thesis-code"
 "#;
 
 /// The contact section of §IV.2.1.1.
@@ -556,6 +557,20 @@ fn contact_and_reynolds_checks_name_file_and_field() {
                 .replace("boundary_pressure = 200.0", "boundary_pressure = inf"),
             "scene.reynolds.boundary_pressure",
             "finite",
+        ),
+        (
+            "unknown-reynolds-estimator",
+            reynolds_scene(r#"{ kind = "plain", g0 = 0.1 }"#, r#"components = ["psi"]"#)
+                .replace("estimator = \"thesis-code\"", "estimator = \"z-code\""),
+            "scene.reynolds.estimator",
+            "unknown variant `z-code`, expected `theorem` or `thesis-code`",
+        ),
+        (
+            "missing-reynolds-estimator",
+            reynolds_scene(r#"{ kind = "plain", g0 = 0.1 }"#, r#"components = ["psi"]"#)
+                .replace("estimator = \"thesis-code\"\n", ""),
+            "scene.reynolds.estimator",
+            "missing field `estimator`",
         ),
         (
             "displacement-probe-on-fluid",

@@ -5,7 +5,7 @@
 use std::f64::consts::PI;
 
 use crate::common::{assert_convergence, quick, rel, spec};
-use tribo::experiment::Cavitation;
+use tribo::experiment::{Cavitation, ReynoldsEstimator};
 use tribo::fe::{DofMap, SparseSystem};
 use tribo::mesh::Mesh;
 use tribo::models::reynolds::{Form, Load, ReynoldsProblem};
@@ -23,10 +23,11 @@ const CAVITATION: [&str; 6] = ["IV.64", "IV.65", "IV.66", "IV.67", "IV.68", "IV.
 const CONSTANT: [&str; 2] = ["IV.38", "IV.43"];
 /// Copies of IV.44–IV.46 in the thesis (thesis.duplicate_of).
 const DUPLICATES: [&str; 3] = ["IV.47", "IV.48", "IV.49"];
-/// Cavitation tables whose row 1 (the second printed mesh) has 3.3 % (IV.64) and 3.7 % (IV.68)
-/// more dofs than the thesis on a cell count within 0.3 %: tribo's refined cells leave more
-/// hanging vertices there. Checked against 4 % instead of 3 % (experiment notes).
-const CAVITATION_MESH_DIFFERS: [&str; 2] = ["IV.64", "IV.68"];
+/// IV.64 (plain gap with cavitation): row 1 has 3.3 % more dofs than the thesis on the same
+/// cell count, because the cavitation zone is a plateau of equal indicators and tribo's choice
+/// among them (src/adaptivity.rs) leaves more hanging vertices than the thesis's rounding noise
+/// did. Checked against 4 % instead of 3 % (experiment notes).
+const CAVITATION_MESH_DIFFERS: [&str; 1] = ["IV.64"];
 
 #[test]
 fn golden_snapshots() {
@@ -148,10 +149,51 @@ fn estimate_ratio_to_the_thesis_is_constant_along_a_table() {
         let (lo, hi) = ratios
             .iter()
             .fold((f64::INFINITY, 0.0f64), |(a, b), &r| (a.min(r), b.max(r)));
-        // IV.68: the estimate of the initial 64×64 solve (row 0) is 1.57× the thesis's, the
-        // later rows 1.34–1.41× (experiment notes).
-        let limit = if t == "IV.68" { 1.20 } else { 1.10 };
-        assert!(hi / lo <= limit, "{t}: ratios tribo/thesis {ratios:?}");
+        assert!(hi / lo <= 1.10, "{t}: ratios tribo/thesis {ratios:?}");
+    }
+}
+
+/// The printed row 0 carries the estimate of the uniform 64×64 grid, which calibrates the
+/// Reynolds estimator (src/estimators/reynolds.rs, thesis-code reading): tribo reproduces it to
+/// 1e-4 without cavitation (the printed values have five digits) and to 5e-4 with it, IV.41 and
+/// IV.42 once IV.43's constant is taken out. Theorem III.16 as stated gives more than twice the
+/// printed value on the squeeze and wave gaps.
+#[test]
+fn row_zero_reproduces_the_printed_estimate() {
+    let calibrated = [
+        ("IV.36", 1e-4),
+        ("IV.37", 1e-4),
+        ("IV.39", 1e-4),
+        ("IV.40", 1e-4),
+        ("IV.41", 1e-4),
+        ("IV.42", 1e-4),
+        ("IV.44", 1e-4),
+        ("IV.45", 1e-4),
+        ("IV.64", 5e-4),
+        ("IV.65", 5e-4),
+    ];
+    for (t, tol) in calibrated {
+        let thesis = study::thesis_table(&spec(t));
+        let printed = thesis
+            .estimate_without_part(0)
+            .unwrap_or_else(|| thesis.value(0, "estimate").unwrap());
+        let row0 = quick(t).rows[0].value(PREVIOUS_ESTIMATE).unwrap();
+        assert!(
+            rel(row0, printed).abs() <= tol,
+            "{t}: row-0 estimate {row0} against printed {printed}"
+        );
+    }
+    for t in ["IV.36", "IV.39", "IV.44"] {
+        let mut theorem = spec(t);
+        theorem.scene.reynolds.as_mut().unwrap().estimator = ReynoldsEstimator::Theorem;
+        theorem.study.quick_rows = 1;
+        let r = study::run(&theorem, Tier::Quick, &|_, _, _| {}).expect("runs");
+        let row0 = r.rows[0].value(PREVIOUS_ESTIMATE).unwrap();
+        let printed = study::thesis_table(&theorem).value(0, "estimate").unwrap();
+        assert!(
+            row0 / printed > 2.0,
+            "{t}: theorem as stated {row0} vs {printed}"
+        );
     }
 }
 

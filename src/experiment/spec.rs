@@ -181,6 +181,19 @@ pub enum Cavitation {
     Auto,
 }
 
+/// The terms of the Reynolds volume residual (Theorems III.16, III.17) the study marks with
+/// ([`crate::estimators::reynolds::VolumeResidual`]).
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum ReynoldsEstimator {
+    /// ρ_Q = ‖l − ψ_hΔg/g‖_Q as the theorems state it.
+    Theorem,
+    /// The reading that reproduces the printed row-0 estimates: no −ψ_hΔg/g, and no squeeze
+    /// part −12δv₃/g² of the load without cavitation; the theorem's estimate is reported beside
+    /// it (`estimate_theorem`).
+    ThesisCode,
+}
+
 #[derive(Clone, Debug, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct ReynoldsData {
@@ -194,6 +207,8 @@ pub struct ReynoldsData {
     pub cavitation: Cavitation,
     #[serde(default)]
     pub cavitation_source: CavitationSource,
+    /// Terms of the volume residual the study marks with.
+    pub estimator: ReynoldsEstimator,
 }
 
 /// How to iterate.

@@ -20,8 +20,8 @@
 //!
 //! **Load.** l_R (II.37) and l_{R,c} (II.39) from the general Chapter I formulas
 //! ([`ThinFilm::reynolds_load`], [`ThinFilm::cavitation_load`]), 2×2 Gauss points per cell
-//! (spec/estimators.md §1.2). The load and Δg/g at the quadrature points are computed once per
-//! mesh ([`CellData`]) and shared by assembly and estimator.
+//! (spec/estimators.md §1.2). The load, Δg/g and the squeeze part of the load at the quadrature
+//! points are computed once per mesh ([`CellData`]) and shared by assembly and estimator.
 //!
 //! **Cavitation** (I.82): ψ ≥ 0 at every interior non-hanging vertex (hanging values are means
 //! of their parents, boundary values are ψ₀ = 200), solved as the LCP Kψ − F ≥ 0, ψ ≥ 0,
@@ -58,11 +58,17 @@ pub fn quadrature_points() -> Vec<(f64, f64, f64)> {
     quadrature::square(2)
 }
 
-/// Per-cell data at the 2×2 Gauss points (order of [`quadrature_points`]): the load l and Δg/g.
+/// Per-cell data at the 2×2 Gauss points (order of [`quadrature_points`]): the load l, Δg/g
+/// and the squeeze part −12δv₃/g² of l (which the estimator's thesis-code reading leaves out,
+/// [`crate::estimators::reynolds::VolumeResidual`]).
 pub struct CellData {
     pub load: Vec<[f64; 4]>,
     pub dg_over_g: Vec<[f64; 4]>,
+    pub squeeze: Vec<[f64; 4]>,
 }
+
+/// The values of one cell in [`CellData`]: load, Δg/g, squeeze part.
+type CellValues = ([f64; 4], [f64; 4], [f64; 4]);
 
 /// [`CellData`] of one mesh with the integer keys of its cells, for reuse on the next mesh
 /// ([`ReynoldsProblem::cell_data_reusing`]).
@@ -130,18 +136,20 @@ impl ReynoldsProblem {
         self.cell_data_reusing(mesh, load, None).data
     }
 
-    /// Load and Δg/g at the four quadrature points of active cell `c`.
-    fn cell_values(&self, mesh: &Mesh, c: CellId, load: Load) -> ([f64; 4], [f64; 4]) {
+    /// Load, Δg/g and squeeze part at the four quadrature points of active cell `c`.
+    fn cell_values(&self, mesh: &Mesh, c: CellId, load: Load) -> CellValues {
         let r = crate::fe::Rect::from_box(mesh.cell_box(c));
         let mut l = [0.0; 4];
         let mut d = [0.0; 4];
+        let mut s = [0.0; 4];
         for (q, &(xi, eta, _)) in quadrature_points().iter().enumerate() {
             let x = r.point(xi, eta);
             let (g, _, lap) = self.film.gap(x);
             l[q] = self.load(x, load);
             d[q] = lap / g;
+            s[q] = self.film.squeeze_load(x);
         }
-        (l, d)
+        (l, d, s)
     }
 
     /// [`Self::cell_data`] reusing the values of cells that are unchanged since `previous`
@@ -158,35 +166,36 @@ impl ReynoldsProblem {
         let active = mesh.active();
         let keys: Vec<u128> = active.par_iter().map(|&c| cell_key(mesh, c)).collect();
         let previous = previous.filter(|p| p.load == load);
-        let (l, d): (Vec<[f64; 4]>, Vec<[f64; 4]>) = active
+        let values: Vec<CellValues> = active
             .par_iter()
             .zip(&keys)
             .map(|(&c, key)| {
                 if let Some(p) = previous {
                     if let Ok(i) = p.sorted.binary_search_by_key(key, |e| e.0) {
                         let k = p.sorted[i].1 as usize;
-                        return (p.data.load[k], p.data.dg_over_g[k]);
+                        return (p.data.load[k], p.data.dg_over_g[k], p.data.squeeze[k]);
                     }
                 }
                 self.cell_values(mesh, c, load)
             })
-            .collect::<Vec<_>>()
-            .into_iter()
-            .unzip();
+            .collect();
+        let mut data = CellData {
+            load: Vec::with_capacity(values.len()),
+            dg_over_g: Vec::with_capacity(values.len()),
+            squeeze: Vec::with_capacity(values.len()),
+        };
+        for (l, d, s) in values {
+            data.load.push(l);
+            data.dg_over_g.push(d);
+            data.squeeze.push(s);
+        }
         let mut sorted: Vec<(u128, u32)> = keys
             .into_iter()
             .enumerate()
             .map(|(k, key)| (key, k as u32))
             .collect();
         sorted.par_sort_unstable_by_key(|e| e.0);
-        CellDataCache {
-            load,
-            sorted,
-            data: CellData {
-                load: l,
-                dg_over_g: d,
-            },
-        }
+        CellDataCache { load, sorted, data }
     }
 
     /// Dirichlet dofs ψ = ψ₀ on ∂Ω₂ and every hanging dof (value 0 during the solve, then

@@ -697,6 +697,13 @@ impl ThinFilm {
     pub fn cavitation_load(&self, x: [f64; 2], source: CavitationSource) -> f64 {
         self.film_jets(x).cavitation_load(source).v
     }
+
+    /// The squeeze part −12 δv₃/g² of both loads at `x` (the δv₃ term of (I.77) and (I.81);
+    /// δv₃ = v₃(z₁) because the lower wall is at rest).
+    pub fn squeeze_load(&self, x: [f64; 2]) -> f64 {
+        let g = self.gap.value(x);
+        -12.0 * self.upper_wall_velocity[2] / (g * g)
+    }
 }
 
 /// Equation labels of the fluid examples, in thesis order.

@@ -12,7 +12,7 @@ use super::{
     Figure, ReportMeta, Section, Summary,
 };
 use crate::results::{CycleRow, RunResult};
-use crate::study::reynolds::PREVIOUS_ESTIMATE;
+use crate::study::reynolds::{PREVIOUS_ESTIMATE, THEOREM_ESTIMATE};
 use crate::thesis::ThesisTable;
 
 /// The figures written for one section, in the order they appear.
@@ -453,12 +453,10 @@ fn comparison_table(h: &mut String, s: &Section) {
     let part = thesis.additive_part.as_ref().filter(|_| has_estimate);
     let extra = tribo_only_columns(&run.rows, &thesis.columns);
     // With the shifted comparison, tribo's estimate on the printed mesh is a tribo-only column.
-    let extra_label = |n: &str| {
-        if shifted && n == PREVIOUS_ESTIMATE {
-            "estimate on this mesh".to_string()
-        } else {
-            n.to_string()
-        }
+    let extra_label = |n: &str| match n {
+        PREVIOUS_ESTIMATE if shifted => "estimate on this mesh".to_string(),
+        THEOREM_ESTIMATE => "estimate of the theorem as stated, this mesh".to_string(),
+        _ => n.to_string(),
     };
     let phases = ["setup", "assemble", "solve", "estimate", "refine", "total"];
 
@@ -486,6 +484,14 @@ fn comparison_table(h: &mut String, s: &Section) {
             "<p class=\"legend\">The thesis prints each row's mesh after refinement next to the \
              estimate of the solve before it; its estimate and ratio are compared with tribo's \
              estimate of the previous solve (column estimate_previous_mesh).</p>\n",
+        );
+    }
+    if extra.iter().any(|(n, _)| n == THEOREM_ESTIMATE) {
+        h.push_str(
+            "<p class=\"legend\">The estimate columns and the marking use the volume residual \
+             that reproduces the thesis's printed estimates (estimator = \"thesis-code\", see \
+             the notes); the column \"estimate of the theorem as stated\" is the estimator of \
+             Theorem III.16/III.17 with every term, on the printed mesh.</p>\n",
         );
     }
     if let Some(p) = part {

@@ -17,8 +17,8 @@ use std::time::Instant;
 
 use super::{AdaptiveModel, Estimate, Progress, RunError, Solution, Tier};
 use crate::estimators;
-use crate::estimators::reynolds::ZoneResidual;
-use crate::experiment::{Cavitation, ExperimentSpec};
+use crate::estimators::reynolds::{VolumeResidual, ZoneResidual};
+use crate::experiment::{Cavitation, ExperimentSpec, ReynoldsEstimator};
 use crate::fe::{DofMap, SparseSystem};
 use crate::mesh::Mesh;
 use crate::models::reynolds::{solve_cavitation, CellDataCache, Load, ReynoldsProblem};
@@ -32,6 +32,10 @@ pub const NOISE: f64 = 1e-10;
 /// the once-refined mesh but the estimate of the initial 64×64 solve): with this column the
 /// ratio tribo/thesis is constant along every table (experiment notes).
 pub const PREVIOUS_ESTIMATE: &str = "estimate_previous_mesh";
+
+/// Name of the quantity with the estimate of Theorem III.16 / III.17 as stated on this mesh,
+/// recorded when the marking uses another term set (`estimator = "thesis-code"`).
+pub const THEOREM_ESTIMATE: &str = "estimate_theorem";
 
 /// Resolution of the pressure map in the report (cells per side of the sampling grid).
 const PICTURE_CELLS: usize = 128;
@@ -77,6 +81,8 @@ pub struct ReynoldsStudy {
     /// Mesh, dofs and solution of the previous cycle (warm start of the active set).
     previous: Option<(Mesh, DofMap, Vec<f64>)>,
     active: Vec<bool>,
+    /// Terms of the volume residual that the marking uses (experiment field `estimator`).
+    pub estimator: ReynoldsEstimator,
     /// Volume residual of Theorem III.17 in the cavitation zone: [`ZoneResidual::Full`], the
     /// theorem as stated (the other readings did not reproduce the thesis meshes, experiment
     /// notes of IV.64).
@@ -103,6 +109,7 @@ impl ReynoldsStudy {
             psi_scale: 0.0,
             previous: None,
             active: Vec::new(),
+            estimator: data.estimator,
             zone_residual: ZoneResidual::Full,
         }
     }
@@ -215,13 +222,26 @@ impl AdaptiveModel for ReynoldsStudy {
         } else {
             ZoneResidual::Full
         };
-        let eta2 = estimators::reynolds::indicators_with(mesh, dofs, u, data, zone);
+        let theorem = VolumeResidual {
+            zone,
+            ..VolumeResidual::THEOREM
+        };
+        let residual = match self.estimator {
+            ReynoldsEstimator::Theorem => theorem,
+            ReynoldsEstimator::ThesisCode => VolumeResidual {
+                zone,
+                ..VolumeResidual::thesis_code(self.cavitation_on)
+            },
+        };
+        let eta2 = estimators::reynolds::indicators_with(mesh, dofs, u, data, residual);
         let total = estimators::total(&eta2);
         let previous = self.last_estimate.replace(total).unwrap_or(f64::NAN);
-        Estimate {
-            eta2,
-            quantities: vec![(PREVIOUS_ESTIMATE.into(), previous)],
+        let mut quantities = vec![(PREVIOUS_ESTIMATE.into(), previous)];
+        if residual != theorem {
+            let eta2 = estimators::reynolds::indicators_with(mesh, dofs, u, data, theorem);
+            quantities.push((THEOREM_ESTIMATE.into(), estimators::total(&eta2)));
         }
+        Estimate { eta2, quantities }
     }
 
     fn noise_floor(&self, _estimate: &Estimate) -> Option<f64> {
