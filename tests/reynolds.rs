@@ -23,10 +23,11 @@ const CAVITATION: [&str; 6] = ["IV.64", "IV.65", "IV.66", "IV.67", "IV.68", "IV.
 const CONSTANT: [&str; 2] = ["IV.38", "IV.43"];
 /// Copies of IV.44–IV.46 in the thesis (thesis.duplicate_of).
 const DUPLICATES: [&str; 3] = ["IV.47", "IV.48", "IV.49"];
-/// IV.64 (plain gap with cavitation): row 1 has 3.3 % more dofs than the thesis on the same
-/// cell count, because the cavitation zone is a plateau of equal indicators and tribo's choice
-/// among them (src/adaptivity.rs) leaves more hanging vertices than the thesis's rounding noise
-/// did. Checked against 4 % instead of 3 % (experiment notes).
+/// IV.64 (plain gap with cavitation): the cavitation zone is a plateau of equal indicators, and
+/// tribo's choice among them (src/adaptivity.rs) cannot follow the thesis's rounding noise: row 1
+/// has 3.3 % more dofs on the same cell count (more hanging vertices), rows 5 and 7 of the full
+/// tier 3.1 % and 3.5 % fewer (the thesis's ties flagged more cells, experiment notes). Checked
+/// against 4 % instead of 3 %.
 const CAVITATION_MESH_DIFFERS: [&str; 1] = ["IV.64"];
 
 #[test]
@@ -115,41 +116,56 @@ fn pairs_without_curvature_are_sign_symmetric() {
     }
 }
 
-#[test]
-fn dofs_follow_the_thesis() {
-    for t in TABLES {
-        if CONSTANT.contains(&t) || DUPLICATES.contains(&t) {
-            continue;
-        }
-        let bound = if CAVITATION_MESH_DIFFERS.contains(&t) {
-            0.04
-        } else {
-            0.03
-        };
-        crate::common::assert_thesis_rows(t, &quick(t), bound, None);
-    }
+/// Tables compared row by row with the thesis (not the constant solutions, not the copies).
+fn compared_tables() -> impl Iterator<Item = &'static str> {
+    TABLES
+        .into_iter()
+        .filter(|t| !CONSTANT.contains(t) && !DUPLICATES.contains(t))
+}
+
+/// dofs within 3 % of the thesis in every row (4 % for [`CAVITATION_MESH_DIFFERS`]).
+fn assert_dofs_follow_the_thesis(t: &str, r: &RunResult) {
+    let bound = if CAVITATION_MESH_DIFFERS.contains(&t) {
+        0.04
+    } else {
+        0.03
+    };
+    crate::common::assert_thesis_rows(t, r, bound, None);
 }
 
 /// The thesis prints the estimate of the previous mesh (column `estimate_previous_mesh`): the
-/// ratio tribo/thesis of that column varies by at most 10 % along a table.
+/// ratio tribo/thesis of that column varies by at most 10 % along a table. For IV.41 and IV.42
+/// the printed estimate is taken without the part IV.43 prints alone
+/// ([`assert_additive_part_explains_the_drift`]; raw, the full tier drifts by 15 %).
+fn assert_ratio_spread(t: &str, r: &RunResult) {
+    let thesis = study::thesis_table(&spec(t));
+    let ratios: Vec<f64> = r
+        .rows
+        .iter()
+        .map(|row| {
+            let printed = thesis
+                .estimate_without_part(row.cycle)
+                .unwrap_or_else(|| thesis.value(row.cycle, "estimate").unwrap());
+            row.value(PREVIOUS_ESTIMATE).unwrap() / printed
+        })
+        .collect();
+    let (lo, hi) = ratios
+        .iter()
+        .fold((f64::INFINITY, 0.0f64), |(a, b), &r| (a.min(r), b.max(r)));
+    assert!(hi / lo <= 1.10, "{t}: ratios tribo/thesis {ratios:?}");
+}
+
+#[test]
+fn dofs_follow_the_thesis() {
+    for t in compared_tables() {
+        assert_dofs_follow_the_thesis(t, &quick(t));
+    }
+}
+
 #[test]
 fn estimate_ratio_to_the_thesis_is_constant_along_a_table() {
-    for t in TABLES {
-        if CONSTANT.contains(&t) || DUPLICATES.contains(&t) {
-            continue;
-        }
-        let thesis = study::thesis_table(&spec(t));
-        let ratios: Vec<f64> = quick(t)
-            .rows
-            .iter()
-            .map(|row| {
-                row.value(PREVIOUS_ESTIMATE).unwrap() / thesis.value(row.cycle, "estimate").unwrap()
-            })
-            .collect();
-        let (lo, hi) = ratios
-            .iter()
-            .fold((f64::INFINITY, 0.0f64), |(a, b), &r| (a.min(r), b.max(r)));
-        assert!(hi / lo <= 1.10, "{t}: ratios tribo/thesis {ratios:?}");
+    for t in compared_tables() {
+        assert_ratio_spread(t, &quick(t));
     }
 }
 
@@ -254,7 +270,8 @@ fn convergence_rate_inside_the_window() {
     }
 }
 
-/// Full tier: the convergence rule on printed rows 2–7 (about four minutes for all tables).
+/// Full tier: the convergence rule on printed rows 2–7 and the agreement rules (dofs, ratio
+/// spread, IV.43's part) on all eight rows (about two and a half minutes for all tables).
 #[test]
 #[ignore]
 fn full_tier_convergence() {
@@ -264,6 +281,11 @@ fn full_tier_convergence() {
         }
         let r = study::run(&spec(t), Tier::Full, &|_, _, _| {}).expect("runs");
         assert_convergence(t, &r);
+        if DUPLICATES.contains(&t) {
+            continue;
+        }
+        assert_dofs_follow_the_thesis(t, &r);
+        assert_ratio_spread(t, &r);
         if spec(t).thesis.additive_part.is_some() {
             assert_additive_part_explains_the_drift(t, &r);
         }
