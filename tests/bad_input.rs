@@ -477,6 +477,8 @@ fn reynolds_scene(gap: &str, components: &str) -> String {
 
 #[test]
 fn contact_and_reynolds_checks_name_file_and_field() {
+    let plain_reynolds =
+        || reynolds_scene(r#"{ kind = "plain", g0 = 0.1 }"#, r#"components = ["psi"]"#);
     let bottom = r#"[{ side = "bottom", shape = { kind = "constant", level = -2.0 } }]"#;
     let jump = r#"[{ side = "top", shape = { kind = "jump", base = 2.0, height = 8.0, at = 0.0, s = 0.01 } }]"#;
     let dir = scratch_dir("contact-ok");
@@ -486,11 +488,7 @@ fn contact_and_reynolds_checks_name_file_and_field() {
             panic!("valid contact scene rejected: {error}");
         }
     }
-    let path = write(
-        &dir,
-        "IV.1.toml",
-        &reynolds_scene(r#"{ kind = "plain", g0 = 0.1 }"#, r#"components = ["psi"]"#),
-    );
+    let path = write(&dir, "IV.1.toml", &plain_reynolds());
     if let Err(error) = load(&path) {
         panic!("valid Reynolds scene rejected: {error}");
     }
@@ -553,22 +551,19 @@ fn contact_and_reynolds_checks_name_file_and_field() {
         ),
         (
             "infinite-boundary-pressure",
-            reynolds_scene(r#"{ kind = "plain", g0 = 0.1 }"#, r#"components = ["psi"]"#)
-                .replace("boundary_pressure = 200.0", "boundary_pressure = inf"),
+            plain_reynolds().replace("boundary_pressure = 200.0", "boundary_pressure = inf"),
             "scene.reynolds.boundary_pressure",
             "finite",
         ),
         (
             "unknown-reynolds-estimator",
-            reynolds_scene(r#"{ kind = "plain", g0 = 0.1 }"#, r#"components = ["psi"]"#)
-                .replace("estimator = \"thesis-code\"", "estimator = \"z-code\""),
+            plain_reynolds().replace("estimator = \"thesis-code\"", "estimator = \"z-code\""),
             "scene.reynolds.estimator",
             "unknown variant `z-code`, expected `theorem` or `thesis-code`",
         ),
         (
             "missing-reynolds-estimator",
-            reynolds_scene(r#"{ kind = "plain", g0 = 0.1 }"#, r#"components = ["psi"]"#)
-                .replace("estimator = \"thesis-code\"\n", ""),
+            plain_reynolds().replace("estimator = \"thesis-code\"\n", ""),
             "scene.reynolds.estimator",
             "missing field `estimator`",
         ),
