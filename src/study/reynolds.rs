@@ -6,6 +6,11 @@
 //! for this and every later cycle — as soon as the pressure drops below zero at a vertex
 //! (DESIGN.md "simulate only what a scene calls for"; the thesis does this by hand in §IV.3.5).
 //!
+//! The estimate and the marking use the scene's `estimator` term set: `theorem` (Theorems III.16
+//! and III.17 as stated) or `thesis-code` (the terms that reproduce the printed row-0 estimates,
+//! [`VolumeResidual::thesis_code`]); with `thesis-code` the theorem's estimate on the same mesh is
+//! recorded as [`THEOREM_ESTIMATE`].
+//!
 //! Marking noise floor: when the exact solution is reproduced by the discretisation (ψ ≡ 200 in
 //! (IV.9) and (IV.14)), every indicator is rounding noise. Rounding perturbs the nodal values by
 //! about u·κ·max|ψ_h| and a perturbation δ of one nodal value gives an indicator η_Q ≈ |δ|
