@@ -1,7 +1,7 @@
 //! The bilinear element Q₁ (II.45) on an axis-parallel rectangle.
 //!
 //! Local vertices are numbered lexicographically: 0 = (x₀,y₀), 1 = (x₁,y₀), 2 = (x₀,y₁),
-//! 3 = (x₁,y₁). Reference coordinates (ξ, η) ∈ [0,1]².
+//! 3 = (x₁,y₁). Reference coordinates (ξ, η) ∈ \[0,1\]².
 
 /// Values of the four shape functions at (ξ, η).
 #[inline]

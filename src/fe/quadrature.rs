@@ -29,7 +29,7 @@ pub fn gauss(n: usize) -> (&'static [f64], &'static [f64]) {
     }
 }
 
-/// Tensor-product rule on the reference square [0,1]²: `(ξ, η, weight)`.
+/// Tensor-product rule on the reference square \[0,1\]²: `(ξ, η, weight)`.
 pub fn square(n: usize) -> Vec<(f64, f64, f64)> {
     let (p, w) = gauss(n);
     let mut q = Vec::with_capacity(n * n);

@@ -15,7 +15,7 @@
 //!
 //! The contact boundary is split face by face into z-faces and Signorini-faces
 //! ([`ConstraintBuilder::face_model`]), so one solve can mix both models (§IV.2.3); a vertex
-//! between a z-face and a Signorini-face takes the Signorini constraint [A].
+//! between a z-face and a Signorini-face takes the Signorini constraint \[A\].
 //!
 //! Solver: primal–dual active set (semismooth Newton, [`solve_pdas`]) on top of the faer
 //! Cholesky of [`SparseSystem::solve_fixed`]. Every constrained vertex is rotated into its

@@ -14,7 +14,7 @@
 //!   - IV.2.1.5 lower face `Jump { base: 0, height: -10, at: -1, s: 0.01 }` (l. 5415) and upper
 //!     face `Jump { base: 2, height: -4, at: 2, s: 0.01 }` (l. 5423);
 //!   - IV.2.1.6 `Saw { s, reading }` (l. 5485; repeated verbatim at l. 5940, 6476, 6896).
-//! * [`ContactSide`]: which face of Ω = [−16,16]×[0,1] touches the obstacle, with the z-contact
+//! * [`ContactSide`]: which face of Ω = [−16,16]×\[0,1\] touches the obstacle, with the z-contact
 //!   bound, the signed distance along a normal (III.13) used by the Signorini linearisation and the
 //!   model-error indicator (III.16), deformed-boundary vertex normals and a penetration measure.
 
@@ -26,9 +26,9 @@ use serde::Deserialize;
 /// 0.01 is the value used by all the other θ-obstacles (l. 5351, 5415, 5423).
 pub const DEFAULT_SAW_S: f64 = 0.01;
 
-/// x₂ of the lower face of Ω = [−16,16]×[0,1] (IV.1).
+/// x₂ of the lower face of Ω = [−16,16]×\[0,1\] (IV.1).
 pub const LOWER_FACE_Y: f64 = 0.0;
-/// x₂ of the upper face of Ω = [−16,16]×[0,1] (IV.1).
+/// x₂ of the upper face of Ω = [−16,16]×\[0,1\] (IV.1).
 pub const UPPER_FACE_Y: f64 = 1.0;
 
 /// Largest |t| searched by [`ContactSide::signed_distance_along`] (in units of |n|).
@@ -286,7 +286,7 @@ impl fmt::Display for GeometryError {
 
 impl std::error::Error for GeometryError {}
 
-/// Which face of Ω = [−16,16]×[0,1] is the contact boundary and which obstacle it meets.
+/// Which face of Ω = [−16,16]×\[0,1\] is the contact boundary and which obstacle it meets.
 ///
 /// * `upper == false`: Γ_C = {x₂ = 0}, obstacle below the body, z-constraint s₂ ≥ b(x₁),
 ///   n_z = −e₂ (outward normal of the undeformed face).

@@ -5,7 +5,7 @@
 //! or archived with the golden snapshots.
 //!
 //! The module is split by job: this file decides *what* is compared and which figures a section
-//! gets, [`plots`] draws the figures, [`html`] lays out the page.
+//! gets, `plots` draws the figures, `html` lays out the page.
 
 pub mod data;
 mod html;
