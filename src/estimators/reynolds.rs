@@ -99,11 +99,24 @@ pub fn indicators_with(
     data: &CellData,
     residual: VolumeResidual,
 ) -> Vec<f64> {
+    let [eta2] = indicator_sets(mesh, dofs, psi, data, [residual]);
+    eta2
+}
+
+/// Squared indicators for several term sets of the volume residual at once (e.g. the marking
+/// set and the theorem as stated): the face jumps, which cost most, are computed once per cell.
+pub fn indicator_sets<const N: usize>(
+    mesh: &Mesh,
+    dofs: &DofMap,
+    psi: &[f64],
+    data: &CellData,
+    residuals: [VolumeResidual; N],
+) -> [Vec<f64>; N] {
     let quad = quadrature_points();
     let phis: Vec<[f64; 4]> = quad.iter().map(|&(x, e, _)| q1::values(x, e)).collect();
     let (fp, fw) = quadrature::gauss(2);
     let active = mesh.active();
-    active
+    let per_cell: Vec<[f64; N]> = active
         .par_iter()
         .enumerate()
         .map(|(k, &c)| {
@@ -111,25 +124,33 @@ pub fn indicators_with(
             let h = r.diameter();
             let u = dofs.corner_values(psi, k, 0);
             let zeros = u.iter().filter(|&&v| v == 0.0).count();
-            let skip = match residual.zone {
-                ZoneResidual::Full => false,
-                ZoneResidual::OffZone => zeros == 4,
-                ZoneResidual::OffTouching => zeros > 0,
-            };
-            let mut cell = 0.0;
-            for (q, &(_, _, w)) in quad.iter().enumerate() {
+            let psi_q: [f64; 4] = std::array::from_fn(|q| {
                 let phi = phis[q];
-                let v = u[0] * phi[0] + u[1] * phi[1] + u[2] * phi[2] + u[3] * phi[3];
-                let mut res = data.load[k][q];
-                if residual.operator_term {
-                    res -= v * data.dg_over_g[k][q];
+                u[0] * phi[0] + u[1] * phi[1] + u[2] * phi[2] + u[3] * phi[3]
+            });
+            // ‖ρ_Q‖²_Q for one term set.
+            let volume = |residual: &VolumeResidual| {
+                let skip = match residual.zone {
+                    ZoneResidual::Full => false,
+                    ZoneResidual::OffZone => zeros == 4,
+                    ZoneResidual::OffTouching => zeros > 0,
+                };
+                if skip {
+                    return 0.0;
                 }
-                if !residual.squeeze_term {
-                    res -= data.squeeze[k][q];
+                let mut cell = 0.0;
+                for (q, &(_, _, w)) in quad.iter().enumerate() {
+                    let mut res = data.load[k][q];
+                    if residual.operator_term {
+                        res -= psi_q[q] * data.dg_over_g[k][q];
+                    }
+                    if !residual.squeeze_term {
+                        res -= data.squeeze[k][q];
+                    }
+                    cell += res * res * w;
                 }
-                cell += res * res * w;
-            }
-            cell *= if skip { 0.0 } else { r.area() };
+                cell * r.area()
+            };
             let mut faces = 0.0;
             for face in FACES {
                 let n = face.normal();
@@ -165,7 +186,8 @@ pub fn indicators_with(
                     }
                 };
             }
-            h * h * cell + h * faces
+            residuals.map(|residual| h * h * volume(&residual) + h * faces)
         })
-        .collect()
+        .collect();
+    std::array::from_fn(|j| per_cell.iter().map(|e| e[j]).collect())
 }
