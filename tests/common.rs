@@ -43,6 +43,17 @@ pub fn rel(a: f64, b: f64) -> f64 {
     a / b - 1.0
 }
 
+/// The ratios tribo/thesis of a table vary by at most `limit` (largest ÷ smallest − 1).
+pub fn assert_ratio_spread(table: &str, ratios: &[f64], limit: f64) {
+    let (lo, hi) = ratios
+        .iter()
+        .fold((f64::INFINITY, 0.0f64), |(l, h), &q| (l.min(q), h.max(q)));
+    assert!(
+        hi / lo - 1.0 <= limit,
+        "{table}: ratio tribo/thesis varies from {lo} to {hi}: {ratios:?}"
+    );
+}
+
 /// The convergence rule of the foundation issue over the experiment's window (restricted to the
 /// rows computed): every ratio within [0.60, 0.85], geometric mean within [0.66, 0.76].
 pub fn assert_convergence(table: &str, r: &RunResult) {

@@ -67,22 +67,11 @@ fn constant_obstacle_agrees_with_the_thesis() {
 /// ratio tribo/thesis of the estimate has to be steady (≤ 15 % variation across the rows). The
 /// z-tables with a smooth or kinked obstacle (IV.7, IV.8, IV.11) use the term set
 /// `z-code-obstacle-slope`; with the plain z-code IV.8 fell from 0.53 to 0.39 over cycles 0–3.
-fn ratio_spread(t: &str) -> (f64, f64, Vec<f64>) {
-    let ratios = crate::common::assert_thesis_rows(t, &quick(t), 0.10, None);
-    let (lo, hi) = ratios
-        .iter()
-        .fold((f64::INFINITY, 0.0f64), |(l, h), &q| (l.min(q), h.max(q)));
-    (lo, hi, ratios)
-}
-
 #[test]
 fn periodic_obstacles_agree_up_to_a_constant_factor() {
     for t in ["IV.7", "IV.8", "IV.11", "IV.13", "IV.14"] {
-        let (lo, hi, ratios) = ratio_spread(t);
-        assert!(
-            hi / lo - 1.0 <= 0.15,
-            "{t}: ratio tribo/thesis varies from {lo} to {hi}: {ratios:?}"
-        );
+        let ratios = crate::common::assert_thesis_rows(t, &quick(t), 0.10, None);
+        crate::common::assert_ratio_spread(t, &ratios, 0.15);
     }
 }
 
@@ -314,10 +303,7 @@ fn full_tier_agreement_and_convergence() {
             }
             "IV.7" | "IV.8" | "IV.13" | "IV.14" => {
                 let q = crate::common::assert_thesis_rows(t, &r, 0.10, None);
-                let (lo, hi) = q
-                    .iter()
-                    .fold((f64::INFINITY, 0.0f64), |(l, h), &x| (l.min(x), h.max(x)));
-                assert!(hi / lo - 1.0 <= 0.15, "{t}: tribo/thesis {q:?}");
+                crate::common::assert_ratio_spread(t, &q, 0.15);
             }
             _ => {}
         });
