@@ -2,6 +2,10 @@
 //! (spec/estimators.md §1.4; deal.II `refine_and_coarsen_fixed_number(tria, η, 0.3, 0.03)`),
 //! with the tie band of DESIGN.md.
 
+use crate::fe::quadrature;
+use crate::mesh::Mesh;
+use rayon::prelude::*;
+
 /// Relative width of the tie band: indicators within this relative distance of a threshold count
 /// as equal to it, so groups of symmetric cells are flagged together whatever the rounding noise.
 pub const TIE_BAND: f64 = 1e-10;
@@ -35,23 +39,32 @@ impl Marking {
 /// indicator. Which flags take effect (complete sibling groups, level 0, the 2:1 rule) is decided
 /// by [`crate::mesh::Mesh::refine_and_coarsen`].
 ///
-/// **Plateaus** (a tie group of more than [`PLATEAU_CELLS`] cells at a threshold): deal.II's
-/// `>=`/`<=` comparisons would flag all of them in exact arithmetic, but in the thesis's runs the
-/// indicators of such a plateau differ by rounding noise (quadrature weights computed per cell),
-/// so about the requested number of cells was flagged and the noise chose which. tribo flags
-/// exactly the requested number (n_ref + 1, resp. n_coa, counting the cells beyond the plateau)
-/// and chooses among the plateau cells by a fixed pseudo-random order of their index
-/// ([`plateau_order`]) — deterministic, independent of the thread count, and scattered like
-/// noise. This reading matters only where whole zones carry one value (IV.64); the measured
-/// effect is in that table's notes.
+/// **Plateaus** (a tie group of more than [`PLATEAU_CELLS`] cells at a threshold): in exact
+/// arithmetic deal.II's `>=`/`<=` comparisons flag all of them. The thesis's cell counts show
+/// that its runs did not: the indicators of such a plateau differed by rounding noise, deal.II
+/// flagged the plateau cells whose noisy indicator was at or beyond the threshold cell's, and
+/// the cells that rounded alike tied and were flagged together (IV.64: 77, 249 and 608 cells
+/// more than requested in three cycles, notes of IV.64). tribo cannot have the thesis's bits, so
+/// it uses a deterministic stand-in for the noise that has the same structure, a few dozen
+/// rounding classes per plateau: the indicator times the cell's relative rounded measure
+/// ([`rounded_measures`], ≈ 1 ± a few ulp). It ranks the plateau by that key and applies deal.II's
+/// rule: with `wanted` = n_ref + 1 (resp. n_coa) minus the cells beyond the plateau, every
+/// plateau cell whose key is at least the `wanted`-th largest (resp. at most the `wanted`-th
+/// smallest) is flagged. Where tribo's indicators already differ in their last bits (IV.10) the
+/// key ranks by them; where they are bitwise equal (ψ_h = 0 and a constant load, IV.64) it ranks
+/// by the rounding class. Measures that are all equal flag a plateau whole. The measured effect
+/// is in the notes of IV.10, IV.64 and IV.66.
 ///
 /// `indicators` may be η_Q or η_Q² (the order is the same); they must be finite and ≥ 0.
+/// `measures` is indexed like `indicators`.
 pub fn mark_fixed_number(
     indicators: &[f64],
+    measures: &[f64],
     refine_fraction: f64,
     coarsen_fraction: f64,
 ) -> Marking {
     let n = indicators.len();
+    assert_eq!(measures.len(), n, "one measure per indicator");
     let mut refine = vec![false; n];
     let mut coarsen = vec![false; n];
     if n == 0 || indicators.iter().all(|&e| e == 0.0) {
@@ -76,12 +89,12 @@ pub fn mark_fixed_number(
             *f = e >= tie.0 && e > 0.0;
         }
         let beyond = sorted.partition_point(|&e| e > tie.1);
-        thin_plateau(
-            &mut refine,
-            indicators,
+        let plateau = Plateau {
             tie,
-            (n_ref + 1).saturating_sub(beyond),
-        );
+            wanted: (n_ref + 1).saturating_sub(beyond),
+            largest: true,
+        };
+        plateau.thin(&mut refine, indicators, measures);
     }
     if n_coa > 0 {
         let thr = sorted[n - n_coa];
@@ -90,34 +103,96 @@ pub fn mark_fixed_number(
             *f = !r && e <= tie.1;
         }
         let beyond = n - sorted.partition_point(|&e| e >= tie.0);
-        thin_plateau(&mut coarsen, indicators, tie, n_coa.saturating_sub(beyond));
+        let plateau = Plateau {
+            tie,
+            wanted: n_coa.saturating_sub(beyond),
+            largest: false,
+        };
+        plateau.thin(&mut coarsen, indicators, measures);
     }
     Marking { refine, coarsen }
 }
 
-/// If the flagged cells with an indicator inside `tie` form a plateau (more than
-/// [`PLATEAU_CELLS`]), keep only `wanted` of them, taken in [`plateau_order`].
-fn thin_plateau(flags: &mut [bool], indicators: &[f64], tie: (f64, f64), wanted: usize) {
-    let mut group: Vec<usize> = (0..flags.len())
-        .filter(|&i| flags[i] && indicators[i] >= tie.0 && indicators[i] <= tie.1)
-        .collect();
-    if group.len() <= PLATEAU_CELLS {
-        return;
-    }
-    group.sort_by_key(|&i| plateau_order(i));
-    for &i in &group[wanted.min(group.len())..] {
-        flags[i] = false;
+/// The tie group at one threshold: `wanted` of its cells are asked for, the largest
+/// (refinement) or the smallest (coarsening).
+struct Plateau {
+    tie: (f64, f64),
+    wanted: usize,
+    largest: bool,
+}
+
+impl Plateau {
+    /// If the flagged cells inside the tie band form a plateau (more than [`PLATEAU_CELLS`]),
+    /// keep those whose measure is at or beyond the `wanted`-th one's.
+    fn thin(&self, flags: &mut [bool], indicators: &[f64], measures: &[f64]) {
+        let group: Vec<usize> = (0..flags.len())
+            .filter(|&i| flags[i] && indicators[i] >= self.tie.0 && indicators[i] <= self.tie.1)
+            .collect();
+        if group.len() <= PLATEAU_CELLS {
+            return;
+        }
+        let Some(k) = self.wanted.checked_sub(1) else {
+            group.iter().for_each(|&i| flags[i] = false);
+            return;
+        };
+        let key = |i: usize| indicators[i] * measures[i];
+        let mut ranked: Vec<f64> = group.iter().map(|&i| key(i)).collect();
+        if self.largest {
+            ranked.sort_by(|a, b| b.total_cmp(a));
+        } else {
+            ranked.sort_by(|a, b| a.total_cmp(b));
+        }
+        let cut = ranked[k.min(ranked.len() - 1)];
+        for &i in &group {
+            let beyond = if self.largest {
+                key(i) >= cut
+            } else {
+                key(i) <= cut
+            };
+            flags[i] = beyond;
+        }
     }
 }
 
-/// A fixed pseudo-random key for cell `index` (the SplitMix64 finaliser): plateau cells are
-/// taken in the order of this key, which scatters the choice over the plateau the way rounding
-/// noise does, yet gives the same flags on every machine.
-pub fn plateau_order(index: usize) -> u64 {
-    let mut z = (index as u64).wrapping_add(0x9E37_79B9_7F4A_7C15);
-    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    z ^ (z >> 31)
+/// The rounded measure of every active cell relative to its exact area: Σ_q det J(ξ_q) w_q as
+/// a Q1 mapping sums it, with the Jacobian at each point of the 2×2 Gauss rule (the estimators'
+/// volume rule) accumulated from the four vertices in lexicographic order,
+/// J = Σ_k x_k ⊗ ∇̂φ_k(ξ_q), divided by the exact area. The quotient is 1 up to a few ulp that
+/// depend on where the cell lies. It is the stand-in rounding noise of [`mark_fixed_number`];
+/// it is not deal.II's own noise, which reuses the Jacobian of translated cells (its
+/// `CellSimilarity`) and so got its noise from elsewhere.
+pub fn rounded_measures(mesh: &Mesh) -> Vec<f64> {
+    let quad = quadrature::square(2);
+    let gradients: Vec<[[f64; 2]; 4]> = quad
+        .iter()
+        .map(|&(xi, eta, _)| {
+            [
+                [-(1.0 - eta), -(1.0 - xi)],
+                [1.0 - eta, -xi],
+                [-eta, 1.0 - xi],
+                [eta, xi],
+            ]
+        })
+        .collect();
+    mesh.active()
+        .par_iter()
+        .map(|&c| {
+            let vertices = mesh.corner_keys(c).map(|key| mesh.point(key));
+            let mut measure = 0.0;
+            for (grad, &(_, _, w)) in gradients.iter().zip(&quad) {
+                let mut j = [[0.0f64; 2]; 2];
+                for (x, g) in vertices.iter().zip(grad) {
+                    for (row, &xa) in j.iter_mut().zip(x) {
+                        row[0] += xa * g[0];
+                        row[1] += xa * g[1];
+                    }
+                }
+                measure += (j[0][0] * j[1][1] - j[1][0] * j[0][1]) * w;
+            }
+            let b = mesh.cell_box(c);
+            measure / ((b[2] - b[0]) * (b[3] - b[1]))
+        })
+        .collect()
 }
 
 /// Indicators below `floor` are rounding noise: set them to zero (used for problems whose

@@ -568,6 +568,24 @@ fn contact_and_reynolds_checks_name_file_and_field() {
             "missing field `estimator`",
         ),
         (
+            "zone-residual-without-cavitation",
+            plain_reynolds().replace(
+                "estimator = \"thesis-code\"\n",
+                "estimator = \"thesis-code\"\nzone_residual = \"off-zone\"\n",
+            ),
+            "scene.reynolds.zone_residual",
+            "`full` (or left out) when cavitation = \"off\"",
+        ),
+        (
+            "unknown-zone-residual",
+            plain_reynolds().replace(
+                "cavitation = \"off\"\nestimator = \"thesis-code\"\n",
+                "cavitation = \"on\"\nestimator = \"thesis-code\"\nzone_residual = \"zero\"\n",
+            ),
+            "scene.reynolds.zone_residual",
+            "unknown variant `zero`, expected one of `full`, `off-zone`, `off-touching`",
+        ),
+        (
             "displacement-probe-on-fluid",
             reynolds_scene(r#"{ kind = "plain", g0 = 0.1 }"#, r#"components = ["s2"]"#),
             "probes.components[0]",

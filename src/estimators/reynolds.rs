@@ -12,7 +12,7 @@
 //! (the points of [`crate::models::reynolds::CellData`]) and 2 per face (exact for the quadratic
 //! squared jump). For III.17 the full residual is used in the cavitation zone too (no multiplier
 //! correction, as the theorem states it, [`ZoneResidual::Full`]). Two alternative readings are
-//! available for comparison: the volume residual dropped on cells whose four corner values are 0
+//! available for comparison (experiment field `scene.reynolds.zone_residual`): the volume residual dropped on cells whose four corner values are 0
 //! ([`ZoneResidual::OffZone`]) or on cells touching the discrete cavitation set
 //! ([`ZoneResidual::OffTouching`]). Neither reproduces the thesis meshes of IV.64–IV.69 better
 //! (quick tier, theorem residual: IV.66 +6.3 % / +4.1 % dofs in row 2, against +5.8 % for the
@@ -43,8 +43,10 @@ use crate::fe::{q1, quadrature, DofMap, Rect};
 use crate::mesh::{Mesh, Neighbor, FACES};
 use crate::models::reynolds::{quadrature_points, CellData};
 
-/// How the volume residual of Theorem III.17 treats the cavitation zone (module docs).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+/// How the volume residual of Theorem III.17 treats the cavitation zone (module docs; experiment
+/// field `scene.reynolds.zone_residual`, default `full`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
 pub enum ZoneResidual {
     /// ρ_Q,c as printed: the full residual everywhere (tribo's reading).
     #[default]
@@ -54,6 +56,17 @@ pub enum ZoneResidual {
     OffZone,
     /// ρ_Q,c = 0 on cells with at least one corner value 0.
     OffTouching,
+}
+
+impl ZoneResidual {
+    /// The experiment-file spelling.
+    pub fn name(self) -> &'static str {
+        match self {
+            ZoneResidual::Full => "full",
+            ZoneResidual::OffZone => "off-zone",
+            ZoneResidual::OffTouching => "off-touching",
+        }
+    }
 }
 
 /// Which terms the volume residual ρ_Q contains (module docs).

@@ -609,7 +609,13 @@ impl Check<'_> {
             &format!("{F}.upper_wall_velocity"),
             &data.upper_wall_velocity,
         )?;
-        self.finite(&format!("{F}.boundary_pressure"), data.boundary_pressure)
+        self.finite(&format!("{F}.boundary_pressure"), data.boundary_pressure)?;
+        self.ensure(
+            data.zone_residual == ZoneResidual::Full || data.cavitation != Cavitation::Off,
+            &format!("{F}.zone_residual"),
+            "`full` (or left out) when cavitation = \"off\": there is no cavitation zone",
+            format!("{} with cavitation = \"off\"", data.zone_residual.name()),
+        )
     }
 
     /// Fixed-fraction grid adaptivity (§IV.1: refine 30 %, coarsen 3 %) and the printed cycles.

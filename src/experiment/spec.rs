@@ -9,6 +9,7 @@
 
 use serde::{Deserialize, Serialize};
 
+pub use crate::estimators::reynolds::ZoneResidual;
 /// Obstacle shapes, gaps and the γ₃c reading are the models' own types, read directly from
 /// the file.
 pub use crate::models::obstacle::{SawReading, Shape as ObstacleShape};
@@ -209,6 +210,11 @@ pub struct ReynoldsData {
     pub cavitation_source: CavitationSource,
     /// Terms of the volume residual the study marks with.
     pub estimator: ReynoldsEstimator,
+    /// The volume residual in the cavitation zone (Theorem III.17): `full` as the theorem states
+    /// it, or the alternative readings `off-zone` / `off-touching` whose measured effect the
+    /// notes of IV.64 quote. Only meaningful with cavitation `on` or `auto`.
+    #[serde(default)]
+    pub zone_residual: ZoneResidual,
 }
 
 /// How to iterate.

@@ -88,9 +88,9 @@ pub struct ReynoldsStudy {
     active: Vec<bool>,
     /// Terms of the volume residual that the marking uses (experiment field `estimator`).
     pub estimator: ReynoldsEstimator,
-    /// Volume residual of Theorem III.17 in the cavitation zone: [`ZoneResidual::Full`], the
-    /// theorem as stated (the other readings did not reproduce the thesis meshes, experiment
-    /// notes of IV.64).
+    /// Volume residual of Theorem III.17 in the cavitation zone (experiment field
+    /// `zone_residual`; [`ZoneResidual::Full`], the theorem as stated, in every table: the other
+    /// readings did not reproduce the thesis meshes, notes of IV.64).
     pub zone_residual: ZoneResidual,
 }
 
@@ -115,7 +115,7 @@ impl ReynoldsStudy {
             previous: None,
             active: Vec::new(),
             estimator: data.estimator,
-            zone_residual: ZoneResidual::Full,
+            zone_residual: data.zone_residual,
         }
     }
 
