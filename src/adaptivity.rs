@@ -3,8 +3,7 @@
 //! with the tie band of DESIGN.md.
 
 use crate::fe::quadrature;
-use crate::mesh::Mesh;
-use rayon::prelude::*;
+use crate::mesh::{CellId, Mesh};
 
 /// Relative width of the tie band: indicators within this relative distance of a threshold count
 /// as equal to it, so groups of symmetric cells are flagged together whatever the rounding noise.
@@ -47,24 +46,22 @@ impl Marking {
 /// more than requested in three cycles, notes of IV.64). tribo cannot have the thesis's bits, so
 /// it uses a deterministic stand-in for the noise that has the same structure, a few dozen
 /// rounding classes per plateau: the indicator times the cell's relative rounded measure
-/// ([`rounded_measures`], ≈ 1 ± a few ulp). It ranks the plateau by that key and applies deal.II's
+/// (`measure(i)` of cell `i`, [`rounded_measure`], ≈ 1 ± a few ulp). It ranks the plateau by that key and applies deal.II's
 /// rule: with `wanted` = n_ref + 1 (resp. n_coa) minus the cells beyond the plateau, every
 /// plateau cell whose key is at least the `wanted`-th largest (resp. at most the `wanted`-th
 /// smallest) is flagged. Where tribo's indicators already differ in their last bits (IV.10) the
 /// key ranks by them; where they are bitwise equal (ψ_h = 0 and a constant load, IV.64) it ranks
 /// by the rounding class. Measures that are all equal flag a plateau whole. The measured effect
-/// is in the notes of IV.10, IV.64 and IV.66.
+/// is in the notes of IV.10, IV.64 and IV.66. `measure` is evaluated only for plateau cells.
 ///
 /// `indicators` may be η_Q or η_Q² (the order is the same); they must be finite and ≥ 0.
-/// `measures` is indexed like `indicators`.
 pub fn mark_fixed_number(
     indicators: &[f64],
-    measures: &[f64],
+    measure: impl Fn(usize) -> f64,
     refine_fraction: f64,
     coarsen_fraction: f64,
 ) -> Marking {
     let n = indicators.len();
-    assert_eq!(measures.len(), n, "one measure per indicator");
     let mut refine = vec![false; n];
     let mut coarsen = vec![false; n];
     if n == 0 || indicators.iter().all(|&e| e == 0.0) {
@@ -94,7 +91,7 @@ pub fn mark_fixed_number(
             wanted: (n_ref + 1).saturating_sub(beyond),
             largest: true,
         };
-        plateau.thin(&mut refine, indicators, measures);
+        plateau.thin(&mut refine, indicators, &measure);
     }
     if n_coa > 0 {
         let thr = sorted[n - n_coa];
@@ -108,7 +105,7 @@ pub fn mark_fixed_number(
             wanted: n_coa.saturating_sub(beyond),
             largest: false,
         };
-        plateau.thin(&mut coarsen, indicators, measures);
+        plateau.thin(&mut coarsen, indicators, &measure);
     }
     Marking { refine, coarsen }
 }
@@ -123,8 +120,8 @@ struct Plateau {
 
 impl Plateau {
     /// If the flagged cells inside the tie band form a plateau (more than [`PLATEAU_CELLS`]),
-    /// keep those whose measure is at or beyond the `wanted`-th one's.
-    fn thin(&self, flags: &mut [bool], indicators: &[f64], measures: &[f64]) {
+    /// keep those whose key, indicator × measure, is at or beyond the `wanted`-th one's.
+    fn thin(&self, flags: &mut [bool], indicators: &[f64], measure: &impl Fn(usize) -> f64) {
         let group: Vec<usize> = (0..flags.len())
             .filter(|&i| flags[i] && indicators[i] >= self.tie.0 && indicators[i] <= self.tie.1)
             .collect();
@@ -135,64 +132,48 @@ impl Plateau {
             group.iter().for_each(|&i| flags[i] = false);
             return;
         };
-        let key = |i: usize| indicators[i] * measures[i];
-        let mut ranked: Vec<f64> = group.iter().map(|&i| key(i)).collect();
+        let keys: Vec<f64> = group.iter().map(|&i| indicators[i] * measure(i)).collect();
+        let mut ranked = keys.clone();
         if self.largest {
             ranked.sort_by(|a, b| b.total_cmp(a));
         } else {
             ranked.sort_by(|a, b| a.total_cmp(b));
         }
         let cut = ranked[k.min(ranked.len() - 1)];
-        for &i in &group {
-            let beyond = if self.largest {
-                key(i) >= cut
-            } else {
-                key(i) <= cut
-            };
-            flags[i] = beyond;
+        for (&i, &key) in group.iter().zip(&keys) {
+            flags[i] = if self.largest { key >= cut } else { key <= cut };
         }
     }
 }
 
-/// The rounded measure of every active cell relative to its exact area: Σ_q det J(ξ_q) w_q as
-/// a Q1 mapping sums it, with the Jacobian at each point of the 2×2 Gauss rule (the estimators'
+/// The rounded measure of active cell `c` relative to its exact area: Σ_q det J(ξ_q) w_q as a
+/// Q1 mapping sums it, with the Jacobian at each point of the 2×2 Gauss rule (the estimators'
 /// volume rule) accumulated from the four vertices in lexicographic order,
 /// J = Σ_k x_k ⊗ ∇̂φ_k(ξ_q), divided by the exact area. The quotient is 1 up to a few ulp that
 /// depend on where the cell lies. It is the stand-in rounding noise of [`mark_fixed_number`];
 /// it is not deal.II's own noise, which reuses the Jacobian of translated cells (its
 /// `CellSimilarity`) and so got its noise from elsewhere.
-pub fn rounded_measures(mesh: &Mesh) -> Vec<f64> {
-    let quad = quadrature::square(2);
-    let gradients: Vec<[[f64; 2]; 4]> = quad
-        .iter()
-        .map(|&(xi, eta, _)| {
-            [
-                [-(1.0 - eta), -(1.0 - xi)],
-                [1.0 - eta, -xi],
-                [-eta, 1.0 - xi],
-                [eta, xi],
-            ]
-        })
-        .collect();
-    mesh.active()
-        .par_iter()
-        .map(|&c| {
-            let vertices = mesh.corner_keys(c).map(|key| mesh.point(key));
-            let mut measure = 0.0;
-            for (grad, &(_, _, w)) in gradients.iter().zip(&quad) {
-                let mut j = [[0.0f64; 2]; 2];
-                for (x, g) in vertices.iter().zip(grad) {
-                    for (row, &xa) in j.iter_mut().zip(x) {
-                        row[0] += xa * g[0];
-                        row[1] += xa * g[1];
-                    }
-                }
-                measure += (j[0][0] * j[1][1] - j[1][0] * j[0][1]) * w;
+pub fn rounded_measure(mesh: &Mesh, c: CellId) -> f64 {
+    let vertices = mesh.corner_keys(c).map(|key| mesh.point(key));
+    let mut measure = 0.0;
+    for (xi, eta, w) in quadrature::square(2) {
+        let gradients = [
+            [-(1.0 - eta), -(1.0 - xi)],
+            [1.0 - eta, -xi],
+            [-eta, 1.0 - xi],
+            [eta, xi],
+        ];
+        let mut j = [[0.0f64; 2]; 2];
+        for (x, g) in vertices.iter().zip(&gradients) {
+            for (row, &xa) in j.iter_mut().zip(x) {
+                row[0] += xa * g[0];
+                row[1] += xa * g[1];
             }
-            let b = mesh.cell_box(c);
-            measure / ((b[2] - b[0]) * (b[3] - b[1]))
-        })
-        .collect()
+        }
+        measure += (j[0][0] * j[1][1] - j[1][0] * j[0][1]) * w;
+    }
+    let b = mesh.cell_box(c);
+    measure / ((b[2] - b[0]) * (b[3] - b[1]))
 }
 
 /// Indicators below `floor` are rounding noise: set them to zero (used for problems whose

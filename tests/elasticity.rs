@@ -5,7 +5,7 @@ use std::f64::consts::PI;
 use std::sync::Arc;
 
 use crate::common::{quick, spec};
-use tribo::adaptivity::{mark_fixed_number, rounded_measures};
+use tribo::adaptivity::{mark_fixed_number, rounded_measure};
 use tribo::estimators::{self, elasticity::BoundaryTerms};
 use tribo::experiment::Side;
 use tribo::fe::{quadrature, DofMap, Rect, SparseSystem};
@@ -203,7 +203,12 @@ fn manufactured_solution_converges_with_rate_one_half_and_stable_effectivity() {
         err.push(e);
         eff.push(estimators::total(&eta2) / e);
         let eta: Vec<f64> = eta2.iter().map(|v| v.sqrt()).collect();
-        let m = mark_fixed_number(&eta, &rounded_measures(&mesh), 0.3, 0.03);
+        let m = mark_fixed_number(
+            &eta,
+            |k| rounded_measure(&mesh, mesh.active()[k]),
+            0.3,
+            0.03,
+        );
         mesh.refine_and_coarsen(&m.refine, &m.coarsen);
     }
     // Least-squares slope over the last five meshes.

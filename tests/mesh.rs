@@ -1,7 +1,7 @@
 //! The quadtree mesh, hanging-node constraints and the marking rule.
 
 use crate::common::refine_around;
-use tribo::adaptivity::{apply_noise_floor, mark_fixed_number, rounded_measures, PLATEAU_CELLS};
+use tribo::adaptivity::{apply_noise_floor, mark_fixed_number, rounded_measure, PLATEAU_CELLS};
 use tribo::fe::DofMap;
 use tribo::mesh::{Mesh, Neighbor, FACES};
 
@@ -114,7 +114,7 @@ fn marking_flags_whole_tie_groups() {
         0.2,
         0.1,
     ];
-    let m = mark_fixed_number(&eta, &exact(eta.len()), 0.3, 0.1);
+    let m = mark_fixed_number(&eta, exact, 0.3, 0.1);
     assert_eq!(
         m.refine,
         vec![true, true, true, true, true, false, false, false, false, false]
@@ -139,7 +139,7 @@ fn marking_outside_the_tie_band_separates() {
         0.2,
         0.1,
     ];
-    let m = mark_fixed_number(&eta, &exact(eta.len()), 0.2, 0.0);
+    let m = mark_fixed_number(&eta, exact, 0.2, 0.0);
     assert_eq!(
         m.refine,
         vec![true, true, true, false, false, false, false, false, false, false]
@@ -149,16 +149,13 @@ fn marking_outside_the_tie_band_separates() {
 #[test]
 fn marking_all_zero_flags_nothing() {
     let eta = vec![0.0; 100];
-    let m = mark_fixed_number(&eta, &exact(eta.len()), 0.3, 0.03);
+    let m = mark_fixed_number(&eta, exact, 0.3, 0.03);
     assert_eq!(m.n_refine(), 0);
     assert_eq!(m.n_coarsen(), 0);
     let mut noisy = vec![1e-14; 100];
     noisy[3] = 2e-13;
     apply_noise_floor(&mut noisy, 1e-12);
-    assert_eq!(
-        mark_fixed_number(&noisy, &exact(noisy.len()), 0.3, 0.03).n_refine(),
-        0
-    );
+    assert_eq!(mark_fixed_number(&noisy, exact, 0.3, 0.03).n_refine(), 0);
 }
 
 #[test]
@@ -166,20 +163,18 @@ fn marking_with_zero_threshold_uses_smallest_positive() {
     let mut eta = vec![0.0; 10];
     eta[0] = 2.0;
     eta[1] = 1.0;
-    let m = mark_fixed_number(&eta, &exact(eta.len()), 0.3, 0.0);
+    let m = mark_fixed_number(&eta, exact, 0.3, 0.0);
     assert_eq!(m.n_refine(), 2);
 }
 
 /// Cell measures without rounding: every cell of a plateau ties with every other.
-fn exact(n: usize) -> Vec<f64> {
-    vec![1.0; n]
+fn exact(_: usize) -> f64 {
+    1.0
 }
 
-/// Cell measures that round into `classes` values, 1 + k ulp, by `class(i)`.
-fn rounded(n: usize, class: impl Fn(usize) -> usize) -> Vec<f64> {
-    (0..n)
-        .map(|i| 1.0 + class(i) as f64 * f64::EPSILON)
-        .collect()
+/// Cell measures that round into classes, 1 + k ulp for `class(i)` = k.
+fn rounded(class: impl Fn(usize) -> usize) -> impl Fn(usize) -> f64 {
+    move |i| 1.0 + class(i) as f64 * f64::EPSILON
 }
 
 #[test]
@@ -191,13 +186,12 @@ fn a_plateau_at_the_coarsening_threshold_is_cut_where_the_rounding_ties() {
         *e = 1.0;
     }
     // Exact arithmetic: deal.II's <= flags the whole plateau.
-    let m = mark_fixed_number(&eta, &exact(1000), 0.3, 0.03);
+    let m = mark_fixed_number(&eta, exact, 0.3, 0.03);
     assert_eq!(m.n_coarsen(), 100);
     // The plateau's measures round into five classes of 20 cells: the 30th smallest lies in
     // class 1, so classes 0 and 1 are flagged whole (40 cells), nothing else.
     let class = |i: usize| (i / 10) % 5;
-    let measures = rounded(1000, class);
-    let m = mark_fixed_number(&eta, &measures, 0.3, 0.03);
+    let m = mark_fixed_number(&eta, rounded(class), 0.3, 0.03);
     assert_eq!(m.n_coarsen(), 40);
     assert!((0..1000).all(|i| m.coarsen[i] == (eta[i] == 1.0 && class(i) <= 1)));
     // Refinement is untouched: the 301 largest (threshold = 301st largest, no ties).
@@ -210,24 +204,21 @@ fn a_plateau_at_the_refinement_threshold_is_cut_but_symmetry_groups_are_not() {
     // threshold (151st largest) lies in the plateau and 51 of its cells are asked for.
     let mut eta: Vec<f64> = (0..100).map(|i| 1000.0 + i as f64).collect();
     eta.extend(std::iter::repeat_n(5.0, 400));
-    assert_eq!(
-        mark_fixed_number(&eta, &exact(500), 0.3, 0.0).n_refine(),
-        500
-    );
+    assert_eq!(mark_fixed_number(&eta, exact, 0.3, 0.0).n_refine(), 500);
     // Five rounding classes of 80 plateau cells; the largest class holds the 51st: 100 + 80.
     let class = |i: usize| i % 5;
-    let m = mark_fixed_number(&eta, &rounded(500, class), 0.3, 0.0);
+    let m = mark_fixed_number(&eta, rounded(class), 0.3, 0.0);
     assert_eq!(m.n_refine(), 180);
     assert!((100..500).all(|i| m.refine[i] == (class(i) == 4)));
     // A class per cell: exactly the 51 largest measures.
-    let measures: Vec<f64> = (0..500).map(|i| 1.0 + (i % 400) as f64 * 1e-15).collect();
-    assert_eq!(mark_fixed_number(&eta, &measures, 0.3, 0.0).n_refine(), 151);
+    let distinct = |i: usize| 1.0 + (i % 400) as f64 * 1e-15;
+    assert_eq!(mark_fixed_number(&eta, distinct, 0.3, 0.0).n_refine(), 151);
     // A tie group of PLATEAU_CELLS cells at the threshold is a symmetry group: all flagged.
     // 200 cells: 50 large, the group, 134 small; the 61st largest lies in the group.
     let mut eta: Vec<f64> = (0..50).map(|i| 1000.0 + i as f64).collect();
     eta.extend(std::iter::repeat_n(5.0, PLATEAU_CELLS));
     eta.extend((0..200 - 50 - PLATEAU_CELLS).map(|i| 1.0 + i as f64 * 1e-3));
-    let m = mark_fixed_number(&eta, &rounded(200, |i| i % 7), 0.3, 0.0);
+    let m = mark_fixed_number(&eta, rounded(|i| i % 7), 0.3, 0.0);
     assert_eq!(m.n_refine(), 50 + PLATEAU_CELLS);
 }
 
@@ -239,7 +230,11 @@ fn rounded_measures_differ_by_position_only_in_the_last_bits() {
     for _ in 0..6 {
         mesh.refine_global();
     }
-    let m = rounded_measures(&mesh);
+    let m: Vec<f64> = mesh
+        .active()
+        .iter()
+        .map(|&c| rounded_measure(&mesh, c))
+        .collect();
     assert!(m.iter().all(|&v| (v - 1.0).abs() < 1e-14), "not h²");
     let mut distinct = m.clone();
     distinct.sort_by(f64::total_cmp);

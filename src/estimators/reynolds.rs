@@ -12,12 +12,13 @@
 //! (the points of [`crate::models::reynolds::CellData`]) and 2 per face (exact for the quadratic
 //! squared jump). For III.17 the full residual is used in the cavitation zone too (no multiplier
 //! correction, as the theorem states it, [`ZoneResidual::Full`]). Two alternative readings are
-//! available for comparison (experiment field `scene.reynolds.zone_residual`): the volume residual dropped on cells whose four corner values are 0
-//! ([`ZoneResidual::OffZone`]) or on cells touching the discrete cavitation set
-//! ([`ZoneResidual::OffTouching`]). Neither reproduces the thesis meshes of IV.64–IV.69 better
-//! (quick tier, theorem residual: IV.66 +6.3 % / +4.1 % dofs in row 2, against +5.8 % for the
-//! full residual), and the thesis says of these runs that "the grid is not coarsened in these regions of constant
-//! pressure" (§IV.3.5, end): its indicators did not vanish in the zone, as with the full residual.
+//! available for comparison (experiment field `scene.reynolds.zone_residual`): the volume
+//! residual dropped on cells whose four corner values are 0 ([`ZoneResidual::OffZone`]) or on
+//! cells touching the discrete cavitation set ([`ZoneResidual::OffTouching`]). Neither
+//! reproduces the thesis meshes of IV.64–IV.69 better (quick tier, theorem residual: IV.66
+//! +6.3 % / +4.1 % dofs in row 2, against +5.8 % for the full residual), and the thesis says of
+//! these runs that "the grid is not coarsened in these regions of constant pressure" (§IV.3.5,
+//! end): its indicators did not vanish in the zone, as with the full residual.
 //!
 //! **Thesis-code reading** ([`VolumeResidual::thesis_code`]). The printed fluid tables carry the
 //! estimate of the previous solve (row k: mesh of solve k+1, estimate of solve k), so their row 0

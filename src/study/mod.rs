@@ -10,7 +10,7 @@ pub mod contact;
 pub mod elasticity;
 pub mod reynolds;
 
-use crate::adaptivity::{apply_noise_floor, mark_fixed_number, rounded_measures};
+use crate::adaptivity::{apply_noise_floor, mark_fixed_number, rounded_measure};
 use crate::estimators;
 use crate::experiment::{Cavitation, CavitationSource, Effect, ExperimentSpec};
 use crate::fe::{DofMap, Rect, SparseSystem};
@@ -376,7 +376,7 @@ pub fn run_grid_adaptive(
             let eta: Vec<f64> = estimate.eta2.iter().map(|e| e.sqrt()).collect();
             let marking = mark_fixed_number(
                 &eta,
-                &rounded_measures(&mesh),
+                |k| rounded_measure(&mesh, mesh.active()[k]),
                 spec.study.refine_fraction,
                 spec.study.coarsen_fraction,
             );
