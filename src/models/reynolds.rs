@@ -21,7 +21,9 @@
 //! **Load.** l_R (II.37) and l_{R,c} (II.39) from the general Chapter I formulas
 //! ([`ThinFilm::reynolds_load`], [`ThinFilm::cavitation_load`]), 2×2 Gauss points per cell
 //! (spec/estimators.md §1.2). The load, Δg/g and the squeeze part of the load at the quadrature
-//! points are computed once per mesh ([`CellData`]) and shared by assembly and estimator.
+//! points are computed once per mesh ([`CellData`]) and shared by assembly and estimator; cells
+//! unchanged since the previous mesh keep theirs, and for gaps that depend on x₁ alone the
+//! formulas are evaluated once per distinct x₁ ([`ReynoldsProblem::cell_data_reusing`]).
 //!
 //! **Cavitation** (I.82): ψ ≥ 0 at every interior non-hanging vertex (hanging values are means
 //! of their parents, boundary values are ψ₀ = 200), solved as the LCP Kψ − F ≥ 0, ψ ≥ 0,
@@ -136,58 +138,118 @@ impl ReynoldsProblem {
         self.cell_data_reusing(mesh, load, None).data
     }
 
-    /// Load, Δg/g and squeeze part at the four quadrature points of active cell `c`.
-    fn cell_values(&self, mesh: &Mesh, c: CellId, load: Load) -> CellValues {
+    /// Load, Δg/g and squeeze part at the point `x`.
+    fn point_values(&self, x: [f64; 2], load: Load) -> (f64, f64, f64) {
+        let (g, _, lap) = self.film.gap(x);
+        (self.load(x, load), lap / g, self.film.squeeze_load(x))
+    }
+
+    /// Load, Δg/g and squeeze part at the four quadrature points of active cell `c`, each
+    /// point's values from `at`.
+    fn cell_values(mesh: &Mesh, c: CellId, at: impl Fn([f64; 2]) -> (f64, f64, f64)) -> CellValues {
         let r = crate::fe::Rect::from_box(mesh.cell_box(c));
-        let mut l = [0.0; 4];
-        let mut d = [0.0; 4];
-        let mut s = [0.0; 4];
+        let mut values = ([0.0; 4], [0.0; 4], [0.0; 4]);
         for (q, &(xi, eta, _)) in quadrature_points().iter().enumerate() {
-            let x = r.point(xi, eta);
-            let (g, _, lap) = self.film.gap(x);
-            l[q] = self.load(x, load);
-            d[q] = lap / g;
-            s[q] = self.film.squeeze_load(x);
+            (values.0[q], values.1[q], values.2[q]) = at(r.point(xi, eta));
         }
-        (l, d, s)
+        values
+    }
+
+    /// [`CellValues`] of the active cells `cells`, evaluated afresh.
+    ///
+    /// The film data of a scene are functions of the gap's jet and of constants
+    /// ([`ThinFilm::film_jets`]), so where the gap does not vary in x₂ ([`Gap::varies_in_x2`]:
+    /// plain, linear and wave gaps) every value depends on the x₁ coordinate of the point alone,
+    /// bitwise. The Chapter I formulas are then evaluated once per distinct x₁ among the
+    /// quadrature points — a few thousand per mesh instead of four per cell — and looked up;
+    /// the values are the same bits as a direct evaluation. The hill gap is evaluated point by
+    /// point.
+    ///
+    /// [`Gap::varies_in_x2`]: crate::models::thin_film::Gap::varies_in_x2
+    fn fresh_cell_values(&self, mesh: &Mesh, cells: &[CellId], load: Load) -> Vec<CellValues> {
+        if self.film.gap.varies_in_x2() {
+            return cells
+                .par_iter()
+                .map(|&c| Self::cell_values(mesh, c, |x| self.point_values(x, load)))
+                .collect();
+        }
+        let quad = quadrature_points();
+        let mut x1: Vec<f64> = cells
+            .par_iter()
+            .flat_map_iter(|&c| {
+                let r = crate::fe::Rect::from_box(mesh.cell_box(c));
+                quad.iter().map(move |&(xi, eta, _)| r.point(xi, eta)[0])
+            })
+            .collect();
+        x1.par_sort_unstable_by(f64::total_cmp);
+        x1.dedup_by(|a, b| a.to_bits() == b.to_bits());
+        let profile: Vec<(f64, f64, f64)> = x1
+            .par_iter()
+            .map(|&x| self.point_values([x, 0.0], load))
+            .collect();
+        cells
+            .par_iter()
+            .map(|&c| {
+                Self::cell_values(mesh, c, |x| {
+                    let i = x1
+                        .binary_search_by(|p| p.total_cmp(&x[0]))
+                        .expect("every quadrature x₁ is in the profile");
+                    profile[i]
+                })
+            })
+            .collect()
     }
 
     /// [`Self::cell_data`] reusing the values of cells that are unchanged since `previous`
     /// (same load, same integer corners — the quadrature points are then the same, so the
     /// values are bitwise those of a fresh evaluation). Returns the data of `mesh` and the cache
-    /// for the next mesh. About 40 % of the cells survive a cycle of 30 % refinement, and the
-    /// load from the general Chapter I formulas is the most expensive part of assembly.
+    /// for the next mesh. About 40 % of the cells survive a cycle of 30 % refinement; the others
+    /// are evaluated by [`Self::fresh_cell_values`].
     pub fn cell_data_reusing(
         &self,
         mesh: &Mesh,
         load: Load,
         previous: Option<&CellDataCache>,
     ) -> CellDataCache {
+        const FRESH: u32 = u32::MAX;
         let active = mesh.active();
         let keys: Vec<u128> = active.par_iter().map(|&c| cell_key(mesh, c)).collect();
         let previous = previous.filter(|p| p.load == load);
-        let values: Vec<CellValues> = active
+        // For each active cell: its index in `previous`, or FRESH.
+        let source: Vec<u32> = keys
             .par_iter()
-            .zip(&keys)
-            .map(|(&c, key)| {
-                if let Some(p) = previous {
-                    if let Ok(i) = p.sorted.binary_search_by_key(key, |e| e.0) {
-                        let k = p.sorted[i].1 as usize;
-                        return (p.data.load[k], p.data.dg_over_g[k], p.data.squeeze[k]);
-                    }
-                }
-                self.cell_values(mesh, c, load)
+            .map(|key| {
+                previous
+                    .and_then(|p| {
+                        let i = p.sorted.binary_search_by_key(key, |e| e.0).ok()?;
+                        Some(p.sorted[i].1)
+                    })
+                    .unwrap_or(FRESH)
             })
             .collect();
+        let fresh_cells: Vec<CellId> = active
+            .iter()
+            .zip(&source)
+            .filter(|(_, &s)| s == FRESH)
+            .map(|(&c, _)| c)
+            .collect();
+        let mut fresh = self.fresh_cell_values(mesh, &fresh_cells, load).into_iter();
         let mut data = CellData {
-            load: Vec::with_capacity(values.len()),
-            dg_over_g: Vec::with_capacity(values.len()),
-            squeeze: Vec::with_capacity(values.len()),
+            load: Vec::with_capacity(active.len()),
+            dg_over_g: Vec::with_capacity(active.len()),
+            squeeze: Vec::with_capacity(active.len()),
         };
-        for (l, d, s) in values {
+        for &s in &source {
+            let (l, d, q) = match previous {
+                Some(p) if s != FRESH => {
+                    let k = s as usize;
+                    (p.data.load[k], p.data.dg_over_g[k], p.data.squeeze[k])
+                }
+                _ => fresh.next().expect("one fresh value per fresh cell"),
+            };
             data.load.push(l);
             data.dg_over_g.push(d);
-            data.squeeze.push(s);
+            data.squeeze.push(q);
         }
         let mut sorted: Vec<(u128, u32)> = keys
             .into_iter()

@@ -346,6 +346,12 @@ impl Gap {
         }
     }
 
+    /// Whether g depends on x₂. Only the hill gap does; the plain, linear and wave gaps are
+    /// functions of x₁ alone, bitwise: [`Gap::jet`] reads `x[1]` for the hill only.
+    pub fn varies_in_x2(&self) -> bool {
+        matches!(self, Gap::Hill { .. })
+    }
+
     /// g(x) only.
     pub fn value(&self, x: [f64; 2]) -> f64 {
         self.jet(x).v
