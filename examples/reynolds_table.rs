@@ -1,7 +1,8 @@
 //! Scratch: run Reynolds tables at a tier and print rows, thesis comparison and per-phase seconds.
 //! cargo run --release --example reynolds_table -- full IV.36 [IV.37 ...]
-//! `alt` in place of a table name switches the following tables to cavitation_source =
-//! "self-consistent" (R₃c from 2γ₃ − γ₃c instead of the printed γ₃c).
+//! `alt:<suffix>` in place of a table name switches the following tables to the alternative
+//! reading with that suffix (`alt:self-consistent`: R₃c from 2γ₃ − γ₃c; `alt:reynolds`: R₃ in
+//! place of R₃c; `study::alternative_readings`).
 use std::time::Instant;
 use tribo::experiment;
 use tribo::study::{self, Tier};
@@ -14,17 +15,24 @@ fn main() {
         Tier::Quick
     };
     let t_all = Instant::now();
-    let mut alt = false;
+    let mut alt: Option<String> = None;
     for t in &args[1..] {
-        if t == "alt" {
-            alt = true;
+        if let Some(suffix) = t.strip_prefix("alt:") {
+            alt = Some(suffix.to_string());
             continue;
         }
         let mut spec =
             experiment::load(std::path::Path::new(&format!("experiments/{t}.toml"))).unwrap();
-        if alt {
-            if let Some(reading) = study::alternative_readings(&spec).pop() {
-                spec = reading.spec;
+        if let Some(suffix) = &alt {
+            match study::alternative_readings(&spec)
+                .into_iter()
+                .find(|a| &a.suffix == suffix)
+            {
+                Some(reading) => spec = reading.spec,
+                None => {
+                    println!("{t}: no alternative reading '{suffix}'");
+                    continue;
+                }
             }
         }
         let thesis = study::thesis_table(&spec);
@@ -39,7 +47,9 @@ fn main() {
         let wall = t0.elapsed().as_secs_f64();
         println!(
             "== {t}{} wall {wall:.2}s",
-            if alt { " (self-consistent source)" } else { "" }
+            alt.as_deref()
+                .map(|a| format!(" (reading {a})"))
+                .unwrap_or_default()
         );
         let mut sum = tribo::results::PhaseSeconds::default();
         for row in &r.rows {

@@ -586,6 +586,15 @@ fn contact_and_reynolds_checks_name_file_and_field() {
             "unknown variant `zero`, expected one of `full`, `off-zone`, `off-touching`",
         ),
         (
+            "unknown-cavitation-source",
+            plain_reynolds().replace(
+                "cavitation = \"off\"\nestimator = \"thesis-code\"\n",
+                "cavitation = \"on\"\nestimator = \"thesis-code\"\ncavitation_source = \"mirror\"\n",
+            ),
+            "scene.reynolds.cavitation_source",
+            "unknown variant `mirror`, expected one of `printed`, `self-consistent`, `reynolds`",
+        ),
+        (
             "displacement-probe-on-fluid",
             reynolds_scene(r#"{ kind = "plain", g0 = 0.1 }"#, r#"components = ["s2"]"#),
             "probes.components[0]",

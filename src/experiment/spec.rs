@@ -206,6 +206,8 @@ pub struct ReynoldsData {
     /// ψ₀ on ∂Ω₂.
     pub boundary_pressure: f64,
     pub cavitation: Cavitation,
+    /// Reading of the source term R₃c of (I.81): `printed` (default, γ₃c of (I.61) as printed),
+    /// `self-consistent` (2γ₃ − γ₃c) or `reynolds` (R₃ of (I.77), the source without cavitation).
     #[serde(default)]
     pub cavitation_source: CavitationSource,
     /// Terms of the volume residual the study marks with.

@@ -204,7 +204,7 @@ impl ReynoldsProblem {
     /// (same load, same integer corners — the quadrature points are then the same, so the
     /// values are bitwise those of a fresh evaluation). Returns the data of `mesh` and the cache
     /// for the next mesh. About 40 % of the cells survive a cycle of 30 % refinement; the others
-    /// are evaluated by [`Self::fresh_cell_values`].
+    /// are evaluated afresh, once per distinct x₁ where the gap does not vary in x₂.
     pub fn cell_data_reusing(
         &self,
         mesh: &Mesh,

@@ -70,27 +70,43 @@ pub struct AlternativeReading {
     pub spec: ExperimentSpec,
 }
 
-/// The alternative readings the report compares an experiment with. Today one: for Reynolds
-/// with cavitation and the printed γ₃c of (I.61), the self-consistent 2γ₃ − γ₃c
-/// (spec/models.md §15 item 9; issue: "the report shows how much it changes IV.65–IV.69").
+/// The alternative readings the report compares an experiment with. For Reynolds with
+/// cavitation and the printed γ₃c of (I.61), two readings of the source term R₃c:
+/// the self-consistent 2γ₃ − γ₃c (spec/models.md §15 item 9; issue: "the report shows how much
+/// it changes IV.65–IV.69"), and R₃ of (I.77), the source without cavitation, which the thesis's
+/// code evidently used ([`CavitationSource::Reynolds`]).
 pub fn alternative_readings(spec: &ExperimentSpec) -> Vec<AlternativeReading> {
-    let mut out = Vec::new();
-    if let Some(r) = &spec.scene.reynolds {
-        if r.cavitation != Cavitation::Off && r.cavitation_source == CavitationSource::Printed {
-            let mut alt = spec.clone();
-            if let Some(ra) = alt.scene.reynolds.as_mut() {
-                ra.cavitation_source = CavitationSource::SelfConsistent;
-            }
-            out.push(AlternativeReading {
-                label: "R₃c from 2γ₃ − γ₃c instead of the printed γ₃c of (I.61) \
-                        (cavitation_source = \"self-consistent\")"
-                    .into(),
-                suffix: "self-consistent".into(),
-                spec: alt,
-            });
-        }
+    let Some(r) = &spec.scene.reynolds else {
+        return Vec::new();
+    };
+    if r.cavitation == Cavitation::Off || r.cavitation_source != CavitationSource::Printed {
+        return Vec::new();
     }
-    out
+    let reading = |source: CavitationSource, label: &str, suffix: &str| {
+        let mut alt = spec.clone();
+        if let Some(ra) = alt.scene.reynolds.as_mut() {
+            ra.cavitation_source = source;
+        }
+        AlternativeReading {
+            label: label.into(),
+            suffix: suffix.into(),
+            spec: alt,
+        }
+    };
+    vec![
+        reading(
+            CavitationSource::SelfConsistent,
+            "R₃c from 2γ₃ − γ₃c instead of the printed γ₃c of (I.61) \
+             (cavitation_source = \"self-consistent\")",
+            "self-consistent",
+        ),
+        reading(
+            CavitationSource::Reynolds,
+            "R₃ of (I.77), the source without cavitation, in place of R₃c, as the thesis's code \
+             evidently had it (cavitation_source = \"reynolds\")",
+            "reynolds",
+        ),
+    ]
 }
 
 /// Number of printed rows of a tier.
