@@ -96,3 +96,40 @@ fn quick_run_of_one_table_writes_report_and_data() {
     let html = std::fs::read_to_string(dir.join("index.html")).unwrap();
     assert!(html.contains("IV.3") && html.contains("figures/"));
 }
+
+/// A cavitation table writes one data file per alternative reading of R₃c, and
+/// `--no-alternatives` runs the experiment as written only.
+#[test]
+fn alternative_readings_run_unless_switched_off() {
+    for (flag, expected) in [(None, true), (Some("--no-alternatives"), false)] {
+        let dir = temp_dir(&format!("alternatives-{expected}"));
+        let mut cmd = report();
+        cmd.args([
+            "--quick",
+            "--no-progress",
+            "--only",
+            "IV.66",
+            "--experiments",
+        ])
+        .arg(experiments())
+        .arg("--out")
+        .arg(&dir);
+        if let Some(f) = flag {
+            cmd.arg(f);
+        }
+        let out = cmd.output().unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert!(dir.join("data/IV.66.csv").exists());
+        for suffix in ["self-consistent", "reynolds"] {
+            assert_eq!(
+                dir.join(format!("data/IV.66.{suffix}.csv")).exists(),
+                expected,
+                "{flag:?}: {suffix}"
+            );
+        }
+    }
+}

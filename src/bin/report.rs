@@ -38,6 +38,11 @@ struct Cli {
     /// Do not show the progress bar.
     #[arg(long)]
     no_progress: bool,
+
+    /// Do not run the alternative readings beside the experiments (the cavitation tables are
+    /// otherwise run three times: printed, self-consistent and `reynolds` source R₃c).
+    #[arg(long)]
+    no_alternatives: bool,
 }
 
 fn main() -> ExitCode {
@@ -73,11 +78,18 @@ fn run(cli: &Cli) -> Result<bool, String> {
         ));
     }
     let tier = if cli.quick { Tier::Quick } else { Tier::Full };
+    let readings_of = |s: &ExperimentSpec| {
+        if cli.no_alternatives {
+            Vec::new()
+        } else {
+            study::alternative_readings(s)
+        }
+    };
     let cycles =
         |s: &ExperimentSpec| (s.study.unprinted_cycles + study::printed_rows(s, tier)) as u64;
     let total_cycles: u64 = specs
         .iter()
-        .map(|s| cycles(s) * (1 + study::alternative_readings(s).len() as u64))
+        .map(|s| cycles(s) * (1 + readings_of(s).len() as u64))
         .sum();
     let bar = if cli.no_progress {
         ProgressBar::hidden()
@@ -94,7 +106,7 @@ fn run(cli: &Cli) -> Result<bool, String> {
     for spec in &specs {
         bar.set_message(format!("{} {}", spec.table, spec.title));
         let base = bar.position();
-        let readings = study::alternative_readings(spec);
+        let readings = readings_of(spec);
         let runs_of_spec = 1 + readings.len() as u64;
         let progress = |_: &str, done: usize, _: usize| bar.set_position(base + done as u64);
         match study::run(spec, tier, &progress) {
