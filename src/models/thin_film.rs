@@ -347,9 +347,14 @@ impl Gap {
     }
 
     /// Whether g depends on x₂. Only the hill gap does; the plain, linear and wave gaps are
-    /// functions of x₁ alone, bitwise: [`Gap::jet`] reads `x[1]` for the hill only.
+    /// functions of x₁ alone, bitwise: [`Gap::jet`] reads `x[1]` for the hill only. The match is
+    /// exhaustive on purpose: a new gap must say, because the Reynolds cell data evaluate the
+    /// gaps that answer `false` once per distinct x₁ (`ReynoldsProblem::cell_data_reusing`).
     pub fn varies_in_x2(&self) -> bool {
-        matches!(self, Gap::Hill { .. })
+        match self {
+            Gap::Plain { .. } | Gap::Linear { .. } | Gap::WaveHorizontal { .. } => false,
+            Gap::Hill { .. } => true,
+        }
     }
 
     /// g(x) only.
