@@ -17,6 +17,14 @@ use rayon::prelude::*;
 
 use super::dofs::DofMap;
 
+/// faer's factorisation and triangular solves run sequentially. Its supernodal Cholesky visits
+/// the supernodes one after another and parallelises only inside each dense block; on the 2D
+/// meshes here almost all blocks are too small to pay for the synchronisation. Measured on the
+/// 2-core machine over the twenty Reynolds tables at full size: 70 s of solve phases against
+/// 110 s with `Par::rayon(2)` (same meshes, values equal to 2e-14). Assembly and estimation stay
+/// parallel (rayon), and the factorisations do not depend on the size of the thread pool.
+const FACTORISATION_PARALLELISM: faer::Par = faer::Par::Seq;
+
 /// Why a linear solve failed.
 #[derive(Debug, thiserror::Error, Clone, PartialEq)]
 pub enum SolveError {
@@ -405,7 +413,7 @@ impl SparseSystem {
         }
         let symbolic = self.symbolic.as_ref().expect("symbolic");
         let mat = SparseColMatRef::new(self.symbolic_ref(), &a);
-        let par = faer::get_global_parallelism();
+        let par = FACTORISATION_PARALLELISM;
         let mut l_values = vec![0.0f64; symbolic.len_val()];
         let mut mem = MemBuffer::try_new(
             symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()),

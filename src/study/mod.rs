@@ -118,11 +118,7 @@ pub fn printed_rows(spec: &ExperimentSpec, tier: Tier) -> usize {
 }
 
 /// Run one experiment.
-///
-/// faer's parallelism is fixed to two rayon tasks (its default `Par::rayon(0)` follows the pool
-/// size), so the factorisations — and the tables — are bitwise identical in 1- and 2-thread pools.
 pub fn run(spec: &ExperimentSpec, tier: Tier, progress: Progress) -> Result<RunResult, RunError> {
-    faer::set_global_parallelism(faer::Par::rayon(2));
     let effects = &spec.scene.effects;
     if effects.contains(&Effect::Contact) {
         contact::run(spec, tier, progress)
