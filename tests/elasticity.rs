@@ -155,6 +155,48 @@ fn patch_test_reproduces_linear_displacements_with_hanging_nodes() {
 }
 
 #[test]
+fn reused_solver_work_arrays_give_the_fresh_solution_bitwise() {
+    // The study loop hands the factor and scratch arrays from mesh to mesh
+    // (SparseSystem::into_buffers / with_buffers); a stale value must not leak into a solve,
+    // whether the next system is larger or smaller.
+    let p = Elasticity {
+        mu: 1.0,
+        lambda: 1.0,
+        dirichlet: vec![Side::Left],
+        load: Some(VolumeForce::Field(Arc::new(|x| [0.3, -1.0 - x[0]]))),
+        tractions: vec![],
+    };
+    let solve_on = |mesh: &Mesh, system: &mut SparseSystem| {
+        let dofs = DofMap::new(mesh, 2);
+        let (a, b) = p.assemble(mesh, system);
+        let fixed: Vec<(usize, f64)> = p
+            .fixed_dofs(&dofs)
+            .into_iter()
+            .map(|(d, _)| (d, 0.0))
+            .collect();
+        system.solve_fixed(&a, &b, &fixed).expect("solve")
+    };
+    let small = Mesh::new([0.0, 2.0], [0.0, 1.0], 4, 2);
+    let mut large = Mesh::new([0.0, 2.0], [0.0, 1.0], 16, 8);
+    crate::common::refine_around(&mut large, [0.7, 0.3], 3);
+    let fresh = |mesh: &Mesh| solve_on(mesh, &mut SparseSystem::new(&DofMap::new(mesh, 2)));
+    let (fresh_small, fresh_large) = (fresh(&small), fresh(&large));
+    assert!(fresh_large.iter().any(|&v| v != 0.0));
+
+    let mut system = SparseSystem::new(&DofMap::new(&large, 2));
+    solve_on(&large, &mut system);
+    let mut system = SparseSystem::with_buffers(&DofMap::new(&small, 2), system.into_buffers());
+    assert_eq!(solve_on(&small, &mut system), fresh_small, "large → small");
+    assert_eq!(
+        solve_on(&small, &mut system),
+        fresh_small,
+        "same system again"
+    );
+    let mut system = SparseSystem::with_buffers(&DofMap::new(&large, 2), system.into_buffers());
+    assert_eq!(solve_on(&large, &mut system), fresh_large, "small → large");
+}
+
+#[test]
 fn manufactured_solution_converges_with_rate_one_half_and_stable_effectivity() {
     // u = (sin πx sin πy, x(1−x)y(1−y)) on [0,1]², μ = λ = 1, a(s,r) = 2μ⟨ε,ε⟩ + 2λ⟨div,div⟩:
     // div σ = μΔu + (μ + 2λ)∇ div u, f = −div σ.

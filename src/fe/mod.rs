@@ -8,4 +8,4 @@ pub mod system;
 
 pub use dofs::{DofMap, Hanging, Vertices};
 pub use q1::Rect;
-pub use system::{SolveError, SparseSystem};
+pub use system::{SolveBuffers, SolveError, SparseSystem};

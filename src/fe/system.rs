@@ -6,7 +6,9 @@
 //! factorisation — stays the same while only the set of fixed dofs changes (as in deal.II): an
 //! active-set iteration costs one numeric factorisation.
 
-use faer::dyn_stack::{MemBuffer, MemStack};
+use std::mem::MaybeUninit;
+
+use faer::dyn_stack::{MemStack, StackReq};
 use faer::perm::PermRef;
 use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky, SymbolicCholesky, SymmetricOrdering,
@@ -68,6 +70,29 @@ pub struct SparseSystem {
     perm_fwd: Vec<usize>,
     perm_inv: Vec<usize>,
     symbolic: Option<SymbolicCholesky<usize>>,
+    buffers: SolveBuffers,
+}
+
+/// Work arrays of [`SparseSystem::solve_fixed`]: the eliminated matrix values, the values of the
+/// Cholesky factor and faer's scratch memory. They are large (the factor holds ~40 M values at
+/// 0.7 M dofs), and freshly mapped memory costs a page fault per 4 KiB on first touch, so they
+/// are kept between the solves of an active-set iteration and, through
+/// [`SparseSystem::into_buffers`] and [`SparseSystem::with_buffers`], from one mesh to the next.
+/// Their contents never carry over: every solve overwrites them.
+#[derive(Default)]
+pub struct SolveBuffers {
+    matrix: Vec<f64>,
+    factor: Vec<f64>,
+    scratch: Vec<MaybeUninit<u8>>,
+}
+
+/// faer's scratch memory for `req` in `buffer`, grown if needed.
+fn scratch(buffer: &mut Vec<MaybeUninit<u8>>, req: StackReq) -> &mut MemStack {
+    let bytes = req.unaligned_bytes_required();
+    if buffer.len() < bytes {
+        buffer.resize(bytes, MaybeUninit::uninit());
+    }
+    MemStack::new(buffer)
 }
 
 impl SparseSystem {
@@ -267,7 +292,21 @@ impl SparseSystem {
             perm_fwd,
             perm_inv,
             symbolic: None,
+            buffers: SolveBuffers::default(),
         }
+    }
+
+    /// The pattern of [`SparseSystem::new`], solving in the work arrays of an earlier system.
+    pub fn with_buffers(dofs: &DofMap, buffers: SolveBuffers) -> SparseSystem {
+        SparseSystem {
+            buffers,
+            ..SparseSystem::new(dofs)
+        }
+    }
+
+    /// The work arrays, for the system of the next mesh.
+    pub fn into_buffers(self) -> SolveBuffers {
+        self.buffers
     }
 
     pub fn n(&self) -> usize {
@@ -366,7 +405,39 @@ impl SparseSystem {
         if let Some(i) = rhs.iter().position(|v| !v.is_finite()) {
             return Err(SolveError::NonFiniteData(i));
         }
-        let mut a = values.to_vec();
+        if self.symbolic.is_none() {
+            let perm = PermRef::new_checked(&self.perm_fwd, &self.perm_inv, self.n);
+            self.symbolic = Some(
+                factorize_symbolic_cholesky(
+                    self.symbolic_ref(),
+                    Side::Lower,
+                    SymmetricOrdering::Custom(perm),
+                    Default::default(),
+                )
+                .map_err(|e| SolveError::Factorisation(format!("{e:?}")))?,
+            );
+        }
+        let mut buffers = std::mem::take(&mut self.buffers);
+        let result = self.solve_in(&mut buffers, values, rhs, fixed);
+        self.buffers = buffers;
+        result
+    }
+
+    /// [`SparseSystem::solve_fixed`] once the symbolic factorisation exists, in `buffers`.
+    fn solve_in(
+        &self,
+        buffers: &mut SolveBuffers,
+        values: &[f64],
+        rhs: &[f64],
+        fixed: &[(usize, f64)],
+    ) -> Result<Vec<f64>, SolveError> {
+        let SolveBuffers {
+            matrix: a,
+            factor,
+            scratch: work,
+        } = buffers;
+        a.clear();
+        a.extend_from_slice(values);
         let mut b = rhs.to_vec();
         let mut is_fixed = vec![false; self.n];
         for &(d, _) in fixed {
@@ -399,46 +470,31 @@ impl SparseSystem {
             a[self.diag[d]] = scale;
             b[d] = scale * val;
         }
-        if self.symbolic.is_none() {
-            let perm = PermRef::new_checked(&self.perm_fwd, &self.perm_inv, self.n);
-            self.symbolic = Some(
-                factorize_symbolic_cholesky(
-                    self.symbolic_ref(),
-                    Side::Lower,
-                    SymmetricOrdering::Custom(perm),
-                    Default::default(),
-                )
-                .map_err(|e| SolveError::Factorisation(format!("{e:?}")))?,
-            );
-        }
-        let symbolic = self.symbolic.as_ref().expect("symbolic");
-        let mat = SparseColMatRef::new(self.symbolic_ref(), &a);
+        let symbolic = self.symbolic.as_ref().expect("symbolic factorisation");
+        let mat = SparseColMatRef::new(self.symbolic_ref(), &a[..]);
         let par = FACTORISATION_PARALLELISM;
-        let mut l_values = vec![0.0f64; symbolic.len_val()];
-        let mut mem = MemBuffer::try_new(
-            symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()),
-        )
-        .map_err(|e| SolveError::Factorisation(format!("{e:?}")))?;
+        // faer overwrites every value of the factor (it fills it with zeros first).
+        factor.resize(symbolic.len_val(), 0.0);
         let llt = symbolic
             .factorize_numeric_llt(
-                &mut l_values,
+                factor,
                 mat,
                 Side::Lower,
                 Default::default(),
                 par,
-                MemStack::new(&mut mem),
+                scratch(
+                    work,
+                    symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()),
+                ),
                 Default::default(),
             )
             .map_err(|e| SolveError::Factorisation(format!("{e:?}")))?;
         let mut x = b;
-        drop(mem);
-        let mut mem = MemBuffer::try_new(symbolic.solve_in_place_scratch::<f64>(1, par))
-            .map_err(|e| SolveError::Factorisation(format!("{e:?}")))?;
         llt.solve_in_place_with_conj(
             Conj::No,
             MatMut::from_column_major_slice_mut(&mut x, self.n, 1),
             par,
-            MemStack::new(&mut mem),
+            scratch(work, symbolic.solve_in_place_scratch::<f64>(1, par)),
         );
         if let Some(i) = x.iter().position(|v| !v.is_finite()) {
             return Err(SolveError::NonFinite(i));

@@ -13,7 +13,7 @@ pub mod reynolds;
 use crate::adaptivity::{apply_noise_floor, mark_fixed_number, rounded_measure};
 use crate::estimators;
 use crate::experiment::{Cavitation, CavitationSource, Effect, ExperimentSpec};
-use crate::fe::{DofMap, Rect, SparseSystem};
+use crate::fe::{DofMap, Rect, SolveBuffers, SparseSystem};
 use crate::mesh::Mesh;
 use crate::results::{
     CellBox, CycleRow, DeformedPicture, MeshPicture, PhaseSeconds, Probe, RunResult,
@@ -338,6 +338,8 @@ pub fn run_grid_adaptive(
         cycle,
         message,
     };
+    // The solver's work arrays move from mesh to mesh (see `SolveBuffers`).
+    let mut buffers = SolveBuffers::default();
     for step in 0..total {
         let printed_cycle = step.checked_sub(spec.study.unprinted_cycles);
         let row_cycle = printed_cycle.unwrap_or(0);
@@ -346,12 +348,13 @@ pub fn run_grid_adaptive(
 
         let t = Instant::now();
         let dofs = DofMap::new(&mesh, model.n_components());
-        let mut system = SparseSystem::new(&dofs);
+        let mut system = SparseSystem::with_buffers(&dofs, std::mem::take(&mut buffers));
         seconds.setup = t.elapsed().as_secs_f64();
 
         let solution = model
             .solve(&mesh, &dofs, &mut system, &mut seconds)
             .map_err(|m| fail(row_cycle, m))?;
+        buffers = system.into_buffers();
         let u = solution.u;
         if let Some(i) = u.iter().position(|v| !v.is_finite()) {
             return Err(fail(
