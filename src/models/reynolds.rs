@@ -141,7 +141,11 @@ impl ReynoldsProblem {
     /// Load, Δg/g and squeeze part at the point `x`.
     fn point_values(&self, x: [f64; 2], load: Load) -> (f64, f64, f64) {
         let (g, _, lap) = self.film.gap(x);
-        (self.load(x, load), lap / g, self.film.squeeze_load(x))
+        (
+            self.load(x, load),
+            lap / g,
+            self.film.squeeze_load_at_gap(g),
+        )
     }
 
     /// Load, Δg/g and squeeze part at the four quadrature points of active cell `c`, each

@@ -524,28 +524,34 @@ impl FilmJets {
     /// [`CavitationSource::SelfConsistent`] (spec §15 item 9); γ₃ for
     /// [`CavitationSource::Reynolds`].
     pub fn gamma3c(&self, source: CavitationSource) -> [Jet; 2] {
-        let (g, zb) = (self.g, self.zbar);
         let g3 = self.gamma3();
-        // Scalars whose μ-derivative is needed: Σ_ν ∂_ν(v̄_ν g + δv_ν z̄), Σ_ν ∂_ν v̄_ν, Σ_ν ∂_ν δv_ν.
-        let mut div_flux = Jet::ZERO;
-        let mut div_vbar = Jet::ZERO;
-        let mut div_dv = Jet::ZERO;
-        for nu in 0..2 {
-            div_flux += (self.vbar[nu] * g + self.dv[nu] * zb).partial(nu);
-            div_vbar += self.vbar[nu].partial(nu);
-            div_dv += self.dv[nu].partial(nu);
-        }
-        let dv3_over_g = self.dv[2] / g;
-        [0, 1].map(|mu| {
-            let printed = g3[mu] + div_flux.partial(mu)
-                - (g * div_vbar.partial(mu) + zb * div_dv.partial(mu))
-                - g * dv3_over_g.partial(mu);
-            match source {
-                CavitationSource::Printed => printed,
-                CavitationSource::SelfConsistent => g3[mu].scale(2.0) - printed,
-                CavitationSource::Reynolds => g3[mu],
+        let (g, zb) = (self.g, self.zbar);
+        let printed = || {
+            // Scalars whose μ-derivative is needed: Σ_ν ∂_ν(v̄_ν g + δv_ν z̄), Σ_ν ∂_ν v̄_ν,
+            // Σ_ν ∂_ν δv_ν.
+            let mut div_flux = Jet::ZERO;
+            let mut div_vbar = Jet::ZERO;
+            let mut div_dv = Jet::ZERO;
+            for nu in 0..2 {
+                div_flux += (self.vbar[nu] * g + self.dv[nu] * zb).partial(nu);
+                div_vbar += self.vbar[nu].partial(nu);
+                div_dv += self.dv[nu].partial(nu);
             }
-        })
+            let dv3_over_g = self.dv[2] / g;
+            [0, 1].map(|mu| {
+                g3[mu] + div_flux.partial(mu)
+                    - (g * div_vbar.partial(mu) + zb * div_dv.partial(mu))
+                    - g * dv3_over_g.partial(mu)
+            })
+        };
+        match source {
+            CavitationSource::Printed => printed(),
+            CavitationSource::SelfConsistent => {
+                let p = printed();
+                [0, 1].map(|mu| g3[mu].scale(2.0) - p[mu])
+            }
+            CavitationSource::Reynolds => g3,
+        }
     }
 
     /// (I.65): γ_c = γ₃c + (12/g) v̄ (SubStokes-with-cavitation momentum source).
@@ -724,7 +730,11 @@ impl ThinFilm {
     /// The squeeze part −12 δv₃/g² of both loads at `x` (the δv₃ term of (I.77) and (I.81);
     /// δv₃ = v₃(z₁) because the lower wall is at rest).
     pub fn squeeze_load(&self, x: [f64; 2]) -> f64 {
-        let g = self.gap.value(x);
+        self.squeeze_load_at_gap(self.gap.value(x))
+    }
+
+    /// [`ThinFilm::squeeze_load`] where the gap g is already known.
+    pub fn squeeze_load_at_gap(&self, g: f64) -> f64 {
         -12.0 * self.upper_wall_velocity[2] / (g * g)
     }
 }
