@@ -5,7 +5,7 @@
 
 use std::time::Instant;
 
-use tribo::fe::{DofMap, SparseSystem};
+use tribo::fe::{Constraints, DofMap, SparsityPattern};
 use tribo::mesh::Mesh;
 
 fn main() {
@@ -44,10 +44,10 @@ fn main() {
         t.elapsed().as_secs_f64()
     );
     let t = Instant::now();
-    let system = SparseSystem::new(&dofs);
+    let pattern = SparsityPattern::new(&dofs, &Constraints::new(&dofs));
     println!(
         "sparsity pattern: {} nonzeros  {:.3} s",
-        system.nnz(),
+        pattern.nnz(),
         t.elapsed().as_secs_f64()
     );
     let t = Instant::now();

@@ -6,6 +6,7 @@
 use std::time::Instant;
 use tribo::experiment;
 use tribo::study::{self, Tier};
+use tribo::thesis::ThesisTable;
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -28,14 +29,14 @@ fn main() {
                 .into_iter()
                 .find(|a| &a.suffix == suffix)
             {
-                Some(reading) => spec = reading.spec,
+                Some(reading) => spec = reading.experiment,
                 None => {
                     println!("{t}: no alternative reading '{suffix}'");
                     continue;
                 }
             }
         }
-        let thesis = study::thesis_table(&spec);
+        let thesis = ThesisTable::of(&spec);
         let t0 = Instant::now();
         let r = match study::run(&spec, tier, &|_, _, _| {}) {
             Ok(r) => r,
@@ -63,8 +64,10 @@ fn main() {
             sum.refine += s.refine;
             println!(
                 "{} cells {:>8} dofs {:>8} (thesis {:>8}, {:+.2}%) est {:.4e} (ratio/thesis {:.4}) r {:.4} {:?} | setup {:.2} asm {:.2} solve {:.2} est {:.2} ref {:.2}",
-                row.cycle, row.active_cells, row.dofs, td, 100.0 * (row.dofs as f64 / td - 1.0), row.estimate,
-                row.estimate / te, row.ratio.unwrap_or(f64::NAN), row.counters,
+                row.cycle, row.active_cells().unwrap_or(0), row.dofs().unwrap_or(0), td,
+                100.0 * (row.value("dofs").unwrap_or(f64::NAN) / td - 1.0),
+                row.estimate().unwrap_or(f64::NAN),
+                row.estimate().unwrap_or(f64::NAN) / te, row.ratio().unwrap_or(f64::NAN), row.counts(),
                 s.setup, s.assemble, s.solve, s.estimate, s.refine
             );
         }

@@ -1,15 +1,16 @@
 //! tribo — regenerates the results of Chapter IV of F. Gimbel, *Modelling and Numerical
 //! Simulation of Contact and Lubrication* (Siegen, 2012).
 //!
-//! The pipeline of one experiment (DESIGN.md): [`experiment`] file → [`mesh::Mesh`] →
-//! [`fe::DofMap`] and constraints → assembly and solve ([`fe::SparseSystem`], [`models`]) →
-//! estimate ([`estimators`]) → [`adaptivity`] (mark, refine) → [`results::RunResult`] →
-//! golden snapshot (tests) and [`report`].
+//! The pipeline of one experiment (DESIGN.md): [`experiment`] file → typed problem →
+//! [`study`] loop over [`mesh::Mesh`] → [`fe::System`] (dofs, constraints, pattern) → assembly
+//! ([`models`]) and solve ([`linalg`]) → estimate ([`estimators`]) → [`adaptivity`] →
+//! [`results::RunResult`] → golden snapshot (tests) and [`report`].
 
 pub mod adaptivity;
 pub mod estimators;
 pub mod experiment;
 pub mod fe;
+pub mod linalg;
 pub mod mesh;
 pub mod models;
 pub mod report;

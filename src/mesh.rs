@@ -1,12 +1,22 @@
-//! Forest of quadtrees over a coarse `nx × ny` grid of a rectangle: isotropic refinement and
-//! coarsening, 2:1 balance across faces, hanging vertices.
+//! Forest of quadtrees over a coarse `nx × ny` grid: isotropic refinement and coarsening, 2:1
+//! balance across faces, hanging vertices, stable cell and boundary-face ids, and the geometry of
+//! the cells.
 //!
 //! Positions are integers: a coarse cell is `2^MAX_LEVEL` units wide, a cell of level `l` is
 //! `2^(MAX_LEVEL − l)` units wide. Neighbour and vertex lookup is therefore exact, and every
 //! numbering is derived from the (deterministic) depth-first order of the trees — never from the
-//! iteration order of a hash map.
+//! iteration order of a hash map. The integer position of a cell ([`CellKey`]) and of a boundary
+//! face ([`BoundaryFace`]) never changes under refinement of other cells, so they identify cells
+//! and faces from cycle to cycle.
+//!
+//! **Geometry.** The coarse grid covers a rectangle ([`Mesh::new`]), or its vertices are moved
+//! ([`Mesh::with_coarse_vertices`], the moved body of a forming step): every coarse cell is then
+//! the image of the reference square under the bilinear map of its four vertices, and a finer cell
+//! is the image of its part of the square, again a bilinear quadrilateral ([`CellShape`]). A
+//! refined mesh therefore describes the same body as its coarse grid, and the Q₁ spaces of the
+//! refinements are nested (the hanging-node constraint "mean of the two ends" stays exact).
 
-use crate::experiment::Side;
+use serde::Deserialize;
 
 /// Deepest refinement level a cell can reach.
 pub const MAX_LEVEL: u8 = 24;
@@ -25,6 +35,285 @@ struct Cell {
     /// First of four consecutive children (order: lower-left, lower-right, upper-left,
     /// upper-right), or `NONE` for an active cell.
     children: u32,
+}
+
+/// A side of the domain: the faces x₁ = x₀ (`Left`), x₁ = x₁ (`Right`), x₂ = y₀ (`Bottom`) and
+/// x₂ = y₁ (`Top`) of the coarse grid (in integer positions, so also of a moved body).
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq, PartialOrd, Ord, Hash)]
+#[serde(rename_all = "kebab-case")]
+pub enum Side {
+    Left,
+    Right,
+    Bottom,
+    Top,
+}
+
+impl Side {
+    /// The name used in experiment files.
+    pub fn name(self) -> &'static str {
+        match self {
+            Side::Left => "left",
+            Side::Right => "right",
+            Side::Bottom => "bottom",
+            Side::Top => "top",
+        }
+    }
+
+    /// Whether the side runs along x₁ (bottom, top) rather than along x₂.
+    pub fn is_horizontal(self) -> bool {
+        matches!(self, Side::Bottom | Side::Top)
+    }
+}
+
+/// A face on the domain boundary, identified by its integer position: the side, the refinement
+/// level of the cells it belongs to and its first integer coordinate along the side. The id
+/// stays the same from cycle to cycle while the face exists; the two faces that refinement makes
+/// of it name it as their [`BoundaryFace::parent`]. Ordered along each side (a parent before its
+/// first child), which is the stable geometric order of model marking (Algorithms III.2, III.3).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct BoundaryFace {
+    pub side: Side,
+    /// First integer coordinate along the side (x for bottom and top, y for left and right).
+    pub start: u64,
+    pub level: u8,
+}
+
+impl BoundaryFace {
+    /// The boundary face of a side spanning the integer coordinates `[start, end]` along it.
+    /// `end − start` must be the width of a cell of some level (a power of two, at most the
+    /// coarse width) and `start` a multiple of it.
+    pub fn spanning(side: Side, start: u64, end: u64) -> BoundaryFace {
+        let width = end - start;
+        debug_assert!(width.is_power_of_two() && width <= 1 << MAX_LEVEL);
+        debug_assert_eq!(start % width, 0);
+        BoundaryFace {
+            side,
+            start,
+            level: MAX_LEVEL - width.trailing_zeros() as u8,
+        }
+    }
+
+    /// Width in integer units.
+    pub fn width(&self) -> u64 {
+        1u64 << (MAX_LEVEL - self.level)
+    }
+
+    /// Last integer coordinate along the side.
+    pub fn end(&self) -> u64 {
+        self.start + self.width()
+    }
+
+    /// The face this one was made from by refinement (`None` for a face of the coarse grid).
+    pub fn parent(&self) -> Option<BoundaryFace> {
+        let level = self.level.checked_sub(1)?;
+        let width = 2 * self.width();
+        Some(BoundaryFace {
+            side: self.side,
+            start: self.start - self.start % width,
+            level,
+        })
+    }
+
+    /// The two faces refinement makes of this one, in order along the side.
+    pub fn children(&self) -> [BoundaryFace; 2] {
+        let half = self.width() / 2;
+        [self.start, self.start + half].map(|start| BoundaryFace {
+            side: self.side,
+            start,
+            level: self.level + 1,
+        })
+    }
+}
+
+/// Stable id of a cell: its level and the integer position of its lower-left corner. Unlike
+/// [`CellId`] (a storage index, renumbered by every refinement) it identifies the same cell in
+/// every mesh that has it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct CellKey {
+    pub level: u8,
+    pub x: u32,
+    pub y: u32,
+}
+
+/// The physical shape of a cell: the image of the reference square \[0,1\]² under the bilinear
+/// map of its four vertices (lexicographic: 0 = (ξ, η) = (0, 0), 1 = (1, 0), 2 = (0, 1),
+/// 3 = (1, 1)).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum CellShape {
+    /// An axis-parallel rectangle `[x0, x1] × [y0, y1]` (every cell of a mesh whose vertices are
+    /// not moved): the map is affine and diagonal, and everything is computed with the
+    /// rectangle's own formulas.
+    Rectangle { x0: f64, y0: f64, x1: f64, y1: f64 },
+    /// A general quadrilateral given by its four vertices.
+    Quadrilateral([[f64; 2]; 4]),
+}
+
+impl CellShape {
+    /// The four vertices (lexicographic order).
+    pub fn vertices(&self) -> [[f64; 2]; 4] {
+        match *self {
+            CellShape::Rectangle { x0, y0, x1, y1 } => [[x0, y0], [x1, y0], [x0, y1], [x1, y1]],
+            CellShape::Quadrilateral(v) => v,
+        }
+    }
+
+    /// Physical point of the reference point (ξ, η).
+    #[inline]
+    pub fn point(&self, xi: f64, eta: f64) -> [f64; 2] {
+        match *self {
+            CellShape::Rectangle { x0, y0, x1, y1 } => [x0 + xi * (x1 - x0), y0 + eta * (y1 - y0)],
+            CellShape::Quadrilateral(v) => {
+                let phi = bilinear(xi, eta);
+                let mut p = [0.0; 2];
+                for (x, w) in v.iter().zip(phi) {
+                    p[0] += x[0] * w;
+                    p[1] += x[1] * w;
+                }
+                p
+            }
+        }
+    }
+
+    /// Jacobian ∂x/∂(ξ, η) at (ξ, η): `j[i][a] = ∂xᵢ/∂ξ_a`.
+    #[inline]
+    pub fn jacobian(&self, xi: f64, eta: f64) -> [[f64; 2]; 2] {
+        match *self {
+            CellShape::Rectangle { x0, y0, x1, y1 } => [[x1 - x0, 0.0], [0.0, y1 - y0]],
+            CellShape::Quadrilateral(v) => {
+                let g = bilinear_gradients(xi, eta);
+                let mut j = [[0.0; 2]; 2];
+                for (x, g) in v.iter().zip(g) {
+                    for (row, &xi) in j.iter_mut().zip(x) {
+                        row[0] += xi * g[0];
+                        row[1] += xi * g[1];
+                    }
+                }
+                j
+            }
+        }
+    }
+
+    /// Reference coordinates (ξ, η) of a physical point (Newton's method on a quadrilateral; the
+    /// point need not lie inside the cell).
+    pub fn reference(&self, p: [f64; 2]) -> (f64, f64) {
+        match *self {
+            CellShape::Rectangle { x0, y0, x1, y1 } => {
+                ((p[0] - x0) / (x1 - x0), (p[1] - y0) / (y1 - y0))
+            }
+            CellShape::Quadrilateral(_) => {
+                let (mut xi, mut eta) = (0.5, 0.5);
+                for _ in 0..50 {
+                    let x = self.point(xi, eta);
+                    let r = [x[0] - p[0], x[1] - p[1]];
+                    let j = self.jacobian(xi, eta);
+                    let det = j[0][0] * j[1][1] - j[0][1] * j[1][0];
+                    let dxi = (j[1][1] * r[0] - j[0][1] * r[1]) / det;
+                    let deta = (j[0][0] * r[1] - j[1][0] * r[0]) / det;
+                    xi -= dxi;
+                    eta -= deta;
+                    if dxi.abs().max(deta.abs()) <= 1e-15 {
+                        break;
+                    }
+                }
+                (xi, eta)
+            }
+        }
+    }
+
+    /// Area of the cell.
+    pub fn area(&self) -> f64 {
+        match *self {
+            CellShape::Rectangle { x0, y0, x1, y1 } => (x1 - x0) * (y1 - y0),
+            CellShape::Quadrilateral(v) => {
+                // Shoelace formula over the counter-clockwise boundary 0, 1, 3, 2.
+                let ring = [v[0], v[1], v[3], v[2]];
+                (0..4)
+                    .map(|i| {
+                        let (a, b) = (ring[i], ring[(i + 1) % 4]);
+                        a[0] * b[1] - b[0] * a[1]
+                    })
+                    .sum::<f64>()
+                    * 0.5
+            }
+        }
+    }
+
+    /// Diameter h_Q: the largest distance between two vertices (the diagonal of a rectangle),
+    /// the cell size of every estimator.
+    pub fn diameter(&self) -> f64 {
+        match *self {
+            CellShape::Rectangle { x0, y0, x1, y1 } => (x1 - x0).hypot(y1 - y0),
+            CellShape::Quadrilateral(v) => {
+                let mut d = 0.0f64;
+                for a in 0..4 {
+                    for b in a + 1..4 {
+                        d = d.max((v[b][0] - v[a][0]).hypot(v[b][1] - v[a][1]));
+                    }
+                }
+                d
+            }
+        }
+    }
+
+    /// The end points of a face, in increasing reference coordinate.
+    pub fn face_vertices(&self, face: Face) -> [[f64; 2]; 2] {
+        let v = self.vertices();
+        face.vertices().map(|i| v[i])
+    }
+
+    /// Length of a face.
+    pub fn face_length(&self, face: Face) -> f64 {
+        match *self {
+            CellShape::Rectangle { x0, y0, x1, y1 } => match face {
+                Face::Left | Face::Right => y1 - y0,
+                Face::Bottom | Face::Top => x1 - x0,
+            },
+            CellShape::Quadrilateral(_) => {
+                let [a, b] = self.face_vertices(face);
+                (b[0] - a[0]).hypot(b[1] - a[1])
+            }
+        }
+    }
+
+    /// Outward unit normal of a (straight) face.
+    pub fn face_normal(&self, face: Face) -> [f64; 2] {
+        match self {
+            CellShape::Rectangle { .. } => face.normal(),
+            CellShape::Quadrilateral(_) => {
+                let [a, b] = self.face_vertices(face);
+                let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+                let len = dx.hypot(dy);
+                // The face runs in increasing reference coordinate: for x⁻ and y⁺ the outward
+                // normal is the tangent turned counter-clockwise, for x⁺ and y⁻ clockwise.
+                match face {
+                    Face::Left | Face::Top => [-dy / len, dx / len],
+                    Face::Right | Face::Bottom => [dy / len, -dx / len],
+                }
+            }
+        }
+    }
+}
+
+/// The bilinear shape functions of the reference square at (ξ, η), lexicographic vertex order.
+#[inline]
+pub fn bilinear(xi: f64, eta: f64) -> [f64; 4] {
+    [
+        (1.0 - xi) * (1.0 - eta),
+        xi * (1.0 - eta),
+        (1.0 - xi) * eta,
+        xi * eta,
+    ]
+}
+
+/// Reference gradients ∂/∂(ξ, η) of [`bilinear`].
+#[inline]
+pub fn bilinear_gradients(xi: f64, eta: f64) -> [[f64; 2]; 4] {
+    [
+        [-(1.0 - eta), -(1.0 - xi)],
+        [1.0 - eta, -xi],
+        [-eta, 1.0 - xi],
+        [eta, xi],
+    ]
 }
 
 /// The four faces of a cell, in the order used everywhere: x⁻, x⁺, y⁻, y⁺.
@@ -110,12 +399,14 @@ pub enum Neighbor {
 /// Forest of quadtrees (see module docs).
 #[derive(Clone, Debug)]
 pub struct Mesh {
-    /// Physical domain `[x0, x1] × [y0, y1]`.
+    /// Physical domain `[x0, x1] × [y0, y1]` of an unmoved grid.
     x0: f64,
     y0: f64,
-    /// Physical size of one integer unit.
+    /// Physical size of one integer unit of an unmoved grid.
     unit_x: f64,
     unit_y: f64,
+    /// Positions of the `(nx + 1) × (ny + 1)` coarse vertices (row by row) when they are moved.
+    moved: Option<Vec<[f64; 2]>>,
     nx: usize,
     ny: usize,
     cells: Vec<Cell>,
@@ -153,12 +444,63 @@ impl Mesh {
             y0: y[0],
             unit_x: (x[1] - x[0]) / (nx as f64 * size as f64),
             unit_y: (y[1] - y[0]) / (ny as f64 * size as f64),
+            moved: None,
             nx,
             ny,
             cells,
             active,
             active_index,
         }
+    }
+
+    /// A coarse `nx × ny` grid whose `(nx + 1) × (ny + 1)` vertices (row by row, x fastest) lie
+    /// at the given positions: every coarse cell is the bilinear quadrilateral of its four
+    /// vertices (the moved body of a load step). Fails, naming the cell, where a coarse cell is
+    /// folded or degenerate (det J ≤ 0 at a corner; det J of a bilinear map is affine in each
+    /// reference coordinate, so the corners decide).
+    pub fn with_coarse_vertices(
+        nx: usize,
+        ny: usize,
+        vertices: Vec<[f64; 2]>,
+    ) -> Result<Mesh, String> {
+        if vertices.len() != (nx + 1) * (ny + 1) {
+            return Err(format!(
+                "a {nx} × {ny} coarse grid has {} vertices, not {}",
+                (nx + 1) * (ny + 1),
+                vertices.len()
+            ));
+        }
+        if let Some(i) = vertices
+            .iter()
+            .position(|p| !(p[0].is_finite() && p[1].is_finite()))
+        {
+            return Err(format!(
+                "coarse vertex {i} is not finite: {:?}",
+                vertices[i]
+            ));
+        }
+        let mut mesh = Mesh::new([0.0, nx as f64], [0.0, ny as f64], nx, ny);
+        mesh.moved = Some(vertices);
+        for c in 0..(nx * ny) as CellId {
+            let shape = mesh.cell_shape(c);
+            for (xi, eta) in [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)] {
+                let j = shape.jacobian(xi, eta);
+                let det = j[0][0] * j[1][1] - j[0][1] * j[1][0];
+                if det.is_nan() || det <= 0.0 {
+                    let (i, jj) = (c as usize % nx, c as usize / nx);
+                    return Err(format!(
+                        "coarse cell ({i}, {jj}) is folded or degenerate: det J = {det:.3e} at \
+                         its corner (ξ, η) = ({xi}, {eta})"
+                    ));
+                }
+            }
+        }
+        Ok(mesh)
+    }
+
+    /// Whether the coarse vertices are moved (cells are general quadrilaterals).
+    pub fn is_moved(&self) -> bool {
+        self.moved.is_some()
     }
 
     /// Active cells in depth-first order.
@@ -217,16 +559,41 @@ impl Mesh {
         ]
     }
 
-    /// Physical position of an integer point.
+    /// Physical position of an integer point. On a moved grid: the bilinear map of the coarse
+    /// cell that holds it (always the same one for a given point: the lowest-numbered one, so
+    /// that every cell sharing a vertex sees the same bits).
     pub fn point(&self, key: (u32, u32)) -> [f64; 2] {
-        [
-            self.x0 + key.0 as f64 * self.unit_x,
-            self.y0 + key.1 as f64 * self.unit_y,
-        ]
+        match &self.moved {
+            None => [
+                self.x0 + key.0 as f64 * self.unit_x,
+                self.y0 + key.1 as f64 * self.unit_y,
+            ],
+            Some(v) => {
+                let size = 1u32 << MAX_LEVEL;
+                let i = ((key.0 / size) as usize).min(self.nx - 1);
+                let j = ((key.1 / size) as usize).min(self.ny - 1);
+                let xi = (key.0 as f64 - (i as u64 * size as u64) as f64) / size as f64;
+                let eta = (key.1 as f64 - (j as u64 * size as u64) as f64) / size as f64;
+                let row = self.nx + 1;
+                let corners = [
+                    v[j * row + i],
+                    v[j * row + i + 1],
+                    v[(j + 1) * row + i],
+                    v[(j + 1) * row + i + 1],
+                ];
+                CellShape::Quadrilateral(corners).point(xi, eta)
+            }
+        }
     }
 
-    /// Physical bounding box `[x0, y0, x1, y1]` of a cell.
+    /// Physical bounding box `[x0, y0, x1, y1]` of a cell (the cell itself on an unmoved grid).
     pub fn cell_box(&self, c: CellId) -> [f64; 4] {
+        if self.moved.is_some() {
+            let v = self.cell_shape(c).vertices();
+            let lo = |k: usize| v.iter().map(|p| p[k]).fold(f64::INFINITY, f64::min);
+            let hi = |k: usize| v.iter().map(|p| p[k]).fold(f64::NEG_INFINITY, f64::max);
+            return [lo(0), lo(1), hi(0), hi(1)];
+        }
         let cell = self.cells[c as usize];
         let w = Self::width(cell.level) as f64;
         let x0 = self.x0 + cell.x as f64 * self.unit_x;
@@ -234,10 +601,44 @@ impl Mesh {
         [x0, y0, x0 + w * self.unit_x, y0 + w * self.unit_y]
     }
 
-    /// Diameter h_Q (length of the diagonal), the cell size of every estimator.
+    /// The physical shape of a cell: an axis-parallel rectangle on an unmoved grid, the bilinear
+    /// quadrilateral of its vertices on a moved one.
+    pub fn cell_shape(&self, c: CellId) -> CellShape {
+        if self.moved.is_some() {
+            CellShape::Quadrilateral(self.corner_keys(c).map(|k| self.point(k)))
+        } else {
+            let [x0, y0, x1, y1] = self.cell_box(c);
+            CellShape::Rectangle { x0, y0, x1, y1 }
+        }
+    }
+
+    /// Diameter h_Q of a cell ([`CellShape::diameter`]), the cell size of every estimator.
     pub fn diameter(&self, c: CellId) -> f64 {
-        let b = self.cell_box(c);
-        (b[2] - b[0]).hypot(b[3] - b[1])
+        self.cell_shape(c).diameter()
+    }
+
+    /// Stable id of a cell ([`CellKey`]).
+    pub fn cell_key(&self, c: CellId) -> CellKey {
+        let cell = self.cells[c as usize];
+        CellKey {
+            level: cell.level,
+            x: cell.x,
+            y: cell.y,
+        }
+    }
+
+    /// The boundary face of active cell `c` at `face`, if that face lies on the domain boundary.
+    pub fn boundary_face(&self, c: CellId, face: Face) -> Option<BoundaryFace> {
+        let Neighbor::Boundary(side) = self.neighbor(c, face) else {
+            return None;
+        };
+        let [a, b] = face.vertices().map(|i| self.corner_keys(c)[i]);
+        let (start, end) = if side.is_horizontal() {
+            (a.0 as u64, b.0 as u64)
+        } else {
+            (a.1 as u64, b.1 as u64)
+        };
+        Some(BoundaryFace::spanning(side, start, end))
     }
 
     /// Extent of the domain in integer units.
@@ -336,6 +737,9 @@ impl Mesh {
     /// Active cell containing the physical point `p` (points on shared edges go to the cell
     /// above/right), or `None` outside the domain.
     pub fn locate(&self, p: [f64; 2]) -> Option<CellId> {
+        if self.moved.is_some() {
+            return self.locate_moved(p);
+        }
         let (ex, ey) = self.extent();
         let fx = (p[0] - self.x0) / self.unit_x;
         let fy = (p[1] - self.y0) / self.unit_y;
@@ -356,6 +760,25 @@ impl Mesh {
             fy.floor().clamp(0.0, (ey - 1) as f64) as u32
         };
         Some(self.descend(x, y, MAX_LEVEL))
+    }
+
+    /// [`Mesh::locate`] on a moved grid: the coarse cell whose reference coordinates of `p` lie
+    /// in \[0,1\]² (up to 1e-9), then down the tree by integer position.
+    fn locate_moved(&self, p: [f64; 2]) -> Option<CellId> {
+        let size = 1u64 << MAX_LEVEL;
+        let tol = 1e-9;
+        (0..(self.nx * self.ny) as CellId).find_map(|c| {
+            let (xi, eta) = self.cell_shape(c).reference(p);
+            let inside = |t: f64| t > -tol && t < 1.0 + tol;
+            if !(inside(xi) && inside(eta)) {
+                return None;
+            }
+            let cell = self.cells[c as usize];
+            let offset = |t: f64| ((t.clamp(0.0, 1.0) * size as f64).round() as u64).min(size - 1);
+            let x = cell.x as u64 + offset(xi);
+            let y = cell.y as u64 + offset(eta);
+            Some(self.descend(x as u32, y as u32, MAX_LEVEL))
+        })
     }
 
     /// Refine the active cells flagged in `refine` and coarsen complete sibling groups whose

@@ -2,7 +2,7 @@
 
 use serde::Serialize;
 
-use crate::experiment::AdditivePart;
+use crate::experiment::{AdditivePart, Experiment};
 
 /// One printed Chapter IV table.
 #[derive(Clone, Debug, Serialize, PartialEq)]
@@ -22,6 +22,18 @@ pub struct ThesisTable {
 }
 
 impl ThesisTable {
+    /// The printed table of an experiment (reference data, never an output).
+    pub fn of(experiment: &Experiment) -> ThesisTable {
+        ThesisTable {
+            table: experiment.table.clone(),
+            section: experiment.section.clone(),
+            columns: experiment.thesis.columns.clone(),
+            rows: experiment.thesis.rows.clone(),
+            duplicate_of: experiment.thesis.duplicate_of.clone(),
+            additive_part: experiment.thesis.additive_part.clone(),
+        }
+    }
+
     /// Printed value of `column` in printed cycle `cycle`, if the thesis has it.
     pub fn value(&self, cycle: usize, column: &str) -> Option<f64> {
         let c = self.columns.iter().position(|n| n == column)?;

@@ -4,16 +4,17 @@ use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::sync::{Arc, Mutex, OnceLock};
 
-use tribo::experiment::{self, ExperimentSpec};
+use tribo::experiment::{self, Experiment};
 use tribo::mesh::Mesh;
 use tribo::results::RunResult;
 use tribo::study::{self, Tier};
+use tribo::thesis::ThesisTable;
 
 pub fn experiments_dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("experiments")
 }
 
-pub fn spec(table: &str) -> ExperimentSpec {
+pub fn spec(table: &str) -> Experiment {
     experiment::load(&experiments_dir().join(format!("{table}.toml"))).expect("experiment loads")
 }
 
@@ -58,20 +59,21 @@ pub fn assert_ratio_spread(table: &str, ratios: &[f64], limit: f64) {
 /// rows computed): every ratio within [0.60, 0.85], geometric mean within [0.66, 0.76].
 pub fn assert_convergence(table: &str, r: &RunResult) {
     let w = spec(table).study.convergence_window;
-    let ratios: Vec<f64> = r
+    let cycles_and_ratios: Vec<(usize, f64)> = r
         .rows
         .iter()
         .filter(|row| row.cycle >= w[0] && row.cycle <= w[1])
-        .filter_map(|row| row.ratio)
+        .filter_map(|row| Some((row.cycle, row.ratio()?)))
         .collect();
+    let ratios: Vec<f64> = cycles_and_ratios.iter().map(|(_, q)| *q).collect();
     assert!(
         !ratios.is_empty(),
         "{table}: no ratio inside the window {w:?}"
     );
-    for (i, q) in ratios.iter().enumerate() {
+    for (cycle, q) in &cycles_and_ratios {
         assert!(
             (0.60..=0.85).contains(q),
-            "{table}: ratio {q} (#{i} in window {w:?}) outside [0.60, 0.85]: {ratios:?}"
+            "{table} cycle {cycle}: ratio {q} outside [0.60, 0.85] (window {w:?}: {ratios:?})"
         );
     }
     let gm = (ratios.iter().map(|q| q.ln()).sum::<f64>() / ratios.len() as f64).exp();
@@ -109,7 +111,7 @@ pub fn assert_golden(tables: &[&str]) {
 
 /// The cycle-0 estimate of a table rounds to the printed 4 decimals.
 pub fn assert_printed_cycle_zero(table: &str, printed: f64) {
-    let e = quick(table).rows[0].estimate;
+    let e = quick(table).rows[0].estimate().unwrap();
     assert!(
         ((e * 1e4).round() / 1e4 - printed).abs() < 1e-12,
         "{table}: cycle-0 estimate {e} is not {printed}"
@@ -124,26 +126,25 @@ pub fn assert_thesis_rows(
     dofs_tol: f64,
     estimate_tol: Option<f64>,
 ) -> Vec<f64> {
-    let thesis = study::thesis_table(&spec(t));
+    let thesis = ThesisTable::of(&spec(t));
     let mut ratios = Vec::new();
     for row in &r.rows {
         let dofs = thesis.value(row.cycle, "dofs").unwrap();
         let est = thesis.value(row.cycle, "estimate").unwrap();
+        let (tribo_dofs, estimate) = (row.value("dofs").unwrap(), row.estimate().unwrap());
         assert!(
-            rel(row.dofs as f64, dofs).abs() <= dofs_tol,
-            "{t} cycle {}: dofs {} vs thesis {dofs}",
+            rel(tribo_dofs, dofs).abs() <= dofs_tol,
+            "{t} cycle {}: dofs {tribo_dofs} vs thesis {dofs} (tolerance {dofs_tol})",
             row.cycle,
-            row.dofs
         );
         if let Some(tol) = estimate_tol {
             assert!(
-                rel(row.estimate, est).abs() <= tol,
-                "{t} cycle {}: estimate {} vs thesis {est}",
+                rel(estimate, est).abs() <= tol,
+                "{t} cycle {}: estimate {estimate} vs thesis {est} (tolerance {tol})",
                 row.cycle,
-                row.estimate
             );
         }
-        ratios.push(row.estimate / est);
+        ratios.push(estimate / est);
     }
     ratios
 }

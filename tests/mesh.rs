@@ -2,7 +2,7 @@
 
 use crate::common::refine_around;
 use tribo::adaptivity::{apply_noise_floor, mark_fixed_number, rounded_measure, PLATEAU_CELLS};
-use tribo::fe::DofMap;
+use tribo::fe::{Constraints, DofMap};
 use tribo::mesh::{Mesh, Neighbor, FACES};
 
 #[test]
@@ -46,7 +46,7 @@ fn twelve_levels_of_local_refinement_keep_two_to_one_and_valid_constraints() {
     for h in &v.hanging {
         u[h.vertex as usize] = f64::NAN;
     }
-    dofs.distribute_hanging(&mut u);
+    Constraints::new(&dofs).distribute(&mut u);
     for (i, p) in v.coords.iter().enumerate() {
         assert!((u[i] - lin(*p)).abs() < 1e-12);
     }

@@ -11,9 +11,10 @@ use std::time::Instant;
 use clap::Parser;
 use indicatif::{ProgressBar, ProgressStyle};
 
-use tribo::experiment::{self, ExperimentSpec};
+use tribo::experiment::{self, Experiment};
 use tribo::report::{self, data, Alternative, ReportMeta, Section};
 use tribo::study::{self, Tier};
+use tribo::thesis::ThesisTable;
 
 /// Regenerate the Chapter IV tables of Gimbel (2012) and render them beside the thesis tables.
 #[derive(Parser, Debug)]
@@ -78,15 +79,14 @@ fn run(cli: &Cli) -> Result<bool, String> {
         ));
     }
     let tier = if cli.quick { Tier::Quick } else { Tier::Full };
-    let readings_of = |s: &ExperimentSpec| {
+    let readings_of = |s: &Experiment| {
         if cli.no_alternatives {
             Vec::new()
         } else {
             study::alternative_readings(s)
         }
     };
-    let cycles =
-        |s: &ExperimentSpec| (s.study.unprinted_cycles + study::printed_rows(s, tier)) as u64;
+    let cycles = |s: &Experiment| study::solves(s, tier) as u64;
     let total_cycles: u64 = specs
         .iter()
         .map(|s| cycles(s) * (1 + readings_of(s).len() as u64))
@@ -111,7 +111,7 @@ fn run(cli: &Cli) -> Result<bool, String> {
         let progress = |_: &str, done: usize, _: usize| bar.set_position(base + done as u64);
         match study::run(spec, tier, &progress) {
             Ok(r) => {
-                let thesis = study::thesis_table(spec);
+                let thesis = ThesisTable::of(spec);
                 write_data(&cli.out, &r)?;
                 let mut alternatives = Vec::new();
                 for alt in readings {
@@ -119,7 +119,7 @@ fn run(cli: &Cli) -> Result<bool, String> {
                     let base = bar.position();
                     let progress =
                         |_: &str, done: usize, _: usize| bar.set_position(base + done as u64);
-                    match study::run(&alt.spec, tier, &progress) {
+                    match study::run(&alt.experiment, tier, &progress) {
                         Ok(mut run) => {
                             run.table = format!("{}.{}", spec.table, alt.suffix);
                             write_data(&cli.out, &run)?;

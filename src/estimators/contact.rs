@@ -34,11 +34,34 @@
 use rayon::prelude::*;
 
 use super::elasticity::{self as elasticity_estimator, BoundaryTerms};
-use crate::experiment::ContactEstimator;
-use crate::fe::{quadrature, DofMap, Rect};
-use crate::mesh::{Face, Mesh, Neighbor};
-use crate::models::contact::{Constraint, ContactBoundary};
+use super::FaceIndicators;
+use crate::fe::{quadrature, DofMap};
+use crate::mesh::{Face, Mesh};
+use crate::models::contact::{ContactBoundary, ContactConstraint};
 use crate::models::elasticity::Elasticity;
+
+/// The term set of the contact estimator (Theorem III.15) that the thesis's codes evidently used
+/// (module docs).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ContactEstimator {
+    /// Cell residual, ½ interior jumps, full Neumann residual, ‖∇(n·s_h)‖² on all Γ_C faces.
+    ZCode,
+    /// The z-code plus the obstacle part of η_{C,Q}, h_Q‖∂₁I_h b‖² on all Γ_C faces.
+    ZCodeObstacleSlope,
+    /// Cell residual and ½ interior jumps only, η_C on contact cells (Σ_p1).
+    SignoriniCode,
+}
+
+impl From<crate::experiment::ContactEstimator> for ContactEstimator {
+    fn from(e: crate::experiment::ContactEstimator) -> ContactEstimator {
+        use crate::experiment::ContactEstimator as File;
+        match e {
+            File::ZCode => ContactEstimator::ZCode,
+            File::ZCodeObstacleSlope => ContactEstimator::ZCodeObstacleSlope,
+            File::SignoriniCode => ContactEstimator::SignoriniCode,
+        }
+    }
+}
 
 /// Indicators of one cycle and the contact contributions printed in Tables IV.12–IV.17.
 #[derive(Clone, Debug)]
@@ -55,6 +78,9 @@ pub struct ContactEstimate {
     /// for a flat obstacle). Shown beside the estimate to explain the offset of Tables IV.7,
     /// IV.8 and IV.11, whose obstacle terms are not calibrated.
     pub obstacle: f64,
+    /// The contact part h_Q(η_{C,Q}² + h_Q⁻²η_{−C,Q}²) of each Γ_C face (with the obstacle slope
+    /// where the term set has it), keyed by the face's stable id, in order along the sides.
+    pub faces: FaceIndicators,
 }
 
 /// Squared indicators of Theorem III.15 with the term set `variant`.
@@ -68,7 +94,7 @@ pub fn indicators(
     u: &[f64],
     problem: &Elasticity,
     boundaries: &[ContactBoundary],
-    constraints: &[Constraint],
+    constraints: &[ContactConstraint],
     active: &[bool],
     variant: ContactEstimator,
 ) -> ContactEstimate {
@@ -89,7 +115,8 @@ pub fn indicators(
         of_vertex[c.vertex as usize] = Some(i);
     }
     let (gp, gw) = quadrature::gauss(4);
-    let parts: Vec<(f64, f64, f64)> = mesh
+    let with_slope = variant == ContactEstimator::ZCodeObstacleSlope;
+    let parts: Vec<(f64, f64, f64, FaceIndicators)> = mesh
         .active()
         .par_iter()
         .enumerate()
@@ -97,15 +124,16 @@ pub fn indicators(
             let mut contact = 0.0;
             let mut gap = 0.0;
             let mut obstacle = 0.0;
+            let mut faces = FaceIndicators::new();
             for face in [Face::Bottom, Face::Top] {
-                let Neighbor::Boundary(side) = mesh.neighbor(c, face) else {
+                let Some(id) = mesh.boundary_face(c, face) else {
                     continue;
                 };
-                let Some(cb) = boundaries.iter().find(|b| b.side == side) else {
+                let Some(cb) = boundaries.iter().find(|b| b.side == id.side) else {
                     continue;
                 };
-                let r = Rect::from_box(mesh.cell_box(c));
-                let h = r.diameter();
+                let (contact_before, gap_before, obstacle_before) = (contact, gap, obstacle);
+                let h = mesh.cell_shape(c).diameter();
                 let cv = dofs.vertices.cell_vertices[k];
                 let [la, lb] = face.vertices();
                 let (va, vb) = (cv[la], cv[lb]);
@@ -181,22 +209,31 @@ pub fn indicators(
                         gap += eg / h;
                     }
                 }
+                let slope = if with_slope {
+                    obstacle - obstacle_before
+                } else {
+                    0.0
+                };
+                faces.push((id, (contact - contact_before) + (gap - gap_before) + slope));
             }
-            (contact, gap, obstacle)
+            (contact, gap, obstacle, faces)
         })
         .collect();
     let (mut contact, mut gap, mut obstacle) = (0.0, 0.0, 0.0);
-    let with_slope = variant == ContactEstimator::ZCodeObstacleSlope;
-    for (e, (c, g, o)) in eta2.iter_mut().zip(&parts) {
-        *e += c + g + if with_slope { *o } else { 0.0 };
+    let mut faces = FaceIndicators::new();
+    for (e, (c, g, o, f)) in eta2.iter_mut().zip(parts) {
+        *e += c + g + if with_slope { o } else { 0.0 };
         contact += c;
         gap += g;
         obstacle += o;
+        faces.extend(f);
     }
+    faces.sort_by_key(|f| f.0);
     ContactEstimate {
         eta2,
         contact,
         gap,
         obstacle,
+        faces,
     }
 }

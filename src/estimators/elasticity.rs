@@ -6,13 +6,18 @@
 //! J_E = ½(σ(s_h)|_Q − σ(s_h)|_{Q′}) n_Q on interior faces, σ(s_h)n − τn on Neumann faces
 //! (full, no ½) and 0 on Dirichlet faces; h_Q is the cell diagonal, c = 1. This reproduces the
 //! five printed cycle-0 estimates of Tables IV.1–IV.5 to all four digits.
+//!
+//! The cell residual ρf + div σ(s_h) = ρf + μΔs_h + (μ + 2λ)∇div s_h uses the Hessian of the
+//! bilinear field ([`crate::fe::cell_values::hessian`]): on a rectangle only ∂₁∂₂s_h is non-zero,
+//! so div σ(s_h) = (μ + 2λ)(∂₁₂s₂, ∂₁₂s₁) there.
 
 use rayon::prelude::*;
 
 use super::face_segments;
-use crate::experiment::Side;
-use crate::fe::{q1, quadrature, DofMap, Rect};
-use crate::mesh::{Mesh, FACES};
+use crate::fe::cell_values::{hessian, CellValues};
+use crate::fe::quadrature::{self, square_rule};
+use crate::fe::DofMap;
+use crate::mesh::{Mesh, Side, FACES};
 use crate::models::elasticity::Elasticity;
 
 /// Which boundary residuals the estimator includes (the three thesis codes differ here,
@@ -42,30 +47,33 @@ pub fn indicators(
     problem: &Elasticity,
     terms: &BoundaryTerms,
 ) -> Vec<f64> {
-    let quad = quadrature::square(3);
+    let rule = square_rule::<9>();
     let (fp, fw) = quadrature::gauss(2);
     let (mu, lambda) = (problem.mu, problem.lambda);
     mesh.active()
         .par_iter()
         .enumerate()
         .map(|(k, &c)| {
-            let r = Rect::from_box(mesh.cell_box(c));
-            let h = r.diameter();
-            // div σ(s_h) = (μ + 2λ)(∂₁₂s₂, ∂₁₂s₁) for bilinear s_h on a rectangle.
-            let m = q1::mixed_derivatives(r.hx, r.hy);
+            let cv = CellValues::new(mesh.cell_shape(c), &rule);
+            let shape = cv.shape();
+            let h = shape.diameter();
             let u0 = dofs.corner_values(u, k, 0);
             let u1 = dofs.corner_values(u, k, 1);
-            let d12 = |v: [f64; 4]| (0..4).map(|i| v[i] * m[i]).sum::<f64>();
-            let div_sigma = [(mu + 2.0 * lambda) * d12(u1), (mu + 2.0 * lambda) * d12(u0)];
             let mut cell = 0.0;
-            for &(xi, eta, w) in &quad {
-                let f = problem.volume_load(r.point(xi, eta));
+            for (q, &(xi, eta, _)) in rule.iter().enumerate() {
+                // div σ(s_h) = μΔs_h + (μ + 2λ)∇div s_h
+                let (h0, h1) = (hessian(shape, u0, xi, eta), hessian(shape, u1, xi, eta));
+                let div_sigma = [
+                    mu * (h0[0][0] + h0[1][1]) + (mu + 2.0 * lambda) * (h0[0][0] + h1[0][1]),
+                    mu * (h1[0][0] + h1[1][1]) + (mu + 2.0 * lambda) * (h0[0][1] + h1[1][1]),
+                ];
+                let f = problem.volume_load(cv.point(q));
                 let res = [f[0] + div_sigma[0], f[1] + div_sigma[1]];
-                cell += (res[0] * res[0] + res[1] * res[1]) * w * r.area();
+                cell += (res[0] * res[0] + res[1] * res[1]) * cv.weight(q) * cv.det(q);
             }
             let mut faces = 0.0;
             for face in FACES {
-                let n = face.normal();
+                let n = shape.face_normal(face);
                 let (side, segments) = face_segments(mesh, c, face);
                 if let Some(side) = side {
                     if problem.is_dirichlet(side)

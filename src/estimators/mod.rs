@@ -7,8 +7,7 @@ pub mod contact;
 pub mod elasticity;
 pub mod reynolds;
 
-use crate::experiment::Side;
-use crate::mesh::{CellId, Face, Mesh, Neighbor};
+use crate::mesh::{BoundaryFace, CellId, Face, Mesh, Neighbor, Side};
 
 /// A straight piece of a cell face with what lies on its other side.
 #[derive(Clone, Copy, Debug)]
@@ -38,10 +37,7 @@ impl FaceSegment {
 /// neighbour) or two (two finer neighbours; hanging faces are integrated over the fine
 /// sub-faces). Returns the boundary side if the face lies on one.
 pub fn face_segments(mesh: &Mesh, c: CellId, face: Face) -> (Option<Side>, Vec<FaceSegment>) {
-    let b = mesh.cell_box(c);
-    let corners = [[b[0], b[1]], [b[2], b[1]], [b[0], b[3]], [b[2], b[3]]];
-    let [va, vb] = face.vertices();
-    let (pa, pb) = (corners[va], corners[vb]);
+    let [pa, pb] = mesh.cell_shape(c).face_vertices(face);
     match mesh.neighbor(c, face) {
         Neighbor::Boundary(side) => (
             Some(side),
@@ -84,3 +80,7 @@ pub fn face_segments(mesh: &Mesh, c: CellId, face: Face) -> (Option<Side>, Vec<F
 pub fn total(indicators_squared: &[f64]) -> f64 {
     indicators_squared.iter().sum::<f64>().sqrt()
 }
+
+/// Indicators on boundary faces, keyed by their stable ids ([`BoundaryFace`]) and sorted by them:
+/// the units of model adaptivity (the contact faces f ⊂ Γ_C of §III.1.1).
+pub type FaceIndicators = Vec<(BoundaryFace, f64)>;

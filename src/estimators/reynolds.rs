@@ -44,14 +44,15 @@
 
 use rayon::prelude::*;
 
-use crate::fe::{q1, quadrature, DofMap, Rect};
+use crate::fe::cell_values::{evaluate_at, CellValues};
+use crate::fe::quadrature::{self, square_rule};
+use crate::fe::DofMap;
 use crate::mesh::{Mesh, Neighbor, FACES};
-use crate::models::reynolds::{quadrature_points, CellData};
+use crate::models::reynolds::CellData;
 
 /// How the volume residual of Theorem III.17 treats the cavitation zone (module docs; experiment
 /// field `scene.reynolds.zone_residual`, default `full`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Deserialize)]
-#[serde(rename_all = "kebab-case")]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum ZoneResidual {
     /// ρ_Q,c as printed: the full residual everywhere (tribo's reading).
     #[default]
@@ -70,6 +71,17 @@ impl ZoneResidual {
             ZoneResidual::Full => "full",
             ZoneResidual::OffZone => "off-zone",
             ZoneResidual::OffTouching => "off-touching",
+        }
+    }
+}
+
+impl From<crate::experiment::ZoneResidual> for ZoneResidual {
+    fn from(z: crate::experiment::ZoneResidual) -> ZoneResidual {
+        use crate::experiment::ZoneResidual as File;
+        match z {
+            File::Full => ZoneResidual::Full,
+            File::OffZone => ZoneResidual::OffZone,
+            File::OffTouching => ZoneResidual::OffTouching,
         }
     }
 }
@@ -130,22 +142,19 @@ pub fn indicator_sets<const N: usize>(
     data: &CellData,
     residuals: [VolumeResidual; N],
 ) -> [Vec<f64>; N] {
-    let quad = quadrature_points();
-    let phis: Vec<[f64; 4]> = quad.iter().map(|&(x, e, _)| q1::values(x, e)).collect();
+    let rule = square_rule::<4>();
     let (fp, fw) = quadrature::gauss(2);
     let active = mesh.active();
     let per_cell: Vec<[f64; N]> = active
         .par_iter()
         .enumerate()
         .map(|(k, &c)| {
-            let r = Rect::from_box(mesh.cell_box(c));
-            let h = r.diameter();
+            let cv = CellValues::new(mesh.cell_shape(c), &rule);
+            let shape = cv.shape();
+            let h = shape.diameter();
             let u = dofs.corner_values(psi, k, 0);
             let zeros = u.iter().filter(|&&v| v == 0.0).count();
-            let psi_q: [f64; 4] = std::array::from_fn(|q| {
-                let phi = phis[q];
-                u[0] * phi[0] + u[1] * phi[1] + u[2] * phi[2] + u[3] * phi[3]
-            });
+            let psi_q: [f64; 4] = std::array::from_fn(|q| cv.value(u, q));
             // ‖ρ_Q‖²_Q for one term set.
             let volume = |residual: &VolumeResidual| {
                 let skip = match residual.zone {
@@ -156,8 +165,7 @@ pub fn indicator_sets<const N: usize>(
                 if skip {
                     return 0.0;
                 }
-                let mut cell = 0.0;
-                for (q, &(_, _, w)) in quad.iter().enumerate() {
+                cv.integrate(|q| {
                     let mut res = data.load[k][q];
                     if residual.operator_term {
                         res -= psi_q[q] * data.dg_over_g[k][q];
@@ -165,28 +173,22 @@ pub fn indicator_sets<const N: usize>(
                     if !residual.squeeze_term {
                         res -= data.squeeze[k][q];
                     }
-                    cell += res * res * w;
-                }
-                cell * r.area()
+                    res * res
+                })
             };
             let mut faces = 0.0;
             for face in FACES {
-                let n = face.normal();
-                let [va, vb] = face.vertices();
-                let b = mesh.cell_box(c);
-                let corners = [[b[0], b[1]], [b[2], b[1]], [b[0], b[3]], [b[2], b[3]]];
-                let (pa, pb) = (corners[va], corners[vb]);
+                let n = shape.face_normal(face);
+                let [pa, pb] = shape.face_vertices(face);
                 let segment = |a: [f64; 2], bb: [f64; 2], nb: usize| {
                     let len = (bb[0] - a[0]).hypot(bb[1] - a[1]);
-                    let rn = Rect::from_box(mesh.cell_box(active[nb]));
+                    let neighbour = mesh.cell_shape(active[nb]);
                     let un = dofs.corner_values(psi, nb, 0);
                     let mut s = 0.0;
                     for (t, w) in fp.iter().zip(fw) {
                         let p = [a[0] + t * (bb[0] - a[0]), a[1] + t * (bb[1] - a[1])];
-                        let (xi, eta) = r.reference(p);
-                        let (_, g) = r.eval(u, xi, eta);
-                        let (xin, etan) = rn.reference(p);
-                        let (_, gn) = rn.eval(un, xin, etan);
+                        let (_, g) = evaluate_at(shape, u, p);
+                        let (_, gn) = evaluate_at(&neighbour, un, p);
                         let j = 0.5 * ((g[0] - gn[0]) * n[0] + (g[1] - gn[1]) * n[1]);
                         s += j * j * w;
                     }

@@ -1,8 +1,9 @@
 //! Parsing and validation of experiment files.
 //!
-//! [`load`] reads one file with the `toml` crate into [`ExperimentSpec`] and then checks what
-//! serde cannot: ranges, consistency between sections, and the conventions of Chapter IV (table
-//! ids `IV.1`…`IV.75`, the fixed-fraction marking of §IV.1, printed rows numbered from cycle 0).
+//! [`load`] reads one file with the `toml` crate into [`ExperimentFile`], checks what serde
+//! cannot — ranges, consistency between sections, and the conventions of Chapter IV (table ids
+//! `IV.1`…`IV.75`, the fixed-fraction marking of §IV.1, printed rows numbered from cycle 0) — and
+//! returns the typed [`Experiment`]: the effects and their data sections become one [`Problem`].
 //! Nothing here panics on user input; every failure is an [`ExperimentError`].
 
 use std::collections::BTreeSet;
@@ -14,6 +15,7 @@ use toml::Spanned;
 
 use super::error::ExperimentError;
 use super::spec::*;
+use super::{Experiment, Problem, Scene};
 
 /// Highest table number of Chapter IV (Table IV.75).
 const LAST_TABLE: u32 = 75;
@@ -22,16 +24,43 @@ const LAST_TABLE: u32 = 75;
 ///
 /// Errors name the file and the field: I/O errors, TOML syntax, type, missing- and
 /// unknown-field errors (wrapped with toml's message, which shows the line), and every
-/// semantic check of [`ExperimentSpec`] (see the module documentation).
-pub fn load(path: &Path) -> Result<ExperimentSpec, ExperimentError> {
+/// semantic check of [`ExperimentFile`] (see the module documentation).
+pub fn load(path: &Path) -> Result<Experiment, ExperimentError> {
     let text = fs::read_to_string(path).map_err(|source| ExperimentError::Read {
         path: path.to_path_buf(),
         source,
     })?;
-    let spec: ExperimentSpec =
+    let file: ExperimentFile =
         toml::from_str(&text).map_err(|error| toml_error(path, &text, &error))?;
-    Check { path }.experiment(&spec)?;
-    Ok(spec)
+    let check = Check { path };
+    check.experiment(&file)?;
+    let problem = check.problem(&file.scene)?;
+    let ExperimentFile {
+        table,
+        section,
+        title,
+        scene,
+        study,
+        probes,
+        notes,
+        thesis,
+    } = file;
+    Ok(Experiment {
+        table,
+        section,
+        title,
+        scene: Scene {
+            name: scene.name,
+            domain: scene.domain,
+            coarse_cells: scene.coarse_cells,
+            global_refinements: scene.global_refinements,
+        },
+        problem,
+        study,
+        probes,
+        notes,
+        thesis,
+    })
 }
 
 /// Load every `*.toml` in `dir`, sorted by table number (IV.2 before IV.10).
@@ -39,10 +68,7 @@ pub fn load(path: &Path) -> Result<ExperimentSpec, ExperimentError> {
 /// With `only`, load just those tables; an id without a file is an error that names it and
 /// lists the available tables. Files not asked for are not read, so one broken file does not
 /// block the others.
-pub fn load_dir(
-    dir: &Path,
-    only: Option<&[String]>,
-) -> Result<Vec<ExperimentSpec>, ExperimentError> {
+pub fn load_dir(dir: &Path, only: Option<&[String]>) -> Result<Vec<Experiment>, ExperimentError> {
     let read_dir_error = |source| ExperimentError::ReadDir {
         dir: dir.to_path_buf(),
         source,
@@ -291,7 +317,7 @@ impl Check<'_> {
         Ok(())
     }
 
-    fn experiment(&self, spec: &ExperimentSpec) -> Checked {
+    fn experiment(&self, spec: &ExperimentFile) -> Checked {
         self.identity(spec)?;
         self.scene(&spec.scene)?;
         self.study(&spec.study)?;
@@ -300,7 +326,7 @@ impl Check<'_> {
     }
 
     /// Table id, section and title (Chapter IV numbering).
-    fn identity(&self, spec: &ExperimentSpec) -> Checked {
+    fn identity(&self, spec: &ExperimentFile) -> Checked {
         self.ensure(
             table_number(&spec.table).is_some(),
             "table",
@@ -332,7 +358,7 @@ impl Check<'_> {
         )
     }
 
-    fn scene(&self, scene: &Scene) -> Checked {
+    fn scene(&self, scene: &SceneFile) -> Checked {
         self.ensure(
             !scene.name.trim().is_empty(),
             "scene.name",
@@ -384,7 +410,7 @@ impl Check<'_> {
     /// The effect list and the data sections must agree: every effect needs its section, every
     /// section its effect; contact is a boundary condition of elasticity (§IV.2), Reynolds flow
     /// is a separate problem on its own domain (§IV.3).
-    fn effects(&self, scene: &Scene) -> Checked {
+    fn effects(&self, scene: &SceneFile) -> Checked {
         self.ensure(
             !scene.effects.is_empty(),
             "scene.effects",
@@ -436,6 +462,35 @@ impl Check<'_> {
             }
         }
         Ok(())
+    }
+
+    /// The typed problem of a checked scene: the effects and their sections (which
+    /// [`Check::effects`] has matched) as one variant.
+    fn problem(&self, scene: &SceneFile) -> Result<Problem, ExperimentError> {
+        let has = |e: Effect| scene.effects.contains(&e);
+        let section = |name: &str| {
+            self.fail(
+                &format!("scene.{name}"),
+                &format!("a [scene.{name}] section"),
+                "none",
+            )
+        };
+        if has(Effect::Reynolds) {
+            let reynolds = scene.reynolds.clone().ok_or_else(|| section("reynolds"))?;
+            return Ok(Problem::Reynolds(reynolds));
+        }
+        let elasticity = scene
+            .elasticity
+            .clone()
+            .ok_or_else(|| section("elasticity"))?;
+        if has(Effect::Contact) {
+            let contact = scene.contact.clone().ok_or_else(|| section("contact"))?;
+            return Ok(Problem::Contact {
+                elasticity,
+                contact,
+            });
+        }
+        Ok(Problem::Elasticity(elasticity))
     }
 
     /// Material and loads of (I.17) / (IV.1).
@@ -490,7 +545,7 @@ impl Check<'_> {
 
     /// Obstacles of §IV.2.1: on the bottom or top face only, one per face, disjoint from Γ₀ and
     /// Γ_τ.
-    fn contact(&self, data: &ContactData, scene: &Scene) -> Checked {
+    fn contact(&self, data: &ContactData, scene: &SceneFile) -> Checked {
         const F: &str = "scene.contact.obstacles";
         self.ensure(
             !data.obstacles.is_empty(),
@@ -664,7 +719,7 @@ impl Check<'_> {
     }
 
     /// Probe points inside the domain; components that the scene's effects compute.
-    fn probes(&self, probes: &Probes, scene: &Scene) -> Checked {
+    fn probes(&self, probes: &Probes, scene: &SceneFile) -> Checked {
         let Rectangle { x, y } = scene.domain;
         for (name, values, [lo, hi]) in [("x", &probes.x, x), ("y", &probes.y, y)] {
             for (i, &v) in values.iter().enumerate() {
@@ -810,12 +865,7 @@ impl Check<'_> {
 }
 
 fn side_name(side: Side) -> &'static str {
-    match side {
-        Side::Left => "left",
-        Side::Right => "right",
-        Side::Bottom => "bottom",
-        Side::Top => "top",
-    }
+    side.name()
 }
 
 fn effect_name(effect: Effect) -> &'static str {

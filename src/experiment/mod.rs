@@ -1,9 +1,11 @@
 //! Experiment files: one TOML file per Chapter IV table (`experiments/IV.n.toml`).
 //!
-//! [`spec`] holds the serde types of the format, [`load`] parses one file and checks it against
-//! the thesis's setting (§IV.1–§IV.3), [`load_dir`] loads a whole directory in table order. Every
-//! problem with a file — unreadable, bad TOML, wrong type, unknown or missing field, contradictory
-//! data — is an [`ExperimentError`] naming the file, the field and what was expected.
+//! [`spec`] holds the plain-data types of the format, [`load`] parses one file, checks it
+//! against the thesis's setting (§IV.1–§IV.3) and returns a typed [`Experiment`] whose
+//! [`Problem`] says which model to build; [`load_dir`] loads a whole directory in table order.
+//! Every problem with a file — unreadable, bad TOML, wrong type, unknown or missing field,
+//! contradictory data — is an [`ExperimentError`] naming the file, the field and what was
+//! expected.
 
 pub mod spec;
 
@@ -13,3 +15,84 @@ mod load;
 pub use error::ExperimentError;
 pub use load::{load, load_dir};
 pub use spec::*;
+
+/// One experiment, loaded and checked: the scene's geometry, the typed problem, how to iterate,
+/// probes, notes and the printed thesis rows.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Experiment {
+    /// Table id, `IV.1` … `IV.75`.
+    pub table: String,
+    /// Thesis section, e.g. `IV.1.1`.
+    pub section: String,
+    /// Human-readable title for the report.
+    pub title: String,
+    pub scene: Scene,
+    pub problem: Problem,
+    pub study: Study,
+    pub probes: Probes,
+    /// Readings of the thesis and known differences, shown in the report for this table.
+    pub notes: Vec<String>,
+    pub thesis: ThesisRows,
+}
+
+/// The domain and the initial mesh of a scene.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Scene {
+    /// Descriptive scene name, e.g. `box-constant-load`.
+    pub name: String,
+    /// Rectangle `[x0, x1] × [y0, y1]`.
+    pub domain: Rectangle,
+    /// Number of coarse cells in x and y (the level-0 quadtree roots).
+    pub coarse_cells: [usize; 2],
+    /// Global refinements of the coarse grid before the first solve ([`SceneFile`]).
+    pub global_refinements: usize,
+}
+
+/// What a scene simulates — the effects it names, with their data. One variant per model; the
+/// study builds the model of a variant in one match arm.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Problem {
+    /// Linear elasticity (I.17), §IV.1.
+    Elasticity(ElasticityData),
+    /// An elastic body in contact with rigid obstacles, (I.20)/(I.21), §IV.2.
+    Contact {
+        elasticity: ElasticityData,
+        contact: ContactData,
+    },
+    /// Reynolds thin-film flow (I.79), with or without cavitation (I.82), §IV.3.
+    Reynolds(ReynoldsData),
+}
+
+impl Problem {
+    /// The Reynolds data, if this is a Reynolds problem.
+    pub fn reynolds(&self) -> Option<&ReynoldsData> {
+        match self {
+            Problem::Reynolds(r) => Some(r),
+            _ => None,
+        }
+    }
+
+    /// The Reynolds data for changing a reading, if this is a Reynolds problem.
+    pub fn reynolds_mut(&mut self) -> Option<&mut ReynoldsData> {
+        match self {
+            Problem::Reynolds(r) => Some(r),
+            _ => None,
+        }
+    }
+
+    /// The contact data, if this is a contact problem.
+    pub fn contact(&self) -> Option<&ContactData> {
+        match self {
+            Problem::Contact { contact, .. } => Some(contact),
+            _ => None,
+        }
+    }
+
+    /// The names of the fields the problem computes (the probe components).
+    pub fn components(&self) -> &'static [&'static str] {
+        match self {
+            Problem::Elasticity(_) | Problem::Contact { .. } => &["s1", "s2"],
+            Problem::Reynolds(_) => &["psi"],
+        }
+    }
+}

@@ -4,28 +4,27 @@
 //! (how to iterate: grid-adaptive cycles, marking fractions, quick tier, convergence window) and
 //! the thesis rows for comparison (reference data only — never copied into an output).
 //!
-//! The types here only describe the file; [`super::load`] parses and validates it and reports
-//! errors naming the file, the field and what was expected.
+//! The types here are plain data: they describe the file and nothing else. [`super::load`] parses
+//! and validates a file and turns it into a typed [`super::Experiment`]; the models convert from
+//! these types (the study does it when it builds a model), so imports run one way: the models
+//! know nothing of the file format.
 
 use serde::{Deserialize, Serialize};
 
-pub use crate::estimators::reynolds::ZoneResidual;
-/// Obstacle shapes, gaps and the γ₃c reading are the models' own types, read directly from
-/// the file.
-pub use crate::models::obstacle::{SawReading, Shape as ObstacleShape};
-pub use crate::models::thin_film::{CavitationSource, Gap as GapShape};
+/// Sides of the domain are the mesh's own geometric type.
+pub use crate::mesh::Side;
 
-/// One experiment file (`experiments/IV.n.toml`).
+/// One experiment file (`experiments/IV.n.toml`), as written.
 #[derive(Clone, Debug, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
-pub struct ExperimentSpec {
+pub struct ExperimentFile {
     /// Table id, `IV.1` … `IV.75`.
     pub table: String,
     /// Thesis section, e.g. `IV.1.1`.
     pub section: String,
     /// Human-readable title for the report.
     pub title: String,
-    pub scene: Scene,
+    pub scene: SceneFile,
     pub study: Study,
     #[serde(default)]
     pub probes: Probes,
@@ -47,10 +46,10 @@ pub enum Effect {
     Reynolds,
 }
 
-/// Domain, coarse mesh, data and effects.
+/// Domain, coarse mesh, data and effects, as written.
 #[derive(Clone, Debug, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
-pub struct Scene {
+pub struct SceneFile {
     /// Descriptive scene name, e.g. `box-constant-load`, `wave-horizontal-squeeze`.
     pub name: String,
     /// Rectangle `[x0, x1] × [y0, y1]`.
@@ -74,16 +73,6 @@ pub struct Scene {
 pub struct Rectangle {
     pub x: [f64; 2],
     pub y: [f64; 2],
-}
-
-/// A side of the rectangular domain.
-#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq, PartialOrd, Ord, Hash)]
-#[serde(rename_all = "kebab-case")]
-pub enum Side {
-    Left,
-    Right,
-    Bottom,
-    Top,
 }
 
 /// Material and loads of the elasticity problem (I.17) with a(s,r) = 2μ⟨ε,ε⟩ + 2λ⟨div,div⟩.
@@ -141,7 +130,7 @@ pub enum ContactModel {
 }
 
 /// The term set of the contact estimator (Theorem III.15) that the thesis's codes evidently used
-/// (spec/estimators.md §5.2).
+/// (spec/estimators.md §5.2; `crate::estimators::contact::ContactEstimator`).
 #[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
 #[serde(rename_all = "kebab-case")]
 pub enum ContactEstimator {
@@ -172,6 +161,100 @@ pub struct Obstacle {
     pub shape: ObstacleShape,
 }
 
+/// Obstacle function b(x₁) (`crate::models::obstacle::Shape`, thesis §IV.2.1).
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum ObstacleShape {
+    /// b = level.
+    Constant { level: f64 },
+    /// b = offset + amplitude·sin(periods·2π(x₁+16)/32).
+    Periodic {
+        offset: f64,
+        amplitude: f64,
+        periods: f64,
+    },
+    /// b = base + height·θ_s(x₁ − at).
+    Jump {
+        base: f64,
+        height: f64,
+        at: f64,
+        s: f64,
+    },
+    /// The saw obstacle of §IV.2.1.6 in one of two readings of the printed formula.
+    Saw { s: f64, reading: SawReading },
+}
+
+/// How the printed saw formula of §IV.2.1.6 is read (`crate::models::obstacle::SawReading`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum SawReading {
+    /// The continuous saw through its nodes.
+    #[default]
+    Continuous,
+    /// The formula exactly as printed (with its jumps).
+    Literal,
+}
+
+/// Gap width g(x₁, x₂) of a fluid example, (IV.7)–(IV.20) (`crate::models::thin_film::Gap`).
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum GapShape {
+    /// g = g0.
+    Plain { g0: f64 },
+    /// g = g0 + slope·x₁.
+    Linear { g0: f64, slope: f64 },
+    /// g = g0 + amplitude·sin(2π·frequency·x₁).
+    WaveHorizontal {
+        g0: f64,
+        amplitude: f64,
+        frequency: f64,
+    },
+    /// g = g0 + amplitude·sin²(2π·frequency·x₁)·sin²(2π·frequency·x₂).
+    Hill {
+        g0: f64,
+        amplitude: f64,
+        frequency: f64,
+    },
+}
+
+/// Reading of the source term R₃c of (I.81) (`crate::models::thin_film::CavitationSource`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum CavitationSource {
+    /// γ₃c of (I.61) as printed.
+    #[default]
+    Printed,
+    /// 2γ₃ − γ₃c.
+    SelfConsistent,
+    /// R₃ of (I.77), the source without cavitation.
+    Reynolds,
+}
+
+/// The volume residual of Theorem III.17 in the cavitation zone
+/// (`crate::estimators::reynolds::ZoneResidual`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ZoneResidual {
+    /// The full residual everywhere, as the theorem states it.
+    #[default]
+    Full,
+    /// Dropped on cells whose four corner values are 0.
+    OffZone,
+    /// Dropped on cells with a corner value 0.
+    OffTouching,
+}
+
+impl ZoneResidual {
+    /// The experiment-file spelling.
+    pub fn name(self) -> &'static str {
+        match self {
+            ZoneResidual::Full => "full",
+            ZoneResidual::OffZone => "off-zone",
+            ZoneResidual::OffTouching => "off-touching",
+        }
+    }
+}
+
 /// Whether the Reynolds cavitation model (I.82) is used.
 #[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
 #[serde(rename_all = "kebab-case")]
@@ -183,7 +266,7 @@ pub enum Cavitation {
 }
 
 /// The terms of the Reynolds volume residual (Theorems III.16, III.17) the study marks with
-/// ([`crate::estimators::reynolds::VolumeResidual`]).
+/// (`crate::estimators::reynolds::VolumeResidual`).
 #[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
 #[serde(rename_all = "kebab-case")]
 pub enum ReynoldsEstimator {

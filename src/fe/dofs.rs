@@ -7,8 +7,7 @@
 
 use rayon::prelude::*;
 
-use crate::experiment::Side;
-use crate::mesh::{Mesh, Neighbor, FACES};
+use crate::mesh::{Mesh, Neighbor, Side, FACES};
 
 /// A vertex in the middle of a coarse cell's edge: value = ½(parent₀ + parent₁).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -110,6 +109,13 @@ impl Vertices {
         }
     }
 
+    /// Whether vertex `v` lies on the boundary of the domain.
+    pub fn on_boundary(&self, v: u32) -> bool {
+        [Side::Left, Side::Right, Side::Bottom, Side::Top]
+            .into_iter()
+            .any(|side| self.on_side(v, side))
+    }
+
     /// Vertices on a side, sorted along it.
     pub fn side_vertices(&self, side: Side) -> Vec<u32> {
         let mut v: Vec<u32> = (0..self.len() as u32)
@@ -170,16 +176,39 @@ impl DofMap {
     pub fn corner_values(&self, u: &[f64], k: usize, c: usize) -> [f64; 4] {
         self.vertices.cell_vertices[k].map(|v| u[v as usize * self.n_components + c])
     }
+}
 
-    /// Set hanging dofs to the mean of their parents (distribute the hanging-node constraints).
-    pub fn distribute_hanging(&self, u: &mut [f64]) {
-        let nc = self.n_components;
-        for h in &self.vertices.hanging {
-            for c in 0..nc {
-                let a = u[h.parents[0] as usize * nc + c];
-                let b = u[h.parents[1] as usize * nc + c];
-                u[h.vertex as usize * nc + c] = 0.5 * (a + b);
-            }
-        }
+/// The local dofs of a cell, vertex-major: local index `vertex · n_components + component` for
+/// the cell's four vertices in lexicographic order (the layout of the cell matrices and vectors
+/// of every assembler and of [`DofMap::cell_dofs`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LocalDofs {
+    pub n_components: usize,
+}
+
+impl LocalDofs {
+    pub fn new(n_components: usize) -> LocalDofs {
+        LocalDofs { n_components }
+    }
+
+    /// Number of local dofs (4 vertices × components).
+    pub fn len(&self) -> usize {
+        4 * self.n_components
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.n_components == 0
+    }
+
+    /// Local index of component `component` at local vertex `vertex`.
+    #[inline]
+    pub fn index(&self, vertex: usize, component: usize) -> usize {
+        vertex * self.n_components + component
+    }
+
+    /// Position of entry (local `i`, local `j`) in a row-major cell matrix.
+    #[inline]
+    pub fn entry(&self, i: usize, j: usize) -> usize {
+        i * self.len() + j
     }
 }

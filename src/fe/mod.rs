@@ -1,11 +1,16 @@
-//! Q₁ finite elements on quadtree meshes: quadrature, shape functions, dofs with hanging-node
-//! constraints, and sparse symmetric systems.
+//! Q₁ finite elements on quadtree meshes: quadrature, cell values on the bilinear map of a cell,
+//! dofs and the local-dof layout, constraints (hanging nodes, Dirichlet data, active sets), the
+//! sparsity pattern with its scatter plan, and the discrete system of one mesh.
 
+pub mod cell_values;
+pub mod constraints;
 pub mod dofs;
-pub mod q1;
+pub mod pattern;
 pub mod quadrature;
 pub mod system;
 
-pub use dofs::{DofMap, Hanging, Vertices};
-pub use q1::Rect;
-pub use system::{SolveBuffers, SolveError, SparseSystem};
+pub use cell_values::CellValues;
+pub use constraints::Constraints;
+pub use dofs::{DofMap, Hanging, LocalDofs, Vertices};
+pub use pattern::SparsityPattern;
+pub use system::System;

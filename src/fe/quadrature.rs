@@ -40,3 +40,17 @@ pub fn square(n: usize) -> Vec<(f64, f64, f64)> {
     }
     q
 }
+
+/// The tensor-product Gauss rule with `N` = n² points on the reference square (n = 1…4) as an
+/// array, for [`super::CellValues`]: `(ξ, η, weight)` in the order of [`square`].
+pub fn square_rule<const N: usize>() -> [(f64, f64, f64); N] {
+    let n = match N {
+        1 => 1,
+        4 => 2,
+        9 => 3,
+        16 => 4,
+        _ => panic!("no tensor Gauss rule with {N} points"),
+    };
+    let q = square(n);
+    std::array::from_fn(|i| q[i])
+}

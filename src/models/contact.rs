@@ -17,15 +17,29 @@
 //! ([`ConstraintBuilder::face_model`]), so one solve can mix both models (§IV.2.3); a vertex
 //! between a z-face and a Signorini-face takes the Signorini constraint \[A\].
 //!
-//! Solver: primal–dual active set (semismooth Newton, [`solve_pdas`]) on top of the faer
-//! Cholesky of [`SparseSystem::solve_fixed`]. Every constrained vertex is rotated into its
-//! normal/tangential frame (Q^T K Q with 2×2 blocks, which keeps the vertex-block complete
+//! Solver ([`solve_contact`]): the primal–dual active-set method of
+//! [`crate::linalg::active_set`] on top of the faer Cholesky. Every constrained vertex is rotated
+//! into its normal/tangential frame (QᵀKQ with 2×2 blocks, which keeps the vertex-block complete
 //! pattern, so the symbolic factorisation is reused by every active-set iteration); an active
 //! constraint fixes the normal component at its bound.
 
-use crate::experiment::{self, ContactModel, Side};
-use crate::fe::{DofMap, SparseSystem};
+use crate::fe::{Constraints, DofMap, System};
+use crate::linalg::active_set::{
+    primal_dual_active_set, ActiveSetOptions, Bound, NodalBounds, Rotation, Sense,
+    ViolationTolerance,
+};
+use crate::linalg::DirectSolver;
+use crate::mesh::{BoundaryFace, Side};
 use crate::models::obstacle::ContactSide;
+
+/// Which contact projection a face uses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ContactModel {
+    /// Fixed-direction projection (I.20).
+    Z,
+    /// Signorini projection (I.21), linearised per cycle about the previous solution (§IV.2.2).
+    Signorini,
+}
 
 /// One side of the domain in Γ_C with its obstacle.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -34,21 +48,30 @@ pub struct ContactBoundary {
     pub obstacle: ContactSide,
 }
 
+impl From<crate::experiment::ContactModel> for ContactModel {
+    fn from(m: crate::experiment::ContactModel) -> ContactModel {
+        match m {
+            crate::experiment::ContactModel::Z => ContactModel::Z,
+            crate::experiment::ContactModel::Signorini => ContactModel::Signorini,
+        }
+    }
+}
+
 /// The contact boundaries of an experiment (the loader has checked that every obstacle is on the
 /// bottom or the top side, at most one per side).
-pub fn contact_boundaries(data: &experiment::ContactData) -> Vec<ContactBoundary> {
+pub fn contact_boundaries(data: &crate::experiment::ContactData) -> Vec<ContactBoundary> {
     data.obstacles
         .iter()
         .map(|o| ContactBoundary {
             side: o.side,
-            obstacle: ContactSide::new(o.shape, o.side == Side::Top),
+            obstacle: ContactSide::new(o.shape.into(), o.side == Side::Top),
         })
         .collect()
 }
 
 /// The nodal constraint n·s(σ) ≤ bound at one contact vertex σ.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Constraint {
+pub struct ContactConstraint {
     pub vertex: u32,
     /// Index into the contact boundaries.
     pub boundary: usize,
@@ -61,7 +84,7 @@ pub struct Constraint {
     pub bound: f64,
 }
 
-impl Constraint {
+impl ContactConstraint {
     /// The obstacle value b of Theorem III.15 for the constraint n·(x + s) ≤ b:
     /// b = bound + n·x.
     pub fn b(&self, x: [f64; 2]) -> f64 {
@@ -69,23 +92,23 @@ impl Constraint {
     }
 }
 
-/// Builds the constraints of one mesh.
+/// Builds the contact constraints of one mesh.
 pub struct ConstraintBuilder<'a> {
     pub boundaries: &'a [ContactBoundary],
-    /// Contact model of the boundary face [x₀, x₁] on a side.
-    pub face_model: &'a (dyn Fn(Side, f64, f64) -> ContactModel + Sync),
+    /// Contact model of a boundary face of Γ_C.
+    pub face_model: &'a (dyn Fn(BoundaryFace) -> ContactModel + Sync),
 }
 
 impl ConstraintBuilder<'_> {
-    /// Constraints at every non-hanging contact vertex whose dofs are not fixed (Dirichlet).
-    /// `fixed[d]` flags fixed dofs; `s0` is the linearisation point of the Signorini constraints
-    /// as a field on `dofs` (only its values at contact vertices are read; `None` means s₀ = 0).
+    /// Constraints at every contact vertex whose dofs are free (not hanging, not Dirichlet).
+    /// `s0` is the linearisation point of the Signorini constraints as a field on `dofs` (only
+    /// its values at contact vertices are read; `None` means s₀ = 0).
     pub fn build(
         &self,
         dofs: &DofMap,
-        fixed: &[bool],
+        constraints: &Constraints,
         s0: Option<&[f64]>,
-    ) -> Result<Vec<Constraint>, String> {
+    ) -> Result<Vec<ContactConstraint>, String> {
         assert_eq!(dofs.n_components, 2, "contact needs a vector field");
         let v = &dofs.vertices;
         let mut out = Vec::new();
@@ -104,13 +127,23 @@ impl ConstraintBuilder<'_> {
             };
             // Consecutive vertices of a side are the end points of its boundary faces (a
             // boundary face has no finer neighbour across it, so no vertex lies inside it).
-            let face_models: Vec<ContactModel> = (0..verts.len().saturating_sub(1))
-                .map(|i| (self.face_model)(cb.side, x(i)[0], x(i + 1)[0]))
+            let along = |vert: u32| {
+                let key = v.keys[vert as usize];
+                if cb.side.is_horizontal() {
+                    key.0 as u64
+                } else {
+                    key.1 as u64
+                }
+            };
+            let face_models: Vec<ContactModel> = verts
+                .windows(2)
+                .map(|w| {
+                    (self.face_model)(BoundaryFace::spanning(cb.side, along(w[0]), along(w[1])))
+                })
                 .collect();
             for (i, &vert) in verts.iter().enumerate() {
-                if v.is_hanging[vert as usize]
-                    || fixed[dofs.dof(vert, 0)]
-                    || fixed[dofs.dof(vert, 1)]
+                if !constraints.is_free(dofs.dof(vert, 0))
+                    || !constraints.is_free(dofs.dof(vert, 1))
                 {
                     continue;
                 }
@@ -123,7 +156,7 @@ impl ConstraintBuilder<'_> {
                 let xv = x(i);
                 if !signorini {
                     let eta = cb.obstacle.eta_z(xv[0]);
-                    out.push(Constraint {
+                    out.push(ContactConstraint {
                         vertex: vert,
                         boundary: bi,
                         model: ContactModel::Z,
@@ -150,7 +183,7 @@ impl ConstraintBuilder<'_> {
                     )
                 })?;
                 let s0n = n[0] * (here[0] - xv[0]) + n[1] * (here[1] - xv[1]);
-                out.push(Constraint {
+                out.push(ContactConstraint {
                     vertex: vert,
                     boundary: bi,
                     model: ContactModel::Signorini,
@@ -164,7 +197,7 @@ impl ConstraintBuilder<'_> {
     }
 }
 
-/// Result of the primal–dual active set method.
+/// Result of the contact solve.
 #[derive(Clone, Debug)]
 pub struct ContactSolution {
     /// Displacement in Cartesian components, hanging dofs distributed.
@@ -182,133 +215,56 @@ pub struct ContactSolution {
 /// Most active-set iterations allowed before the solve counts as failed.
 pub const MAX_ACTIVE_SET_ITERATIONS: usize = 50;
 
-/// Rotate the nodal dofs of the vertices in `frames` into (normal, tangential) coordinates:
-/// values ← Qᵀ K Q, rhs ← Qᵀ F with the 2×2 block R_v = [n | t], t = (−n₂, n₁), at each listed
-/// vertex. The pattern is vertex-block complete, so both dofs of a vertex have the same column
-/// pattern and are adjacent in every column.
-fn rotate(system: &SparseSystem, values: &mut [f64], rhs: &mut [f64], frames: &[(u32, [f64; 2])]) {
-    let cp = system.col_ptr();
-    let ri = system.row_idx();
-    for &(w, n) in frames {
-        let t = [-n[1], n[0]];
-        let (j0, j1) = (2 * w as usize, 2 * w as usize + 1);
-        let (a, b) = (cp[j0], cp[j1]);
-        let len = cp[j0 + 1] - a;
-        debug_assert_eq!(len, cp[j1 + 1] - b);
-        for k in 0..len {
-            debug_assert_eq!(ri[a + k], ri[b + k]);
-            let (x0, x1) = (values[a + k], values[b + k]);
-            values[a + k] = n[0] * x0 + n[1] * x1;
-            values[b + k] = t[0] * x0 + t[1] * x1;
-        }
-        let (f0, f1) = (rhs[j0], rhs[j1]);
-        rhs[j0] = n[0] * f0 + n[1] * f1;
-        rhs[j1] = t[0] * f0 + t[1] * f1;
-    }
-    for &(v, n) in frames {
-        let t = [-n[1], n[0]];
-        let i0 = 2 * v as usize;
-        for q in cp[i0]..cp[i0 + 1] {
-            let j = ri[q];
-            let p0 = system.position(i0, j).expect("symmetric pattern");
-            debug_assert_eq!(ri[p0 + 1], i0 + 1);
-            let (y0, y1) = (values[p0], values[p0 + 1]);
-            values[p0] = n[0] * y0 + n[1] * y1;
-            values[p0 + 1] = t[0] * y0 + t[1] * y1;
-        }
-    }
-}
-
-/// Primal–dual active set method (semismooth Newton) for
-/// min ½uᵀKu − Fᵀu subject to n_i·u(σ_i) ≤ bound_i at every constraint and u_d = value at the
-/// `fixed` dofs (Dirichlet and hanging dofs, fixed at 0 and distributed afterwards).
-///
-/// With the multiplier λ_i = (F − K u)·n_i and c > 0 the active set is updated to
-/// A = {i : λ_i + c (n_i·u − bound_i) > 0}; on A the normal component is fixed at its bound, off
-/// A it is free (λ_i = 0). The iteration stops when A repeats (the KKT conditions then hold
-/// exactly); more than [`MAX_ACTIVE_SET_ITERATIONS`] solves is an error that states the count.
-pub fn solve_pdas(
-    system: &mut SparseSystem,
-    dofs: &DofMap,
-    values: &[f64],
-    rhs: &[f64],
-    fixed: &[(usize, f64)],
-    constraints: &[Constraint],
-    initial_active: Option<&[bool]>,
+/// Solve min ½uᵀKu − Fᵀu subject to n_i·u(σ_i) ≤ bound_i at every contact constraint and the
+/// constraints of `system` (Dirichlet dofs, hanging dofs), by the primal–dual active-set method
+/// ([`primal_dual_active_set`]) in the rotated frame of the constrained vertices: with
+/// λ_i = (F − K u)·n_i, an active constraint stays active while λ_i > 0, an inactive one becomes
+/// active when n_i·u − bound_i exceeds 1e-13·(1 + |bound_i|). `initial` is the first active set
+/// (the warm start from the previous cycle). More than [`MAX_ACTIVE_SET_ITERATIONS`] solves is an
+/// error that states the count.
+pub fn solve_contact(
+    system: &System,
+    solver: &mut DirectSolver,
+    constraints: &[ContactConstraint],
+    initial: Option<&[bool]>,
 ) -> Result<ContactSolution, String> {
-    let frames: Vec<(u32, [f64; 2])> = constraints.iter().map(|c| (c.vertex, c.normal)).collect();
-    let mut kr = values.to_vec();
-    let mut fr = rhs.to_vec();
-    rotate(system, &mut kr, &mut fr, &frames);
-    let diag = system.diagonal(&kr);
-    let normal_dof = |c: &Constraint| 2 * c.vertex as usize;
-    let mut active: Vec<bool> = match initial_active {
-        Some(a) if a.len() == constraints.len() => a.to_vec(),
-        _ => vec![false; constraints.len()],
+    let rotation = Rotation {
+        frames: constraints.iter().map(|c| (c.vertex, c.normal)).collect(),
     };
-    let mut iterations = 0;
-    loop {
-        iterations += 1;
-        if iterations > MAX_ACTIVE_SET_ITERATIONS {
-            return Err(format!(
-                "the contact active set did not converge: {} active-set iterations exceed the \
-                 limit of {MAX_ACTIVE_SET_ITERATIONS}",
-                iterations - 1
-            ));
-        }
-        let mut all_fixed = fixed.to_vec();
-        all_fixed.extend(
-            constraints
-                .iter()
-                .zip(&active)
-                .filter(|(_, &a)| a)
-                .map(|(c, _)| (normal_dof(c), c.bound)),
-        );
-        let x = system
-            .solve_fixed(&kr, &fr, &all_fixed)
-            .map_err(|e| e.to_string())?;
-        let kx = system.multiply(&kr, &x);
-        let lambda: Vec<f64> = constraints
-            .iter()
-            .map(|c| fr[normal_dof(c)] - kx[normal_dof(c)])
-            .collect();
-        let next: Vec<bool> = constraints
-            .iter()
-            .enumerate()
-            .map(|(i, c)| {
-                let d = normal_dof(c);
-                if active[i] {
-                    lambda[i] > 0.0
-                } else {
-                    // λ = 0 off the active set; a violation beyond rounding activates.
-                    let tol = 1e-13 * (1.0 + c.bound.abs());
-                    diag[d] * (x[d] - c.bound) > diag[d] * tol
-                }
-            })
-            .collect();
-        if next == active {
-            let gaps: Vec<f64> = constraints
-                .iter()
-                .map(|c| c.bound - x[normal_dof(c)])
-                .collect();
-            let mut u = x;
-            for &(v, n) in &frames {
-                let (i0, i1) = (2 * v as usize, 2 * v as usize + 1);
-                let (un, ut) = (u[i0], u[i1]);
-                u[i0] = n[0] * un - n[1] * ut;
-                u[i1] = n[1] * un + n[0] * ut;
-            }
-            dofs.distribute_hanging(&mut u);
-            return Ok(ContactSolution {
-                u,
-                multipliers: lambda,
-                active,
-                gaps,
-                iterations,
-            });
-        }
-        active = next;
-    }
+    let bounds: Vec<Bound> = constraints
+        .iter()
+        .map(|c| Bound {
+            dof: system.dofs.dof(c.vertex, 0),
+            value: c.bound,
+            sense: Sense::Upper,
+        })
+        .collect();
+    let eliminated = |overlay: &[(usize, f64)], out: &mut Vec<(usize, f64)>| {
+        system.eliminated_with(overlay, out)
+    };
+    let problem = NodalBounds {
+        matrix: system.matrix(),
+        rhs: &system.rhs,
+        bounds: &bounds,
+        rotation: Some(&rotation),
+        eliminated: &eliminated,
+    };
+    let options = ActiveSetOptions {
+        max_iterations: MAX_ACTIVE_SET_ITERATIONS,
+        multiplier_tolerance: 0.0,
+        violation: ViolationTolerance::PerBound(1e-13),
+    };
+    let solution = primal_dual_active_set(&problem, solver, initial, &options)
+        .map_err(|e| format!("contact: {e}"))?;
+    let mut u = solution.x;
+    system.constraints.distribute(&mut u);
+    Ok(ContactSolution {
+        u,
+        multipliers: solution.multipliers,
+        active: solution.active,
+        gaps: solution.slack,
+        iterations: solution.iterations,
+    })
 }
 
 /// Largest vertical depth by which the deformed contact boundary x + s (sides' polylines,

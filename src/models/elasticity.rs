@@ -1,11 +1,45 @@
 //! Linear elasticity (I.17) in the thesis form
 //! a(s, r) = 2μ⟨ε(s), ε(r)⟩ + 2λ⟨div s, div r⟩,  b(r) = ⟨ρf, r⟩ + ⟨τn, r⟩_{Γ_τ}
-//! (spec/models.md §1.2 and §15 item 1: the thesis uses 2λ throughout, so λ_std = 2λ),
-//! discretised with vector Q₁ (II.47).
+//! (the thesis uses 2λ throughout, so λ_std = 2λ), discretised with vector Q₁ (II.47).
 
-use crate::experiment::{ElasticityData, Profile, Side};
-use crate::fe::{q1, quadrature, DofMap, Rect, SparseSystem};
-use crate::mesh::{Mesh, Neighbor, FACES};
+use crate::fe::cell_values::{evaluate_at, CellValues};
+use crate::fe::quadrature::{self, square_rule};
+use crate::fe::{DofMap, LocalDofs, System};
+use crate::mesh::{Mesh, Neighbor, Side, FACES};
+
+/// A scalar profile of x₁: the loads of §IV.1.1–IV.1.5 and §IV.2.1.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Profile {
+    /// a
+    Constant { amplitude: f64 },
+    /// a · (x₁ / scale)²
+    Quadratic { amplitude: f64, scale: f64 },
+    /// a for x₁ > at, 0 otherwise
+    Step { amplitude: f64, at: f64 },
+    /// a · sin(π x₁ / half_period)
+    Sine { amplitude: f64, half_period: f64 },
+}
+
+impl Profile {
+    /// Value of the profile at x₁.
+    pub fn at(&self, x1: f64) -> f64 {
+        match *self {
+            Profile::Constant { amplitude } => amplitude,
+            Profile::Quadratic { amplitude, scale } => amplitude * (x1 / scale).powi(2),
+            Profile::Step { amplitude, at } => {
+                if x1 > at {
+                    amplitude
+                } else {
+                    0.0
+                }
+            }
+            Profile::Sine {
+                amplitude,
+                half_period,
+            } => amplitude * (std::f64::consts::PI * x1 / half_period).sin(),
+        }
+    }
+}
 
 /// A volume load ρf.
 #[derive(Clone)]
@@ -30,47 +64,17 @@ impl std::fmt::Debug for VolumeForce {
 pub struct Elasticity {
     pub mu: f64,
     pub lambda: f64,
+    /// Sides in Γ₀ (s = 0).
     pub dirichlet: Vec<Side>,
     pub load: Option<VolumeForce>,
     /// τn per side (Neumann data).
     pub tractions: Vec<(Side, [f64; 2])>,
 }
 
-impl Profile {
-    /// Value of the profile at x₁.
-    pub fn at(&self, x1: f64) -> f64 {
-        match *self {
-            Profile::Constant { amplitude } => amplitude,
-            Profile::Quadratic { amplitude, scale } => amplitude * (x1 / scale).powi(2),
-            Profile::Step { amplitude, at } => {
-                if x1 > at {
-                    amplitude
-                } else {
-                    0.0
-                }
-            }
-            Profile::Sine {
-                amplitude,
-                half_period,
-            } => amplitude * (std::f64::consts::PI * x1 / half_period).sin(),
-        }
-    }
-}
+/// Local layout of the two displacement components.
+const LOCAL: LocalDofs = LocalDofs { n_components: 2 };
 
 impl Elasticity {
-    pub fn from_data(d: &ElasticityData) -> Elasticity {
-        Elasticity {
-            mu: d.mu,
-            lambda: d.lambda,
-            dirichlet: d.dirichlet.clone(),
-            load: d
-                .volume_load
-                .as_ref()
-                .map(|l| VolumeForce::Profile(l.direction, l.profile)),
-            tractions: d.tractions.iter().map(|t| (t.side, t.value)).collect(),
-        }
-    }
-
     /// Volume load ρf at a point.
     #[inline]
     pub fn volume_load(&self, p: [f64; 2]) -> [f64; 2] {
@@ -108,36 +112,31 @@ impl Elasticity {
         ]
     }
 
-    /// Dofs fixed by s = 0 on Γ₀, plus every hanging dof (value 0 during the solve, then
-    /// distributed from its parents).
-    pub fn fixed_dofs(&self, dofs: &DofMap) -> Vec<(usize, f64)> {
-        let v = &dofs.vertices;
-        let mut fixed: Vec<(usize, f64)> = Vec::new();
-        for vert in 0..v.len() as u32 {
-            let on_dirichlet = self.dirichlet.iter().any(|&s| v.on_side(vert, s));
-            if on_dirichlet || v.is_hanging[vert as usize] {
-                fixed.push((dofs.dof(vert, 0), 0.0));
-                fixed.push((dofs.dof(vert, 1), 0.0));
+    /// s = 0 on Γ₀: both components fixed at every vertex of the Dirichlet sides.
+    pub fn constrain(&self, system: &mut System) {
+        for &side in &self.dirichlet {
+            for component in 0..2 {
+                system
+                    .constraints
+                    .fix_side(&system.dofs, side, component, 0.0);
             }
         }
-        fixed
     }
 
-    /// Assemble the stiffness matrix and load vector (volume load with 3×3 Gauss points,
-    /// tractions with 3 points per Neumann face).
-    pub fn assemble(&self, mesh: &Mesh, system: &SparseSystem) -> (Vec<f64>, Vec<f64>) {
+    /// Assemble the stiffness matrix and load vector into `system` (volume terms with 3×3 Gauss
+    /// points, tractions with 3 points per Neumann face).
+    pub fn assemble(&self, mesh: &Mesh, system: &mut System) {
         let active = mesh.active();
-        let quad = quadrature::square(3);
+        let rule = square_rule::<9>();
         let (fp, fw) = quadrature::gauss(3);
         let (mu, lambda) = (self.mu, self.lambda);
         system.assemble(active.len(), |k, ke, fe| {
             let c = active[k];
-            let r = Rect::from_box(mesh.cell_box(c));
-            let area = r.area();
-            for &(xi, eta, w) in &quad {
-                let g = q1::gradients(xi, eta, r.hx, r.hy);
-                let phi = q1::values(xi, eta);
-                let jw = w * area;
+            let cv = CellValues::new(mesh.cell_shape(c), &rule);
+            for q in 0..rule.len() {
+                let g = cv.gradients(q);
+                let phi = cv.values(q);
+                let jw = cv.jxw(q);
                 for a in 0..4 {
                     for b in 0..4 {
                         let dot = g[a][0] * g[b][0] + g[a][1] * g[b][1];
@@ -148,15 +147,15 @@ impl Elasticity {
                                 if ca == cb {
                                     val += mu * dot;
                                 }
-                                ke[(2 * a + ca) * 8 + 2 * b + cb] += val * jw;
+                                ke[LOCAL.entry(LOCAL.index(a, ca), LOCAL.index(b, cb))] += val * jw;
                             }
                         }
                     }
                 }
-                let f = self.volume_load(r.point(xi, eta));
+                let f = self.volume_load(cv.point(q));
                 for a in 0..4 {
-                    fe[2 * a] += f[0] * phi[a] * jw;
-                    fe[2 * a + 1] += f[1] * phi[a] * jw;
+                    fe[LOCAL.index(a, 0)] += f[0] * phi[a] * jw;
+                    fe[LOCAL.index(a, 1)] += f[1] * phi[a] * jw;
                 }
             }
             for face in FACES {
@@ -171,15 +170,12 @@ impl Elasticity {
                     continue;
                 }
                 let [va, vb] = face.vertices();
-                let len = match face {
-                    crate::mesh::Face::Left | crate::mesh::Face::Right => r.hy,
-                    _ => r.hx,
-                };
+                let len = cv.shape().face_length(face);
                 for (s, w) in fp.iter().zip(fw) {
                     let (pa, pb) = (1.0 - s, *s);
                     for (lv, phi) in [(va, pa), (vb, pb)] {
-                        fe[2 * lv] += t[0] * phi * w * len;
-                        fe[2 * lv + 1] += t[1] * phi * w * len;
+                        fe[LOCAL.index(lv, 0)] += t[0] * phi * w * len;
+                        fe[LOCAL.index(lv, 1)] += t[1] * phi * w * len;
                     }
                 }
             }
@@ -196,10 +192,42 @@ impl Elasticity {
         k: usize,
         p: [f64; 2],
     ) -> [[f64; 2]; 2] {
-        let r = Rect::from_box(mesh.cell_box(mesh.active()[k]));
-        let (xi, eta) = r.reference(p);
-        let (_, g0) = r.eval(dofs.corner_values(u, k, 0), xi, eta);
-        let (_, g1) = r.eval(dofs.corner_values(u, k, 1), xi, eta);
+        let shape = mesh.cell_shape(mesh.active()[k]);
+        let (_, g0) = evaluate_at(&shape, dofs.corner_values(u, k, 0), p);
+        let (_, g1) = evaluate_at(&shape, dofs.corner_values(u, k, 1), p);
         [g0, g1]
+    }
+}
+
+impl From<crate::experiment::Profile> for Profile {
+    fn from(p: crate::experiment::Profile) -> Profile {
+        use crate::experiment::Profile as File;
+        match p {
+            File::Constant { amplitude } => Profile::Constant { amplitude },
+            File::Quadratic { amplitude, scale } => Profile::Quadratic { amplitude, scale },
+            File::Step { amplitude, at } => Profile::Step { amplitude, at },
+            File::Sine {
+                amplitude,
+                half_period,
+            } => Profile::Sine {
+                amplitude,
+                half_period,
+            },
+        }
+    }
+}
+
+impl From<&crate::experiment::ElasticityData> for Elasticity {
+    fn from(d: &crate::experiment::ElasticityData) -> Elasticity {
+        Elasticity {
+            mu: d.mu,
+            lambda: d.lambda,
+            dirichlet: d.dirichlet.clone(),
+            load: d
+                .volume_load
+                .as_ref()
+                .map(|l| VolumeForce::Profile(l.direction, l.profile.into())),
+            tractions: d.tractions.iter().map(|t| (t.side, t.value)).collect(),
+        }
     }
 }

@@ -20,8 +20,6 @@
 
 use std::fmt;
 
-use serde::Deserialize;
-
 /// Default θ_s parameter of the saw obstacle. The thesis prints θ_s without a value (l. 5485);
 /// 0.01 is the value used by all the other θ-obstacles (l. 5351, 5415, 5423).
 pub const DEFAULT_SAW_S: f64 = 0.01;
@@ -90,8 +88,7 @@ fn theta_prime_max(s: f64, lo: f64, hi: f64) -> f64 {
 
 /// How the printed saw formula (l. 5485) is read. Both readings replace the printed x₂ by x₁
 /// (the obstacle is a function on Γ_C = {x₂ = 0}, so x₂ ≡ 0 there would make it constant).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
-#[serde(rename_all = "kebab-case")]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum SawReading {
     /// The continuous saw through the nodes (−4,0), (−2,−1), (1,0), (5,2), (6,0), constant 0
     /// outside [−4,6]; every printed piece gets the value of its left node as offset.
@@ -107,9 +104,8 @@ pub enum SawReading {
 const SAW_X: [f64; 5] = [-4.0, -2.0, 1.0, 5.0, 6.0];
 const SAW_Y: [f64; 5] = [0.0, -1.0, 0.0, 2.0, 0.0];
 
-/// Obstacle function b(x₁) (also the `shape` of an obstacle in an experiment file).
-#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
-#[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
+/// Obstacle function b(x₁).
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Shape {
     /// b = level.
     Constant { level: f64 },
@@ -242,6 +238,48 @@ impl Shape {
                     (da + de) * lin_max + m.abs()
                 })
                 .sum(),
+        }
+    }
+}
+
+impl From<crate::experiment::SawReading> for SawReading {
+    fn from(r: crate::experiment::SawReading) -> SawReading {
+        match r {
+            crate::experiment::SawReading::Continuous => SawReading::Continuous,
+            crate::experiment::SawReading::Literal => SawReading::Literal,
+        }
+    }
+}
+
+impl From<crate::experiment::ObstacleShape> for Shape {
+    fn from(s: crate::experiment::ObstacleShape) -> Shape {
+        use crate::experiment::ObstacleShape as File;
+        match s {
+            File::Constant { level } => Shape::Constant { level },
+            File::Periodic {
+                offset,
+                amplitude,
+                periods,
+            } => Shape::Periodic {
+                offset,
+                amplitude,
+                periods,
+            },
+            File::Jump {
+                base,
+                height,
+                at,
+                s,
+            } => Shape::Jump {
+                base,
+                height,
+                at,
+                s,
+            },
+            File::Saw { s, reading } => Shape::Saw {
+                s,
+                reading: reading.into(),
+            },
         }
     }
 }

@@ -27,15 +27,20 @@
 //!
 //! **Cavitation** (I.82): ψ ≥ 0 at every interior non-hanging vertex (hanging values are means
 //! of their parents, boundary values are ψ₀ = 200), solved as the LCP Kψ − F ≥ 0, ψ ≥ 0,
-//! ψ·(Kψ − F) = 0 by a primal–dual active-set method ([`solve_cavitation`]); the pattern of K
-//! never changes, so every iteration costs one numeric Cholesky factorisation with the symbolic
-//! factorisation reused.
+//! ψ·(Kψ − F) = 0 by the primal–dual active-set method of [`crate::linalg::active_set`]
+//! ([`solve_cavitation`]); the pattern of K never changes, so every iteration costs one numeric
+//! Cholesky factorisation with the symbolic factorisation reused.
 
 use rayon::prelude::*;
 
-use crate::experiment::ReynoldsData;
-use crate::fe::{q1, quadrature, DofMap, SparseSystem};
-use crate::mesh::{CellId, Mesh};
+use crate::fe::cell_values::CellValues;
+use crate::fe::quadrature::{self, square_rule};
+use crate::fe::System;
+use crate::linalg::active_set::{
+    primal_dual_active_set, ActiveSetOptions, Bound, NodalBounds, Sense, ViolationTolerance,
+};
+use crate::linalg::DirectSolver;
+use crate::mesh::{CellId, CellKey, Mesh};
 use crate::models::thin_film::{CavitationSource, ThinFilm};
 
 /// Which expression of the Reynolds product (II.9) to assemble (module docs).
@@ -70,21 +75,15 @@ pub struct CellData {
 }
 
 /// The values of one cell in [`CellData`]: load, Δg/g, squeeze part.
-type CellValues = ([f64; 4], [f64; 4], [f64; 4]);
+type PointData = ([f64; 4], [f64; 4], [f64; 4]);
 
 /// [`CellData`] of one mesh with the integer keys of its cells, for reuse on the next mesh
 /// ([`ReynoldsProblem::cell_data_reusing`]).
 pub struct CellDataCache {
     pub load: Load,
-    /// (cell key, active index), sorted by key.
-    sorted: Vec<(u128, u32)>,
+    /// (stable cell id, active index), sorted by id.
+    sorted: Vec<(CellKey, u32)>,
     pub data: CellData,
-}
-
-/// Integer key of a cell: its lower-left and upper-right corner.
-fn cell_key(mesh: &Mesh, c: u32) -> u128 {
-    let k = mesh.corner_keys(c);
-    ((k[0].0 as u128) << 96) | ((k[0].1 as u128) << 64) | ((k[3].0 as u128) << 32) | k[3].1 as u128
 }
 
 /// One Reynolds example (§IV.3): film data, boundary pressure ψ₀, reading of γ₃c.
@@ -114,16 +113,18 @@ pub struct CavitationSolution {
 /// Maximal number of primal–dual active-set iterations.
 pub const MAX_ACTIVE_SET_ITERATIONS: usize = 100;
 
-impl ReynoldsProblem {
-    pub fn from_data(d: &ReynoldsData) -> ReynoldsProblem {
+impl From<&crate::experiment::ReynoldsData> for ReynoldsProblem {
+    fn from(d: &crate::experiment::ReynoldsData) -> ReynoldsProblem {
         ReynoldsProblem {
-            film: ThinFilm::new(d.gap, d.upper_wall_velocity),
+            film: ThinFilm::new(d.gap.into(), d.upper_wall_velocity),
             boundary_pressure: d.boundary_pressure,
-            cavitation_source: d.cavitation_source,
+            cavitation_source: d.cavitation_source.into(),
             form: Form::default(),
         }
     }
+}
 
+impl ReynoldsProblem {
     /// l_R (II.37) or l_{R,c} (II.39) at `x`.
     #[inline]
     pub fn load(&self, x: [f64; 2], load: Load) -> f64 {
@@ -150,16 +151,16 @@ impl ReynoldsProblem {
 
     /// Load, Δg/g and squeeze part at the four quadrature points of active cell `c`, each
     /// point's values from `at`.
-    fn cell_values(mesh: &Mesh, c: CellId, at: impl Fn([f64; 2]) -> (f64, f64, f64)) -> CellValues {
-        let r = crate::fe::Rect::from_box(mesh.cell_box(c));
+    fn point_data(mesh: &Mesh, c: CellId, at: impl Fn([f64; 2]) -> (f64, f64, f64)) -> PointData {
+        let shape = mesh.cell_shape(c);
         let mut values = ([0.0; 4], [0.0; 4], [0.0; 4]);
         for (q, &(xi, eta, _)) in quadrature_points().iter().enumerate() {
-            (values.0[q], values.1[q], values.2[q]) = at(r.point(xi, eta));
+            (values.0[q], values.1[q], values.2[q]) = at(shape.point(xi, eta));
         }
         values
     }
 
-    /// [`CellValues`] of the active cells `cells`, evaluated afresh.
+    /// [`PointData`] of the active cells `cells`, evaluated afresh.
     ///
     /// The film data of a scene are functions of the gap's jet and of constants
     /// ([`ThinFilm::film_jets`]), so where the gap does not vary in x₂ ([`Gap::varies_in_x2`]:
@@ -170,19 +171,20 @@ impl ReynoldsProblem {
     /// point.
     ///
     /// [`Gap::varies_in_x2`]: crate::models::thin_film::Gap::varies_in_x2
-    fn fresh_cell_values(&self, mesh: &Mesh, cells: &[CellId], load: Load) -> Vec<CellValues> {
+    fn fresh_point_data(&self, mesh: &Mesh, cells: &[CellId], load: Load) -> Vec<PointData> {
         if self.film.gap.varies_in_x2() {
             return cells
                 .par_iter()
-                .map(|&c| Self::cell_values(mesh, c, |x| self.point_values(x, load)))
+                .map(|&c| Self::point_data(mesh, c, |x| self.point_values(x, load)))
                 .collect();
         }
         let quad = quadrature_points();
         let mut x1: Vec<f64> = cells
             .par_iter()
             .flat_map_iter(|&c| {
-                let r = crate::fe::Rect::from_box(mesh.cell_box(c));
-                quad.iter().map(move |&(xi, eta, _)| r.point(xi, eta)[0])
+                let shape = mesh.cell_shape(c);
+                quad.iter()
+                    .map(move |&(xi, eta, _)| shape.point(xi, eta)[0])
             })
             .collect();
         x1.par_sort_unstable_by(f64::total_cmp);
@@ -194,7 +196,7 @@ impl ReynoldsProblem {
         cells
             .par_iter()
             .map(|&c| {
-                Self::cell_values(mesh, c, |x| {
+                Self::point_data(mesh, c, |x| {
                     let i = x1
                         .binary_search_by(|p| p.total_cmp(&x[0]))
                         .expect("every quadrature x₁ is in the profile");
@@ -217,7 +219,7 @@ impl ReynoldsProblem {
     ) -> CellDataCache {
         const FRESH: u32 = u32::MAX;
         let active = mesh.active();
-        let keys: Vec<u128> = active.par_iter().map(|&c| cell_key(mesh, c)).collect();
+        let keys: Vec<CellKey> = active.par_iter().map(|&c| mesh.cell_key(c)).collect();
         let previous = previous.filter(|p| p.load == load);
         // For each active cell: its index in `previous`, or FRESH.
         let source: Vec<u32> = keys
@@ -237,7 +239,7 @@ impl ReynoldsProblem {
             .filter(|(_, &s)| s == FRESH)
             .map(|(&c, _)| c)
             .collect();
-        let mut fresh = self.fresh_cell_values(mesh, &fresh_cells, load).into_iter();
+        let mut fresh = self.fresh_point_data(mesh, &fresh_cells, load).into_iter();
         let mut data = CellData {
             load: Vec::with_capacity(active.len()),
             dg_over_g: Vec::with_capacity(active.len()),
@@ -255,7 +257,7 @@ impl ReynoldsProblem {
             data.dg_over_g.push(d);
             data.squeeze.push(q);
         }
-        let mut sorted: Vec<(u128, u32)> = keys
+        let mut sorted: Vec<(CellKey, u32)> = keys
             .into_iter()
             .enumerate()
             .map(|(k, key)| (key, k as u32))
@@ -264,43 +266,30 @@ impl ReynoldsProblem {
         CellDataCache { load, sorted, data }
     }
 
-    /// Dirichlet dofs ψ = ψ₀ on ∂Ω₂ and every hanging dof (value 0 during the solve, then
-    /// distributed from its parents).
-    pub fn fixed_dofs(&self, dofs: &DofMap) -> Vec<(usize, f64)> {
-        let v = &dofs.vertices;
-        let (ex, ey) = (
-            v.keys.iter().map(|k| k.0).max().unwrap_or(0),
-            v.keys.iter().map(|k| k.1).max().unwrap_or(0),
-        );
-        let mut fixed = Vec::new();
-        for (i, &(x, y)) in v.keys.iter().enumerate() {
-            if x == 0 || y == 0 || x == ex || y == ey {
-                fixed.push((i, self.boundary_pressure));
-            } else if v.is_hanging[i] {
-                fixed.push((i, 0.0));
+    /// ψ = ψ₀ on ∂Ω₂: every boundary vertex fixed at the boundary pressure.
+    pub fn constrain(&self, system: &mut System) {
+        let v = &system.dofs.vertices;
+        for vertex in 0..v.len() as u32 {
+            if v.on_boundary(vertex) {
+                system
+                    .constraints
+                    .fix(vertex as usize, self.boundary_pressure);
             }
         }
-        fixed
     }
 
-    /// Stiffness matrix and load vector (2×2 Gauss), with the cell data of [`Self::cell_data`].
-    pub fn assemble(
-        &self,
-        mesh: &Mesh,
-        system: &SparseSystem,
-        data: &CellData,
-    ) -> (Vec<f64>, Vec<f64>) {
+    /// Stiffness matrix and load vector (2×2 Gauss) into `system`, with the cell data of
+    /// [`Self::cell_data`].
+    pub fn assemble(&self, mesh: &Mesh, system: &mut System, data: &CellData) {
         let active = mesh.active();
-        let quad = quadrature_points();
-        let phis: Vec<[f64; 4]> = quad.iter().map(|&(x, e, _)| q1::values(x, e)).collect();
+        let rule = square_rule::<4>();
         let form = self.form;
         system.assemble(active.len(), |k, ke, fe| {
-            let r = crate::fe::Rect::from_box(mesh.cell_box(active[k]));
-            let area = r.area();
-            for (q, &(xi, eta, w)) in quad.iter().enumerate() {
-                let g = q1::gradients(xi, eta, r.hx, r.hy);
-                let phi = phis[q];
-                let jw = w * area;
+            let cv = CellValues::new(mesh.cell_shape(active[k]), &rule);
+            for q in 0..rule.len() {
+                let g = cv.gradients(q);
+                let phi = cv.values(q);
+                let jw = cv.jxw(q);
                 match form {
                     Form::Potential => {
                         let m = data.dg_over_g[k][q];
@@ -313,8 +302,7 @@ impl ReynoldsProblem {
                         }
                     }
                     Form::Product => {
-                        let x = r.point(xi, eta);
-                        let (gv, dg, _) = self.film.gap(x);
+                        let (gv, dg, _) = self.film.gap(cv.point(q));
                         let t = [dg[0] / gv, dg[1] / gv];
                         let v: [[f64; 2]; 4] = std::array::from_fn(|a| {
                             [g[a][0] - phi[a] * t[0], g[a][1] - phi[a] * t[1]]
@@ -335,108 +323,83 @@ impl ReynoldsProblem {
     }
 }
 
-/// Primal–dual active-set method (semismooth Newton) for the LCP of (III.61):
-/// find ψ with ψᵢ ≥ 0, λᵢ = (Kψ − F)ᵢ ≥ 0, ψᵢλᵢ = 0 on the constrained vertices, the dofs in
-/// `fixed` (Dirichlet, hanging) prescribed.
+/// The LCP of (III.61) by the primal–dual active-set method ([`primal_dual_active_set`]):
+/// find ψ with ψᵢ ≥ 0, λᵢ = (Kψ − F)ᵢ ≥ 0, ψᵢλᵢ = 0 at the free vertices (not on ∂Ω₂, not
+/// hanging), the constraints of `system` prescribed.
 ///
 /// Iteration: A = {i : λᵢ − cᵢψᵢ > 0} with cᵢ = Kᵢᵢ > 0 (λ = 0 off A, ψ = 0 on A), up to
-/// rounding bands of 1e-12·max(1, ‖F‖∞) for λ and 1e-13·max|ψ| for ψ; solve with ψ = 0 on A; stop when A does not
-/// change. `initial` is the first active set (e.g. the vertices where the unconstrained solution
-/// or the previous cycle's solution is ≤ 0). Tiny negative values (rounding, |ψᵢ| below
-/// 1e-12·max|ψ|) left on inactive vertices are set to 0, so ψ ≥ 0 holds at every vertex.
+/// rounding bands of 1e-12·max(1, ‖F‖∞) for λ and 1e-13·max|ψ| for ψ; solve with ψ = 0 on A; stop
+/// when A does not change. `initial` flags the first active set per dof (e.g. the vertices where
+/// the unconstrained solution or the previous cycle's solution is ≤ 0). Tiny negative values
+/// (rounding, |ψᵢ| below 1e-12·max|ψ|) left on inactive vertices are set to 0, so ψ ≥ 0 holds at
+/// every vertex.
 pub fn solve_cavitation(
-    system: &mut SparseSystem,
-    dofs: &DofMap,
-    values: &[f64],
-    rhs: &[f64],
-    fixed: &[(usize, f64)],
-    initial: Vec<bool>,
+    system: &System,
+    solver: &mut DirectSolver,
+    initial: &[bool],
 ) -> Result<CavitationSolution, String> {
-    let n = dofs.n_dofs();
-    let mut constrained = vec![true; n];
-    for &(d, _) in fixed {
-        constrained[d] = false;
-    }
-    let diag = system.diagonal(values);
-    let mut active: Vec<bool> = initial
-        .iter()
-        .zip(&constrained)
-        .map(|(&a, &c)| a && c)
+    let n = system.dofs.n_dofs();
+    let rhs = &system.rhs;
+    let constrained: Vec<bool> = (0..n).map(|d| system.constraints.is_free(d)).collect();
+    let bounds: Vec<Bound> = (0..n)
+        .filter(|&d| constrained[d])
+        .map(|dof| Bound {
+            dof,
+            value: 0.0,
+            sense: Sense::Lower,
+        })
         .collect();
+    let initial: Vec<bool> = bounds.iter().map(|b| initial[b.dof]).collect();
     let load_scale = rhs
         .iter()
         .zip(&constrained)
         .filter(|(_, &c)| c)
         .fold(0.0f64, |m, (f, _)| m.max(f.abs()));
-    let lambda_tol = 1e-12 * load_scale.max(1.0);
-    let mut iterations = 0;
-    let mut all_fixed: Vec<(usize, f64)> = Vec::with_capacity(fixed.len() + n / 4);
-    loop {
-        iterations += 1;
-        all_fixed.clear();
-        all_fixed.extend_from_slice(fixed);
-        all_fixed.extend(
-            active
-                .iter()
-                .enumerate()
-                .filter(|(_, &a)| a)
-                .map(|(i, _)| (i, 0.0)),
-        );
-        all_fixed.sort_unstable_by_key(|f| f.0);
-        let mut psi = system
-            .solve_fixed(values, rhs, &all_fixed)
-            .map_err(|e| e.to_string())?;
-        dofs.distribute_hanging(&mut psi);
-        let kpsi = system.multiply(values, &psi);
-        let psi_tol = 1e-13 * psi.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-        let next: Vec<bool> = (0..n)
-            .into_par_iter()
-            .map(|i| {
-                if !constrained[i] {
-                    return false;
-                }
-                if active[i] {
-                    // λᵢ − cᵢ·0 > 0, with rounding-level negative multipliers kept active
-                    kpsi[i] - rhs[i] > -lambda_tol
-                } else {
-                    // 0 − cᵢψᵢ > 0, with rounding-level negative values left inactive
-                    diag[i] * psi[i] < -diag[i] * psi_tol
-                }
-            })
-            .collect();
-        let changed = next != active;
-        if !changed || iterations >= MAX_ACTIVE_SET_ITERATIONS {
-            if changed {
+    let eliminated = |overlay: &[(usize, f64)], out: &mut Vec<(usize, f64)>| {
+        system.eliminated_with(overlay, out)
+    };
+    let problem = NodalBounds {
+        matrix: system.matrix(),
+        rhs,
+        bounds: &bounds,
+        rotation: None,
+        eliminated: &eliminated,
+    };
+    let options = ActiveSetOptions {
+        max_iterations: MAX_ACTIVE_SET_ITERATIONS,
+        multiplier_tolerance: 1e-12 * load_scale.max(1.0),
+        violation: ViolationTolerance::SolutionScale(1e-13),
+    };
+    let solution = primal_dual_active_set(&problem, solver, Some(&initial), &options)
+        .map_err(|e| format!("cavitation: {e}"))?;
+    let mut psi = solution.x;
+    let scale = psi.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    for i in 0..n {
+        if constrained[i] && psi[i] < 0.0 {
+            if psi[i] < -1e-12 * scale {
                 return Err(format!(
-                    "the primal–dual active-set method did not converge in {iterations} iterations"
+                    "cavitation: ψ = {} < 0 at an inactive vertex after convergence",
+                    psi[i]
                 ));
             }
-            let scale = psi.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-            for i in 0..n {
-                if constrained[i] && psi[i] < 0.0 {
-                    if psi[i] < -1e-12 * scale {
-                        return Err(format!(
-                            "cavitation: ψ = {} < 0 at an inactive vertex after convergence",
-                            psi[i]
-                        ));
-                    }
-                    psi[i] = 0.0;
-                }
-            }
-            dofs.distribute_hanging(&mut psi);
-            let kpsi = system.multiply(values, &psi);
-            let complementarity = (0..n)
-                .filter(|&i| constrained[i])
-                .map(|i| psi[i].min(kpsi[i] - rhs[i]).abs())
-                .fold(0.0f64, f64::max);
-            return Ok(CavitationSolution {
-                psi,
-                iterations,
-                active,
-                complementarity,
-                load_scale,
-            });
+            psi[i] = 0.0;
         }
-        active = next;
     }
+    system.constraints.distribute(&mut psi);
+    let kpsi = system.matrix().multiply(&psi);
+    let complementarity = (0..n)
+        .filter(|&i| constrained[i])
+        .map(|i| psi[i].min(kpsi[i] - rhs[i]).abs())
+        .fold(0.0f64, f64::max);
+    let mut active = vec![false; n];
+    for (b, &a) in bounds.iter().zip(&solution.active) {
+        active[b.dof] = a;
+    }
+    Ok(CavitationSolution {
+        psi,
+        iterations: solution.iterations,
+        active,
+        complementarity,
+        load_scale,
+    })
 }

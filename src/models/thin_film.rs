@@ -23,8 +23,6 @@
 
 use std::ops::{Add, AddAssign, Div, Mul, Neg, Sub};
 
-use serde::Deserialize;
-
 // ---------------------------------------------------------------------------------------------
 // Jet
 // ---------------------------------------------------------------------------------------------
@@ -265,10 +263,8 @@ impl Div for Jet {
 // Gap functions
 // ---------------------------------------------------------------------------------------------
 
-/// Gap width g(x₁, x₂) = z₁ − z₀ of the fluid examples [Ch.IV §IV.3, (IV.7)–(IV.20)]
-/// (also the `gap` of a Reynolds scene in an experiment file).
-#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
-#[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
+/// Gap width g(x₁, x₂) = z₁ − z₀ of the fluid examples [Ch.IV §IV.3, (IV.7)–(IV.20)].
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Gap {
     /// g = g0. (IV.7)–(IV.9): g0 = 0.1.
     Plain { g0: f64 },
@@ -287,6 +283,34 @@ pub enum Gap {
         amplitude: f64,
         frequency: f64,
     },
+}
+
+impl From<crate::experiment::GapShape> for Gap {
+    fn from(g: crate::experiment::GapShape) -> Gap {
+        use crate::experiment::GapShape as File;
+        match g {
+            File::Plain { g0 } => Gap::Plain { g0 },
+            File::Linear { g0, slope } => Gap::Linear { g0, slope },
+            File::WaveHorizontal {
+                g0,
+                amplitude,
+                frequency,
+            } => Gap::WaveHorizontal {
+                g0,
+                amplitude,
+                frequency,
+            },
+            File::Hill {
+                g0,
+                amplitude,
+                frequency,
+            } => Gap::Hill {
+                g0,
+                amplitude,
+                frequency,
+            },
+        }
+    }
 }
 
 /// [s, s', s'', s'''] of s(t) = sin²(ω t) at t.
@@ -408,8 +432,7 @@ impl Gap {
 // ---------------------------------------------------------------------------------------------
 
 /// Which cavitation correction γ₃c to use (spec/models.md §7 and §15 item 9).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Deserialize)]
-#[serde(rename_all = "kebab-case")]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub enum CavitationSource {
     /// (I.61) as printed.
     #[default]
@@ -422,6 +445,17 @@ pub enum CavitationSource {
     /// to 1e-5 and that of IV.68 (hill gap) 271.82 against 271.45, where the printed γ₃c gives
     /// 1203.5 and 287.35 (report notes of IV.66–IV.69).
     Reynolds,
+}
+
+impl From<crate::experiment::CavitationSource> for CavitationSource {
+    fn from(s: crate::experiment::CavitationSource) -> CavitationSource {
+        use crate::experiment::CavitationSource as File;
+        match s {
+            File::Printed => CavitationSource::Printed,
+            File::SelfConsistent => CavitationSource::SelfConsistent,
+            File::Reynolds => CavitationSource::Reynolds,
+        }
+    }
 }
 
 /// Wall data of a thin film at one point x ∈ Ω₂, as jets, and the derived quantities of

@@ -7,68 +7,35 @@ use std::path::Path;
 
 use polars::prelude::*;
 
-use crate::results::{PhaseSeconds, RunResult};
+use crate::results::{PhaseSeconds, RunResult, Value};
 
-/// One row per cycle: `cycle, active_cells, dofs, estimate, ratio`, the table family's further
-/// columns, solver counters and `seconds_<phase>`. `ratio` is empty in the first row.
+/// One row per cycle: `cycle`, then the rows' named columns in order of first appearance
+/// (`active_cells, dofs, estimate, ratio` and the family's further columns for the
+/// grid-adaptive tables), then `seconds_<phase>`. Count columns are integers, real columns
+/// floats; a value a row does not have, or that is undefined (the first `ratio`), is empty.
 pub fn rows_frame(run: &RunResult) -> PolarsResult<DataFrame> {
     let rows = &run.rows;
-    let mut columns = vec![
-        Column::new(
-            "cycle".into(),
-            rows.iter().map(|r| r.cycle as u64).collect::<Vec<_>>(),
-        ),
-        Column::new(
-            "active_cells".into(),
-            rows.iter()
-                .map(|r| r.active_cells as u64)
-                .collect::<Vec<_>>(),
-        ),
-        Column::new(
-            "dofs".into(),
-            rows.iter().map(|r| r.dofs as u64).collect::<Vec<_>>(),
-        ),
-        Column::new(
-            "estimate".into(),
-            rows.iter().map(|r| r.estimate).collect::<Vec<_>>(),
-        ),
-        Column::new(
-            "ratio".into(),
-            rows.iter().map(|r| r.ratio).collect::<Vec<Option<f64>>>(),
-        ),
-    ];
-    let mut quantity_names: Vec<&str> = Vec::new();
-    let mut counter_names: Vec<&str> = Vec::new();
+    let mut names: Vec<(&str, bool)> = Vec::new();
     for r in rows {
-        for (n, _) in &r.quantities {
-            if !quantity_names.contains(&n.as_str()) {
-                quantity_names.push(n);
-            }
-        }
-        for (n, _) in &r.counters {
-            if !counter_names.contains(&n.as_str()) {
-                counter_names.push(n);
+        for (name, value) in &r.columns {
+            if !names.iter().any(|(n, _)| n == name) {
+                names.push((name, matches!(value, Value::Count(_))));
             }
         }
     }
-    for name in quantity_names {
-        let v: Vec<Option<f64>> = rows
-            .iter()
-            .map(|r| {
-                r.quantities
-                    .iter()
-                    .find(|(n, _)| n == name)
-                    .map(|(_, v)| *v)
-            })
-            .collect();
-        columns.push(Column::new(name.into(), v));
-    }
-    for name in counter_names {
-        let v: Vec<Option<i64>> = rows
-            .iter()
-            .map(|r| r.counters.iter().find(|(n, _)| n == name).map(|(_, v)| *v))
-            .collect();
-        columns.push(Column::new(name.into(), v));
+    let mut columns = vec![Column::new(
+        "cycle".into(),
+        rows.iter().map(|r| r.cycle as u64).collect::<Vec<_>>(),
+    )];
+    for (name, count) in names {
+        let column = if count {
+            let v: Vec<Option<i64>> = rows.iter().map(|r| r.count_of(name)).collect();
+            Column::new(name.into(), v)
+        } else {
+            let v: Vec<Option<f64>> = rows.iter().map(|r| r.value(name)).collect();
+            Column::new(name.into(), v)
+        };
+        columns.push(column);
     }
     for (i, (name, _)) in PhaseSeconds::default().named().iter().enumerate() {
         let v: Vec<f64> = rows.iter().map(|r| r.seconds.named()[i].1).collect();

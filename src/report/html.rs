@@ -11,8 +11,8 @@ use super::{
     compared_value, compares_previous_estimate, estimate_ratio, rel_diff, tolerance, Alternative,
     Figure, ReportMeta, Section, Summary,
 };
-use crate::results::{CycleRow, RunResult};
-use crate::study::reynolds::{PREVIOUS_ESTIMATE, THEOREM_ESTIMATE};
+use crate::results::columns::{PREVIOUS_ESTIMATE, THEOREM_ESTIMATE};
+use crate::results::{Row, RunResult, Value};
 use crate::thesis::ThesisTable;
 
 /// The figures written for one section, in the order they appear.
@@ -284,23 +284,14 @@ fn summary(h: &mut String, sections: &[Section]) {
 }
 
 /// Names of tribo's columns the thesis does not print, in first-appearance order.
-fn tribo_only_columns(rows: &[CycleRow], thesis_columns: &[String]) -> Vec<(String, bool)> {
+fn tribo_only_columns(rows: &[Row], thesis_columns: &[String]) -> Vec<(String, bool)> {
     let mut out: Vec<(String, bool)> = Vec::new();
     let known = |n: &str| thesis_columns.iter().any(|c| c == n);
-    let mut add = |name: &str, integer: bool| {
-        if !known(name) && !out.iter().any(|(n, _)| n == name) {
-            out.push((name.to_string(), integer));
-        }
-    };
-    for base in ["active_cells", "dofs", "estimate", "ratio"] {
-        add(base, matches!(base, "active_cells" | "dofs"));
-    }
     for r in rows {
-        for (n, _) in &r.quantities {
-            add(n, false);
-        }
-        for (n, _) in &r.counters {
-            add(n, true);
+        for (name, value) in &r.columns {
+            if !known(name) && !out.iter().any(|(n, _)| n == name) {
+                out.push((name.to_string(), matches!(value, Value::Count(_))));
+            }
         }
     }
     out
@@ -385,12 +376,12 @@ fn table_section(h: &mut String, s: &Section, figs: &SectionFigures) {
 /// How much an alternative reading changes the table: dofs and estimate of both runs per cycle
 /// and the relative change, plus the range of the change in the heading.
 fn alternative_table(h: &mut String, run: &RunResult, thesis: &ThesisTable, alt: &Alternative) {
-    let pairs: Vec<(&CycleRow, &CycleRow)> = run
+    let pairs: Vec<(&Row, &Row)> = run
         .rows
         .iter()
         .filter_map(|r| Some((r, alt.run.rows.iter().find(|a| a.cycle == r.cycle)?)))
         .collect();
-    let range = |f: &dyn Fn(&CycleRow) -> f64| {
+    let range = |f: &dyn Fn(&Row) -> f64| {
         pairs.iter().filter_map(|(r, a)| rel_diff(f(a), f(r))).fold(
             None,
             |acc: Option<(f64, f64)>, d| {
@@ -410,11 +401,11 @@ fn alternative_table(h: &mut String, run: &RunResult, thesis: &ThesisTable, alt:
          <th>estimate (alt.)</th><th>Δ</th><th>tribo/thesis</th><th>alt./thesis</th>\
          </tr></thead><tbody>\n",
         escape(&alt.label),
-        span(range(&|r| r.estimate)),
-        span(range(&|r| r.dofs as f64)),
+        span(range(&|r| r.estimate().unwrap_or(f64::NAN))),
+        span(range(&|r| r.value("dofs").unwrap_or(f64::NAN))),
     );
     // The estimate ratio to the printed row, compared as in the table above.
-    let to_thesis = |rows: &[CycleRow], cycle: usize| {
+    let to_thesis = |rows: &[Row], cycle: usize| {
         let i = rows.iter().position(|r| r.cycle == cycle)?;
         estimate_ratio(rows, i, thesis.value(cycle, "estimate")).map(fmt_sig)
     };
@@ -423,17 +414,33 @@ fn alternative_table(h: &mut String, run: &RunResult, thesis: &ThesisTable, alt:
             h,
             "<tr><td>{}</td><td>{}</td><td>{}</td>{}<td>{}</td><td>{}</td>{}{}{}</tr>",
             r.cycle,
-            r.dofs,
-            a.dofs,
-            diff_cell("dofs", rel_diff(a.dofs as f64, r.dofs as f64)),
-            fmt_sig(r.estimate),
-            fmt_sig(a.estimate),
-            diff_cell("estimate", rel_diff(a.estimate, r.estimate)),
+            opt_count(r.dofs()),
+            opt_count(a.dofs()),
+            diff_cell(
+                "dofs",
+                rel_diff(nan_or(a.value("dofs")), nan_or(r.value("dofs")))
+            ),
+            fmt_sig(nan_or(r.estimate())),
+            fmt_sig(nan_or(a.estimate())),
+            diff_cell(
+                "estimate",
+                rel_diff(nan_or(a.estimate()), nan_or(r.estimate()))
+            ),
             opt_cell(to_thesis(&run.rows, r.cycle)),
             opt_cell(to_thesis(&alt.run.rows, r.cycle)),
         );
     }
     h.push_str("</tbody></table></div>\n");
+}
+
+/// A value that may be missing, as NaN (which every formatter shows as missing).
+fn nan_or(v: Option<f64>) -> f64 {
+    v.unwrap_or(f64::NAN)
+}
+
+/// A count that may be missing.
+fn opt_count(v: Option<usize>) -> String {
+    v.map_or_else(|| "—".into(), |n| n.to_string())
 }
 
 /// tribo beside the thesis: for each printed column tribo | thesis | Δ, then the estimate ratio,
@@ -562,7 +569,7 @@ fn comparison_table(h: &mut String, s: &Section) {
             let p = thesis.value(cycle, c);
             // The thesis prints `inf` for the first ratio; tribo has none there. Both mean "no
             // previous cycle", shown as an en dash rather than a number.
-            let is_first_ratio = *c == "ratio" && row.is_some_and(|r| r.ratio.is_none());
+            let is_first_ratio = *c == "ratio" && row.is_some_and(|r| r.ratio().is_none());
             let tribo_cell = match t {
                 Some(v) => format!("<td class=\"first\">{}</td>", fmt_value(c, v)),
                 None if is_first_ratio => "<td class=\"first\">–</td>".into(),
@@ -589,8 +596,8 @@ fn comparison_table(h: &mut String, s: &Section) {
         for (i, (n, integer)) in extra.iter().enumerate() {
             let class = if i == 0 { "first" } else { "" };
             let v = row.and_then(|r| match n.as_str() {
-                "ratio" => r.ratio,
-                PREVIOUS_ESTIMATE if shifted => Some(r.estimate),
+                "ratio" => r.ratio(),
+                PREVIOUS_ESTIMATE if shifted => r.estimate(),
                 _ => r.value(n),
             });
             let _ = match v {

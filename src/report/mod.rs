@@ -15,15 +15,15 @@ use std::fs;
 use std::io;
 use std::path::{Path, PathBuf};
 
-use crate::results::{CycleRow, RunResult};
-use crate::study::reynolds::PREVIOUS_ESTIMATE;
+use crate::results::columns::PREVIOUS_ESTIMATE;
+use crate::results::{Row, RunResult};
 use crate::thesis::ThesisTable;
 
 /// One table of the report: what tribo computed, and the printed thesis table beside it.
 pub struct Section<'a> {
     pub run: &'a RunResult,
     pub thesis: &'a ThesisTable,
-    /// Runs of alternative readings of the same scene ([`crate::study::alternative_readings`]),
+    /// Runs of alternative readings of the same scene (computed by the caller),
     /// shown as differences against `run`.
     pub alternatives: &'a [Alternative],
 }
@@ -224,15 +224,15 @@ impl Summary {
         let ratios: Vec<f64> = run
             .rows
             .iter()
-            .filter_map(|r| r.ratio)
+            .filter_map(|r| r.ratio())
             .filter(|r| r.is_finite() && *r > 0.0)
             .collect();
         let geo_mean_ratio = (!ratios.is_empty())
             .then(|| (ratios.iter().map(|r| r.ln()).sum::<f64>() / ratios.len() as f64).exp());
         Summary {
             rows: run.rows.len(),
-            last_dofs: run.rows.last().map(|r| r.dofs),
-            last_estimate: run.rows.last().map(|r| r.estimate),
+            last_dofs: run.rows.last().and_then(|r| r.dofs()),
+            last_estimate: run.rows.last().and_then(|r| r.estimate()),
             geo_mean_ratio,
             max_dofs_diff: max_abs_diff(section, "dofs"),
             max_estimate_diff: max_abs_diff(section, "estimate"),
@@ -256,9 +256,9 @@ pub(crate) fn compares_previous_estimate(run: &RunResult) -> bool {
 /// Where the run has [`PREVIOUS_ESTIMATE`], the printed `estimate` is compared with that column
 /// and the printed `ratio` with the ratio of two consecutive values of it; every other column,
 /// and every column of the other tables, with the value of the same name.
-pub(crate) fn compared_value(rows: &[CycleRow], i: usize, column: &str) -> Option<f64> {
+pub(crate) fn compared_value(rows: &[Row], i: usize, column: &str) -> Option<f64> {
     let row = rows.get(i)?;
-    let previous = |r: &CycleRow| r.value(PREVIOUS_ESTIMATE).filter(|v| v.is_finite());
+    let previous = |r: &Row| r.value(PREVIOUS_ESTIMATE).filter(|v| v.is_finite());
     match (column, row.value(PREVIOUS_ESTIMATE).is_some()) {
         ("estimate", true) => previous(row),
         ("ratio", true) => {
@@ -272,7 +272,7 @@ pub(crate) fn compared_value(rows: &[CycleRow], i: usize, column: &str) -> Optio
 
 /// tribo's compared estimate of row `i` ([`compared_value`]) divided by a printed value; `None`
 /// where either is missing or the printed value is 0 or not finite.
-pub(crate) fn estimate_ratio(rows: &[CycleRow], i: usize, printed: Option<f64>) -> Option<f64> {
+pub(crate) fn estimate_ratio(rows: &[Row], i: usize, printed: Option<f64>) -> Option<f64> {
     let p = printed.filter(|p| p.is_finite() && *p != 0.0)?;
     Some(compared_value(rows, i, "estimate")? / p)
 }
@@ -312,18 +312,15 @@ mod tests {
         assert!((rel_diff(1.1, 1.0).unwrap() - 0.1).abs() < 1e-12);
     }
 
-    fn row(cycle: usize, estimate: f64, previous: Option<f64>) -> CycleRow {
-        CycleRow {
-            cycle,
-            active_cells: 1,
-            dofs: 4,
-            estimate,
-            ratio: None,
-            quantities: previous
-                .map(|p| vec![(PREVIOUS_ESTIMATE.to_string(), p)])
-                .unwrap_or_default(),
-            counters: vec![],
-            seconds: Default::default(),
+    fn row(cycle: usize, estimate: f64, previous: Option<f64>) -> Row {
+        let row = Row::new(cycle)
+            .count("active_cells", 1)
+            .count("dofs", 4)
+            .real("estimate", Some(estimate))
+            .real("ratio", None);
+        match previous {
+            Some(p) => row.real(PREVIOUS_ESTIMATE, Some(p)),
+            None => row,
         }
     }
 
@@ -338,7 +335,7 @@ mod tests {
         assert_eq!(compared_value(&rows, 1, "dofs"), Some(4.0));
         // Other tables compare the values of the same name.
         let mut plain = [row(0, 4.0, None), row(1, 2.0, None)];
-        plain[1].ratio = Some(0.5);
+        plain[1].set("ratio", crate::results::Value::Real(Some(0.5)));
         assert_eq!(compared_value(&plain, 0, "estimate"), Some(4.0));
         assert_eq!(compared_value(&plain, 1, "ratio"), Some(0.5));
         assert_eq!(compared_value(&plain, 2, "estimate"), None);

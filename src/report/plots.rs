@@ -210,7 +210,7 @@ pub fn convergence(path: &Path, run: &RunResult, thesis: &ThesisTable) -> io::Re
             points: run
                 .rows
                 .iter()
-                .map(|r| (r.dofs as f64, r.estimate))
+                .filter_map(|r| Some((r.value("dofs")?, r.estimate()?)))
                 .filter(loggable)
                 .collect(),
         },
@@ -229,7 +229,7 @@ pub fn convergence(path: &Path, run: &RunResult, thesis: &ThesisTable) -> io::Re
             points: run
                 .rows
                 .iter()
-                .filter_map(|r| Some((r.dofs as f64, r.value("model_error")?)))
+                .filter_map(|r| Some((r.value("dofs")?, r.value("model_error")?)))
                 .filter(loggable)
                 .collect(),
         });
@@ -354,7 +354,7 @@ pub fn cost(path: &Path, run: &RunResult) -> io::Result<()> {
         .rows
         .iter()
         .zip(&cumulative)
-        .map(|(r, t)| (*t, r.estimate, r.dofs))
+        .filter_map(|(r, t)| Some((*t, r.estimate()?, r.dofs()?)))
         .filter(|(t, e, _)| loggable(&(*t, *e)))
         .collect();
 
@@ -1228,7 +1228,7 @@ pub fn field(path: &Path, table: &str, pic: &FieldPicture, domain: [f64; 4]) -> 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::results::{CycleRow, PhaseSeconds};
+    use crate::results::Row;
 
     #[test]
     fn log_axis_labels_a_range_without_a_power_of_ten() {
@@ -1263,15 +1263,12 @@ mod tests {
     fn degenerate_data_still_writes_figures() {
         let dir = std::env::temp_dir().join(format!("tribo-plots-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
-        let row = |estimate: f64| CycleRow {
-            cycle: 0,
-            active_cells: 1,
-            dofs: 4,
-            estimate,
-            ratio: None,
-            quantities: vec![],
-            counters: vec![],
-            seconds: PhaseSeconds::default(),
+        let row = |estimate: f64| {
+            Row::new(0)
+                .count("active_cells", 1)
+                .count("dofs", 4)
+                .real("estimate", Some(estimate))
+                .real("ratio", None)
         };
         let thesis = ThesisTable {
             table: "T".into(),

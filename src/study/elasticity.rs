@@ -1,86 +1,151 @@
 //! Tables IV.1–IV.5: linear elasticity (I.17) with the estimator of Theorem III.12.
 
-use std::time::Instant;
-
-use super::{AdaptiveModel, Estimate, Solution};
+use super::clock::PhaseClock;
+use super::problem::{Discretisation, Estimate, Pictures, Problem, Solution};
 use crate::estimators::{self, elasticity::BoundaryTerms};
-use crate::experiment::ExperimentSpec;
-use crate::fe::{DofMap, SparseSystem};
+use crate::experiment::{ElasticityData, Rectangle};
+use crate::fe::{DofMap, System};
+use crate::linalg::DirectSolver;
 use crate::mesh::Mesh;
 use crate::models::elasticity::Elasticity;
-use crate::results::{PhaseSeconds, RunResult};
+use crate::results::{sig4, DeformedPicture};
 
-/// The elasticity model of one experiment.
-pub struct ElasticityStudy {
-    problem: Elasticity,
+/// The elasticity problem of one experiment.
+pub struct ElasticityProblem {
+    model: Elasticity,
     terms: BoundaryTerms,
+    solver: DirectSolver,
+    /// Height of the domain, the scale of the deformed-body picture.
+    height: f64,
 }
 
-impl ElasticityStudy {
-    pub fn new(spec: &ExperimentSpec) -> ElasticityStudy {
-        let data = spec
-            .scene
-            .elasticity
-            .as_ref()
-            .expect("validated: elasticity data");
-        ElasticityStudy {
-            problem: Elasticity::from_data(data),
+impl ElasticityProblem {
+    pub fn new(data: &ElasticityData, domain: &Rectangle) -> ElasticityProblem {
+        ElasticityProblem {
+            model: data.into(),
             terms: BoundaryTerms::default(),
+            solver: DirectSolver::cholesky(),
+            height: domain.y[1] - domain.y[0],
         }
     }
 }
 
-impl AdaptiveModel for ElasticityStudy {
-    fn n_components(&self) -> usize {
-        2
+/// The displacement components of a probe: `s1` and `s2`.
+pub fn displacement_component(name: &str) -> Option<usize> {
+    match name {
+        "s1" => Some(0),
+        "s2" => Some(1),
+        _ => None,
+    }
+}
+
+impl Problem for ElasticityProblem {
+    fn setup(&mut self, disc: &Discretisation) -> System {
+        let mut system = System::new(&disc.mesh, 2);
+        self.model.constrain(&mut system);
+        self.solver.reorder(system.ordering());
+        system
+    }
+
+    fn assemble(&mut self, disc: &Discretisation, system: &mut System) -> Result<(), String> {
+        self.model.assemble(&disc.mesh, system);
+        Ok(())
     }
 
     fn solve(
         &mut self,
-        mesh: &Mesh,
-        dofs: &DofMap,
-        system: &mut SparseSystem,
-        seconds: &mut PhaseSeconds,
+        _disc: &Discretisation,
+        system: &mut System,
+        _clock: &PhaseClock,
     ) -> Result<Solution, String> {
-        let t = Instant::now();
-        let fixed = self.problem.fixed_dofs(dofs);
-        let (matrix, rhs) = self.problem.assemble(mesh, system);
-        seconds.assemble += t.elapsed().as_secs_f64();
-        let t = Instant::now();
-        let mut u = system
-            .solve_fixed(&matrix, &rhs, &fixed)
+        let mut u = self
+            .solver
+            .solve(
+                system.matrix(),
+                &system.rhs,
+                &system.constraints.eliminated(),
+            )
             .map_err(|e| e.to_string())?;
-        dofs.distribute_hanging(&mut u);
-        seconds.solve += t.elapsed().as_secs_f64();
+        system.constraints.distribute(&mut u);
         Ok(Solution {
             u,
             counters: Vec::new(),
         })
     }
 
-    fn estimate(&mut self, mesh: &Mesh, dofs: &DofMap, u: &[f64]) -> Estimate {
-        Estimate {
-            eta2: estimators::elasticity::indicators(mesh, dofs, u, &self.problem, &self.terms),
-            quantities: Vec::new(),
+    fn estimate(
+        &mut self,
+        disc: &Discretisation,
+        system: &System,
+        solution: &Solution,
+    ) -> Estimate {
+        Estimate::of_cells(estimators::elasticity::indicators(
+            &disc.mesh,
+            &system.dofs,
+            &solution.u,
+            &self.model,
+            &self.terms,
+        ))
+    }
+
+    fn pictures(
+        &mut self,
+        disc: &Discretisation,
+        system: &System,
+        solution: &Solution,
+        cycle: usize,
+    ) -> Pictures {
+        Pictures {
+            deformed: vec![deformed_picture(
+                &disc.mesh,
+                &system.dofs,
+                &solution.u,
+                cycle,
+                Some(self.height),
+            )],
+            fields: Vec::new(),
         }
     }
 
-    fn last_cycle(
-        &mut self,
-        spec: &ExperimentSpec,
-        mesh: &Mesh,
-        dofs: &DofMap,
-        u: &[f64],
-        cycle: usize,
-        result: &mut RunResult,
-    ) {
-        let d = spec.scene.domain;
-        result.deformed.push(super::deformed_picture(
-            mesh,
-            dofs,
-            u,
-            cycle,
-            Some(d.y[1] - d.y[0]),
-        ));
+    fn component(&self, name: &str) -> Option<usize> {
+        displacement_component(name)
+    }
+}
+
+/// The deformed body x + scale·s(x). With `magnify_to = Some(height)` small displacements are
+/// magnified so that the largest one is half of `height`; with `None` the picture is true scale
+/// (contact pictures, whose obstacle curves are in true scale too).
+pub fn deformed_picture(
+    mesh: &Mesh,
+    dofs: &DofMap,
+    u: &[f64],
+    cycle: usize,
+    magnify_to: Option<f64>,
+) -> DeformedPicture {
+    let max = u.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let scale = match magnify_to {
+        Some(height) if max > 0.0 && max < 0.5 * height => (0.5 * height / max).round().max(1.0),
+        _ => 1.0,
+    };
+    let quads = (0..mesh.n_active())
+        .map(|k| {
+            let cv = dofs.vertices.cell_vertices[k];
+            // counter-clockwise from the lower-left corner
+            [cv[0], cv[1], cv[3], cv[2]].map(|v| {
+                let x = dofs.vertices.coords[v as usize];
+                [
+                    x[0] + scale * u[dofs.dof(v, 0)],
+                    x[1] + scale * u[dofs.dof(v, 1)],
+                ]
+            })
+        })
+        .collect();
+    DeformedPicture {
+        cycle,
+        scale,
+        quads,
+        obstacles: Vec::new(),
+        contact_points: Vec::new(),
+        caption: format!("largest displacement component {}", sig4(max)),
     }
 }

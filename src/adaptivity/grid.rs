@@ -172,8 +172,7 @@ pub fn rounded_measure(mesh: &Mesh, c: CellId) -> f64 {
         }
         measure += (j[0][0] * j[1][1] - j[1][0] * j[0][1]) * w;
     }
-    let b = mesh.cell_box(c);
-    measure / ((b[2] - b[0]) * (b[3] - b[1]))
+    measure / mesh.cell_shape(c).area()
 }
 
 /// Indicators below `floor` are rounding noise: set them to zero (used for problems whose

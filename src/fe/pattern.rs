@@ -1,0 +1,332 @@
+//! The sparsity pattern of a Q₁ problem and the plan that scatters cell matrices into it, with
+//! the hanging-node constraints condensed (a hanging dof's row and column are distributed to its
+//! two parents with weight ½, [`super::Constraints::hanging_parents`]); deterministic parallel
+//! assembly.
+//!
+//! The pattern is symmetric, stored in full (both triangles) in compressed columns, and has every
+//! diagonal entry — also those of hanging and fixed dofs, whose rows the solver eliminates while
+//! keeping the diagonal, so the pattern does not depend on which dofs are fixed.
+
+use rayon::prelude::*;
+
+use super::constraints::Constraints;
+use super::dofs::DofMap;
+use crate::linalg::Csc;
+
+/// One local dof of a cell expanded to a global dof with weight 2^(−wexp)
+/// (hanging dofs expand to their two parents with weight ½).
+#[derive(Clone, Copy, Debug)]
+struct Expanded {
+    global: u32,
+    local: u8,
+    wexp: u8,
+}
+
+#[derive(Clone, Copy, Debug)]
+struct MatEntry {
+    pos: u32,
+    lij: u16,
+    wexp: u8,
+}
+
+/// Symmetric sparsity pattern over all dofs (full storage, compressed columns) and the plan to
+/// scatter cell matrices into it.
+pub struct SparsityPattern {
+    n: usize,
+    n_local: usize,
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
+    diag: Vec<usize>,
+    cell_start: Vec<usize>,
+    entries: Vec<MatEntry>,
+    rhs_start: Vec<usize>,
+    rhs_entries: Vec<Expanded>,
+}
+
+impl SparsityPattern {
+    /// Pattern of a Q₁ problem on `dofs`: every pair of dofs that share a cell (after
+    /// expanding hanging dofs into their parents) plus every diagonal entry.
+    pub fn new(dofs: &DofMap, constraints: &Constraints) -> SparsityPattern {
+        let n = dofs.n_dofs();
+        let nc = dofs.n_components;
+        let n_local = 4 * nc;
+        let v = &dofs.vertices;
+        let hang = |vert: u32| -> Option<[u32; 2]> {
+            if v.is_hanging[vert as usize] {
+                Some(constraints.hanging_parents(vert).expect("hanging vertex"))
+            } else {
+                None
+            }
+        };
+        // Expanded local dofs of every cell, flat: cell k owns rhs_entries[rhs_start[k]..rhs_start[k + 1]].
+        let n_cells = v.cell_vertices.len();
+        let expand = |k: usize, push: &mut dyn FnMut(Expanded)| {
+            for (lv, &vert) in v.cell_vertices[k].iter().enumerate() {
+                for c in 0..nc {
+                    let local = (lv * nc + c) as u8;
+                    match hang(vert) {
+                        None => push(Expanded {
+                            global: (vert as usize * nc + c) as u32,
+                            local,
+                            wexp: 0,
+                        }),
+                        Some(p) => {
+                            for q in p {
+                                push(Expanded {
+                                    global: (q as usize * nc + c) as u32,
+                                    local,
+                                    wexp: 1,
+                                });
+                            }
+                        }
+                    }
+                }
+            }
+        };
+        let counts: Vec<usize> = (0..n_cells)
+            .into_par_iter()
+            .map(|k| {
+                let mut m = 0;
+                expand(k, &mut |_| m += 1);
+                m
+            })
+            .collect();
+        let mut rhs_start = Vec::with_capacity(n_cells + 1);
+        let mut cell_start = Vec::with_capacity(n_cells + 1);
+        rhs_start.push(0);
+        cell_start.push(0);
+        for &m in &counts {
+            rhs_start.push(rhs_start.last().unwrap() + m);
+            cell_start.push(cell_start.last().unwrap() + m * m);
+        }
+        drop(counts);
+        let mut rhs_entries = vec![
+            Expanded {
+                global: 0,
+                local: 0,
+                wexp: 0
+            };
+            rhs_start[n_cells]
+        ];
+        split_by_offsets(&mut rhs_entries, &rhs_start)
+            .into_par_iter()
+            .enumerate()
+            .for_each(|(k, out)| {
+                let mut i = 0;
+                expand(k, &mut |e| {
+                    out[i] = e;
+                    i += 1;
+                });
+            });
+        // Cells touching each global dof (after expansion), in cell order.
+        let mut touch_start = vec![0usize; n + 1];
+        for e in &rhs_entries {
+            touch_start[e.global as usize + 1] += 1;
+        }
+        for j in 0..n {
+            touch_start[j + 1] += touch_start[j];
+        }
+        let mut touch = vec![0u32; rhs_entries.len()];
+        {
+            let mut next = touch_start[..n].to_vec();
+            for k in 0..n_cells {
+                for e in &rhs_entries[rhs_start[k]..rhs_start[k + 1]] {
+                    let g = e.global as usize;
+                    touch[next[g]] = k as u32;
+                    next[g] += 1;
+                }
+            }
+        }
+        // Column j: every dof sharing a cell with j, plus j itself; built in parallel blocks of
+        // columns and stitched in column order.
+        const BLOCK: usize = 4096;
+        let blocks: Vec<(Vec<usize>, Vec<usize>)> = (0..n.div_ceil(BLOCK))
+            .into_par_iter()
+            .map(|b| {
+                let cols = b * BLOCK..((b + 1) * BLOCK).min(n);
+                let mut lens = Vec::with_capacity(cols.len());
+                let mut rows = Vec::with_capacity(cols.len() * 10 * nc);
+                let mut buf: Vec<usize> = Vec::new();
+                for j in cols {
+                    buf.clear();
+                    buf.push(j);
+                    for &k in &touch[touch_start[j]..touch_start[j + 1]] {
+                        let k = k as usize;
+                        buf.extend(
+                            rhs_entries[rhs_start[k]..rhs_start[k + 1]]
+                                .iter()
+                                .map(|e| e.global as usize),
+                        );
+                    }
+                    buf.sort_unstable();
+                    buf.dedup();
+                    lens.push(buf.len());
+                    rows.extend_from_slice(&buf);
+                }
+                (lens, rows)
+            })
+            .collect();
+        drop(touch);
+        drop(touch_start);
+        let mut col_ptr = Vec::with_capacity(n + 1);
+        col_ptr.push(0usize);
+        for (lens, _) in &blocks {
+            for &l in lens {
+                col_ptr.push(col_ptr.last().unwrap() + l);
+            }
+        }
+        let nnz = col_ptr[n];
+        let mut row_idx = Vec::with_capacity(nnz);
+        for (_, rows) in blocks {
+            row_idx.extend_from_slice(&rows);
+        }
+        assert!(
+            nnz < u32::MAX as usize,
+            "matrix too large for 32-bit positions"
+        );
+        let find = |i: usize, j: usize| -> usize {
+            let col = &row_idx[col_ptr[j]..col_ptr[j + 1]];
+            col_ptr[j] + col.binary_search(&i).expect("entry in pattern")
+        };
+        let diag: Vec<usize> = (0..n).into_par_iter().map(|i| find(i, i)).collect();
+        let mut entries = vec![
+            MatEntry {
+                pos: 0,
+                lij: 0,
+                wexp: 0
+            };
+            cell_start[n_cells]
+        ];
+        split_by_offsets(&mut entries, &cell_start)
+            .into_par_iter()
+            .enumerate()
+            .for_each(|(k, out)| {
+                let e = &rhs_entries[rhs_start[k]..rhs_start[k + 1]];
+                let mut i = 0;
+                for a in e {
+                    for b in e {
+                        out[i] = MatEntry {
+                            pos: find(a.global as usize, b.global as usize) as u32,
+                            lij: (a.local as usize * n_local + b.local as usize) as u16,
+                            wexp: a.wexp + b.wexp,
+                        };
+                        i += 1;
+                    }
+                }
+            });
+        SparsityPattern {
+            n,
+            n_local,
+            col_ptr,
+            row_idx,
+            diag,
+            cell_start,
+            entries,
+            rhs_start,
+            rhs_entries,
+        }
+    }
+
+    pub fn n(&self) -> usize {
+        self.n
+    }
+
+    pub fn nnz(&self) -> usize {
+        self.row_idx.len()
+    }
+
+    /// Column pointers of the (full, symmetric) compressed-column pattern.
+    pub fn col_ptr(&self) -> &[usize] {
+        &self.col_ptr
+    }
+
+    /// Row indices of the pattern, sorted within each column.
+    pub fn row_idx(&self) -> &[usize] {
+        &self.row_idx
+    }
+
+    /// Position of entry (i, j) in the value array, if it is in the pattern.
+    pub fn position(&self, i: usize, j: usize) -> Option<usize> {
+        let col = &self.row_idx[self.col_ptr[j]..self.col_ptr[j + 1]];
+        col.binary_search(&i).ok().map(|p| self.col_ptr[j] + p)
+    }
+
+    /// Assemble cell matrices and vectors. `cell(k, ke, fe)` fills the `n_local × n_local`
+    /// matrix (row-major) and the `n_local` vector of active cell `k`; it runs in parallel,
+    /// the summation into the global system runs in cell order (bitwise deterministic).
+    pub fn assemble<F>(&self, n_cells: usize, cell: F) -> (Vec<f64>, Vec<f64>)
+    where
+        F: Fn(usize, &mut [f64], &mut [f64]) + Sync,
+    {
+        let nl = self.n_local;
+        // Cells are computed in parallel blocks into one reused buffer and summed block by
+        // block: no cell-matrix array of the whole mesh.
+        const BLOCK: usize = 8192;
+        let mut ke = vec![0.0; BLOCK.min(n_cells) * nl * nl];
+        let mut fe = vec![0.0; BLOCK.min(n_cells) * nl];
+        // Written, not calloc'ed: a fresh zero page that is read before it is written costs a
+        // copy-on-write fault with a TLB shootdown on every page.
+        let mut values = zeros(self.nnz());
+        let mut rhs = zeros(self.n);
+        for first in (0..n_cells).step_by(BLOCK) {
+            let len = BLOCK.min(n_cells - first);
+            ke[..len * nl * nl].fill(0.0);
+            fe[..len * nl].fill(0.0);
+            ke[..len * nl * nl]
+                .par_chunks_mut(nl * nl)
+                .zip(fe[..len * nl].par_chunks_mut(nl))
+                .enumerate()
+                .for_each(|(i, (m, f))| cell(first + i, m, f));
+            for i in 0..len {
+                let k = first + i;
+                let m = &ke[i * nl * nl..(i + 1) * nl * nl];
+                for e in &self.entries[self.cell_start[k]..self.cell_start[k + 1]] {
+                    values[e.pos as usize] += m[e.lij as usize] * weight(e.wexp);
+                }
+                let f = &fe[i * nl..(i + 1) * nl];
+                for e in &self.rhs_entries[self.rhs_start[k]..self.rhs_start[k + 1]] {
+                    rhs[e.global as usize] += f[e.local as usize] * weight(e.wexp);
+                }
+            }
+        }
+        (values, rhs)
+    }
+
+    /// The matrix with this pattern and the given values (e.g. assembled by
+    /// [`SparsityPattern::assemble`]).
+    pub fn matrix<'a>(&'a self, values: &'a [f64]) -> Csc<'a> {
+        debug_assert_eq!(values.len(), self.nnz());
+        Csc {
+            col_ptr: &self.col_ptr,
+            row_idx: &self.row_idx,
+            diag: &self.diag,
+            values,
+        }
+    }
+}
+
+#[inline]
+fn weight(wexp: u8) -> f64 {
+    match wexp {
+        0 => 1.0,
+        1 => 0.5,
+        2 => 0.25,
+        w => 0.5f64.powi(w as i32),
+    }
+}
+
+/// Split `data` into the consecutive pieces `offsets[k]..offsets[k + 1]`.
+fn split_by_offsets<'a, T>(mut data: &'a mut [T], offsets: &[usize]) -> Vec<&'a mut [T]> {
+    let mut out = Vec::with_capacity(offsets.len().saturating_sub(1));
+    for w in offsets.windows(2) {
+        let (head, tail) = data.split_at_mut(w[1] - w[0]);
+        out.push(head);
+        data = tail;
+    }
+    out
+}
+
+/// A vector of `len` zeros, written (in parallel) rather than allocated zeroed.
+fn zeros(len: usize) -> Vec<f64> {
+    (0..len).into_par_iter().map(|_| 0.0).collect()
+}

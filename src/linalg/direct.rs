@@ -1,0 +1,431 @@
+//! Sparse direct solvers (faer): Cholesky LLᵀ for the SPD systems of elasticity, contact and
+//! Reynolds, and LDLᵀ for symmetric quasi-definite saddle points (the stabilised Q₁/Q₁ SubStokes
+//! system with its mass rows negated, [A −B; −Bᵀ −C]).
+//!
+//! Eliminated dofs (Dirichlet data, hanging dofs, active constraints) are removed from the rows
+//! and columns of a copy of the matrix, keeping a diagonal entry, so the sparsity pattern — and
+//! with it the symbolic factorisation — stays the same while only the set of eliminated dofs
+//! changes (as in deal.II): an active-set iteration costs one numeric factorisation. The symbolic
+//! factorisation is computed at the first solve after [`DirectSolver::reorder`], and the large
+//! work arrays survive from solve to solve and from mesh to mesh ([`DirectSolver::reorder`] keeps
+//! them).
+
+use std::mem::MaybeUninit;
+
+use faer::dyn_stack::{MemStack, StackReq};
+use faer::linalg::cholesky::ldlt::factor::{LdltError, LdltRegularization};
+use faer::linalg::cholesky::llt::factor::LltError;
+use faer::perm::PermRef;
+use faer::sparse::linalg::cholesky::{
+    factorize_symbolic_cholesky, SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering,
+};
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use faer::{Conj, MatMut, Side};
+
+use super::{Csc, Ordering};
+
+/// faer's factorisation and triangular solves run sequentially. Its supernodal Cholesky visits
+/// the supernodes one after another and parallelises only inside each dense block; on the 2D
+/// meshes here almost all blocks are too small to pay for the synchronisation. Measured on the
+/// 2-core machine over the twenty Reynolds tables at full size: 70 s of solve phases against
+/// 110 s with `Par::rayon(2)` (same meshes, values equal to 2e-14). Assembly and estimation stay
+/// parallel (rayon), and the factorisations do not depend on the size of the thread pool.
+const FACTORISATION_PARALLELISM: faer::Par = faer::Par::Seq;
+
+/// Which factorisation a [`DirectSolver`] computes.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Factorisation {
+    /// LLᵀ: symmetric positive definite systems.
+    Cholesky,
+    /// LDLᵀ without pivoting: symmetric quasi-definite systems, any symmetric ordering is stable
+    /// in exact arithmetic. `signs[dof]` is +1 for the positive definite block (velocities) and
+    /// −1 for the negative definite one (pressures); an eliminated dof keeps a diagonal entry of
+    /// its sign.
+    Ldlt { signs: Vec<i8> },
+}
+
+/// Why a linear solve failed.
+#[derive(Debug, thiserror::Error, Clone, PartialEq)]
+pub enum SolveError {
+    #[error(
+        "sparse Cholesky factorisation failed: the pivot of dof {dof} is not positive, the system \
+         is not symmetric positive definite — check the boundary conditions"
+    )]
+    NotPositiveDefinite { dof: usize },
+    #[error(
+        "sparse LDLᵀ factorisation failed: the matrix is singular, the pivot of dof {dof} vanishes \
+         (its row is zero once the dofs before it are eliminated) — check the boundary conditions \
+         and the pressure stabilisation"
+    )]
+    Singular { dof: usize },
+    #[error("the symbolic factorisation failed: {0}")]
+    Symbolic(String),
+    #[error("the solution contains a non-finite value at dof {0}")]
+    NonFinite(usize),
+    #[error("the right-hand side contains a non-finite value at dof {0}")]
+    NonFiniteData(usize),
+    #[error("dof {0} has no diagonal sign for the LDLᵀ factorisation ({1} signs for {2} dofs)")]
+    Signs(usize, usize, usize),
+}
+
+/// Work arrays of a solve: the eliminated matrix values, the values of the factor and faer's
+/// scratch memory. They are large (the factor holds ~40 M values at 0.7 M dofs), and freshly
+/// mapped memory costs a page fault per 4 KiB on first touch, so they are kept between the solves
+/// of an active-set iteration and from one mesh to the next. Their contents never carry over:
+/// every solve overwrites them.
+#[derive(Default)]
+struct Buffers {
+    matrix: Vec<f64>,
+    factor: Vec<f64>,
+    scratch: Vec<MaybeUninit<u8>>,
+}
+
+/// faer's scratch memory for `req` in `buffer`, grown if needed.
+fn scratch(buffer: &mut Vec<MaybeUninit<u8>>, req: StackReq) -> &mut MemStack {
+    let bytes = req.unaligned_bytes_required();
+    if buffer.len() < bytes {
+        buffer.resize(bytes, MaybeUninit::uninit());
+    }
+    MemStack::new(buffer)
+}
+
+/// A sparse direct solver for one sparsity pattern at a time (module docs).
+pub struct DirectSolver {
+    factorisation: Factorisation,
+    ordering: Option<Ordering>,
+    symbolic: Option<SymbolicCholesky<usize>>,
+    buffers: Buffers,
+}
+
+impl DirectSolver {
+    pub fn new(factorisation: Factorisation) -> DirectSolver {
+        DirectSolver {
+            factorisation,
+            ordering: None,
+            symbolic: None,
+            buffers: Buffers::default(),
+        }
+    }
+
+    /// A Cholesky solver (SPD systems).
+    pub fn cholesky() -> DirectSolver {
+        DirectSolver::new(Factorisation::Cholesky)
+    }
+
+    /// An LDLᵀ solver with the given diagonal signs (symmetric quasi-definite systems).
+    pub fn ldlt(signs: Vec<i8>) -> DirectSolver {
+        DirectSolver::new(Factorisation::Ldlt { signs })
+    }
+
+    /// Start a new sparsity pattern (a new mesh) with its fill-reducing ordering: the symbolic
+    /// factorisation is redone at the next solve, the work arrays are kept.
+    pub fn reorder(&mut self, ordering: Ordering) {
+        self.ordering = Some(ordering);
+        self.symbolic = None;
+    }
+
+    /// New diagonal signs for LDLᵀ (with [`DirectSolver::reorder`], when the dofs change).
+    pub fn set_signs(&mut self, signs: Vec<i8>) {
+        if let Factorisation::Ldlt { signs: s } = &mut self.factorisation {
+            *s = signs;
+        }
+    }
+
+    /// Solve A x = b where the dofs in `eliminated` take the given values. Rows and columns of
+    /// eliminated dofs are removed keeping a diagonal entry (the mean |diagonal| of the free rows,
+    /// with the dof's sign for LDLᵀ), so the pattern and the symbolic factorisation are reused
+    /// between calls. Without an ordering ([`DirectSolver::reorder`]) the natural order is used.
+    pub fn solve(
+        &mut self,
+        matrix: Csc<'_>,
+        rhs: &[f64],
+        eliminated: &[(usize, f64)],
+    ) -> Result<Vec<f64>, SolveError> {
+        let n = matrix.n();
+        if let Some(i) = rhs.iter().position(|v| !v.is_finite()) {
+            return Err(SolveError::NonFiniteData(i));
+        }
+        if let Factorisation::Ldlt { signs } = &self.factorisation {
+            if signs.len() != n {
+                return Err(SolveError::Signs(signs.len().min(n), signs.len(), n));
+            }
+        }
+        let ordering = self.ordering.get_or_insert_with(|| Ordering::identity(n));
+        if self.symbolic.is_none() {
+            let perm = PermRef::new_checked(&ordering.fwd, &ordering.inv, n);
+            self.symbolic = Some(
+                factorize_symbolic_cholesky(
+                    symbolic_ref(&matrix),
+                    Side::Lower,
+                    SymmetricOrdering::Custom(perm),
+                    Default::default(),
+                )
+                .map_err(|e| SolveError::Symbolic(format!("{e:?}")))?,
+            );
+        }
+        let mut buffers = std::mem::take(&mut self.buffers);
+        let result = self.solve_in(&mut buffers, matrix, rhs, eliminated);
+        self.buffers = buffers;
+        result
+    }
+
+    /// [`DirectSolver::solve`] once the symbolic factorisation exists, in `buffers`.
+    fn solve_in(
+        &self,
+        buffers: &mut Buffers,
+        matrix: Csc<'_>,
+        rhs: &[f64],
+        eliminated: &[(usize, f64)],
+    ) -> Result<Vec<f64>, SolveError> {
+        let Buffers {
+            matrix: a,
+            factor,
+            scratch: work,
+        } = buffers;
+        let n = matrix.n();
+        let (col_ptr, row_idx, diag) = (matrix.col_ptr, matrix.row_idx, matrix.diag);
+        a.clear();
+        a.extend_from_slice(matrix.values);
+        let mut b = rhs.to_vec();
+        let mut is_eliminated = vec![false; n];
+        for &(d, _) in eliminated {
+            is_eliminated[d] = true;
+        }
+        // Diagonal scale of the free rows, for conditioning of the eliminated rows.
+        let (sum, count) = (0..n)
+            .filter(|&i| !is_eliminated[i])
+            .fold((0.0, 0usize), |(s, c), i| {
+                (s + matrix.values[diag[i]].abs(), c + 1)
+            });
+        let scale = if count > 0 && sum > 0.0 {
+            sum / count as f64
+        } else {
+            1.0
+        };
+        for &(d, val) in eliminated {
+            for p in col_ptr[d]..col_ptr[d + 1] {
+                let i = row_idx[p];
+                if !is_eliminated[i] {
+                    b[i] -= a[p] * val;
+                }
+                a[p] = 0.0;
+                // The mirrored entry (d, i) in column i.
+                let col = &row_idx[col_ptr[i]..col_ptr[i + 1]];
+                a[col_ptr[i] + col.binary_search(&d).expect("symmetric pattern")] = 0.0;
+            }
+        }
+        for &(d, val) in eliminated {
+            let s = match &self.factorisation {
+                Factorisation::Cholesky => scale,
+                Factorisation::Ldlt { signs } => f64::from(signs[d]) * scale,
+            };
+            a[diag[d]] = s;
+            b[d] = s * val;
+        }
+        let symbolic = self.symbolic.as_ref().expect("symbolic factorisation");
+        let mat = SparseColMatRef::new(symbolic_ref(&matrix), &a[..]);
+        let par = FACTORISATION_PARALLELISM;
+        let fwd = &self.ordering.as_ref().expect("ordering").fwd;
+        // The dof of a failed pivot: faer numbers the pivot from 1 in its simplicial
+        // factorisation and from 0 in its supernodal one (faer 0.24).
+        let pivot_dof = |index: usize| match symbolic.raw() {
+            SymbolicCholeskyRaw::Simplicial(_) => fwd[index - 1],
+            SymbolicCholeskyRaw::Supernodal(_) => fwd[index],
+        };
+        // faer overwrites every value of the factor (it fills it with zeros first).
+        factor.resize(symbolic.len_val(), 0.0);
+        let mut x = b;
+        let rhs_mat = MatMut::from_column_major_slice_mut(&mut x, n, 1);
+        match &self.factorisation {
+            Factorisation::Cholesky => {
+                let llt = symbolic
+                    .factorize_numeric_llt(
+                        factor,
+                        mat,
+                        Side::Lower,
+                        Default::default(),
+                        par,
+                        scratch(
+                            work,
+                            symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()),
+                        ),
+                        Default::default(),
+                    )
+                    .map_err(|e| match e {
+                        LltError::NonPositivePivot { index } => SolveError::NotPositiveDefinite {
+                            dof: pivot_dof(index),
+                        },
+                    })?;
+                llt.solve_in_place_with_conj(
+                    Conj::No,
+                    rhs_mat,
+                    par,
+                    scratch(work, symbolic.solve_in_place_scratch::<f64>(1, par)),
+                );
+            }
+            Factorisation::Ldlt { .. } => {
+                let ldlt = symbolic
+                    .factorize_numeric_ldlt(
+                        factor,
+                        mat,
+                        Side::Lower,
+                        LdltRegularization::default(),
+                        par,
+                        scratch(
+                            work,
+                            symbolic.factorize_numeric_ldlt_scratch::<f64>(par, Default::default()),
+                        ),
+                        Default::default(),
+                    )
+                    .map_err(|e| match e {
+                        LdltError::ZeroPivot { index } => SolveError::Singular {
+                            dof: pivot_dof(index),
+                        },
+                    })?;
+                ldlt.solve_in_place_with_conj(
+                    Conj::No,
+                    rhs_mat,
+                    par,
+                    scratch(work, symbolic.solve_in_place_scratch::<f64>(1, par)),
+                );
+            }
+        }
+        if let Some(i) = x.iter().position(|v| !v.is_finite()) {
+            return Err(SolveError::NonFinite(i));
+        }
+        for &(d, val) in eliminated {
+            x[d] = val;
+        }
+        Ok(x)
+    }
+}
+
+fn symbolic_ref<'a>(matrix: &Csc<'a>) -> SymbolicSparseColMatRef<'a, usize> {
+    let n = matrix.n();
+    SymbolicSparseColMatRef::new_checked(n, n, matrix.col_ptr, None, matrix.row_idx)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Full-storage CSC of a dense symmetric matrix (zeros left out, diagonal always kept).
+    struct Dense {
+        col_ptr: Vec<usize>,
+        row_idx: Vec<usize>,
+        diag: Vec<usize>,
+        values: Vec<f64>,
+    }
+
+    impl Dense {
+        fn new(a: &[Vec<f64>]) -> Dense {
+            let n = a.len();
+            let (mut col_ptr, mut row_idx, mut diag, mut values) =
+                (vec![0], vec![], vec![], vec![]);
+            for j in 0..n {
+                for (i, row) in a.iter().enumerate() {
+                    assert_eq!(row[j], a[j][i], "symmetric");
+                    if row[j] != 0.0 || i == j {
+                        if i == j {
+                            diag.push(values.len());
+                        }
+                        row_idx.push(i);
+                        values.push(row[j]);
+                    }
+                }
+                col_ptr.push(values.len());
+            }
+            Dense {
+                col_ptr,
+                row_idx,
+                diag,
+                values,
+            }
+        }
+
+        fn csc(&self) -> Csc<'_> {
+            Csc {
+                col_ptr: &self.col_ptr,
+                row_idx: &self.row_idx,
+                diag: &self.diag,
+                values: &self.values,
+            }
+        }
+    }
+
+    /// [A Bᵀ; B −C] with A SPD (3 velocities), B 2×3, C SPD (2 pressures).
+    fn saddle_point(c: f64) -> Vec<Vec<f64>> {
+        let a = [[4.0, 1.0, 0.0], [1.0, 3.0, 0.5], [0.0, 0.5, 2.0]];
+        let b = [[1.0, -1.0, 0.0], [0.0, 1.0, 2.0]];
+        let mut m = vec![vec![0.0; 5]; 5];
+        for i in 0..3 {
+            for j in 0..3 {
+                m[i][j] = a[i][j];
+            }
+        }
+        for (p, row) in b.iter().enumerate() {
+            for (j, &v) in row.iter().enumerate() {
+                m[3 + p][j] = v;
+                m[j][3 + p] = v;
+            }
+        }
+        m[3][3] = -c;
+        m[4][4] = -2.0 * c;
+        m[3][4] = -0.1 * c;
+        m[4][3] = -0.1 * c;
+        m
+    }
+
+    #[test]
+    fn ldlt_solves_a_stabilised_saddle_point_system() {
+        let m = saddle_point(0.3);
+        let dense = Dense::new(&m);
+        let x_exact = [1.0, -2.0, 0.5, 3.0, -1.5];
+        let rhs: Vec<f64> = m
+            .iter()
+            .map(|row| row.iter().zip(&x_exact).map(|(a, x)| a * x).sum())
+            .collect();
+        let mut solver = DirectSolver::ldlt(vec![1, 1, 1, -1, -1]);
+        let x = solver
+            .solve(dense.csc(), &rhs, &[])
+            .expect("quasi-definite");
+        for (a, b) in x.iter().zip(&x_exact) {
+            assert!((a - b).abs() <= 1e-12, "{x:?}");
+        }
+        // Cholesky must refuse it, naming a dof.
+        let err = DirectSolver::cholesky()
+            .solve(dense.csc(), &rhs, &[])
+            .unwrap_err();
+        assert!(
+            matches!(err, SolveError::NotPositiveDefinite { .. }),
+            "{err}"
+        );
+        // An eliminated pressure keeps a negative diagonal and takes its value.
+        let x = solver
+            .solve(dense.csc(), &rhs, &[(4, -1.5)])
+            .expect("solves");
+        for (a, b) in x.iter().zip(&x_exact) {
+            assert!((a - b).abs() <= 1e-12, "{x:?}");
+        }
+    }
+
+    #[test]
+    fn singular_saddle_point_names_the_dof() {
+        // No stabilisation and a pressure that no velocity couples to: its pivot is exactly 0.
+        let mut m = saddle_point(0.0);
+        for row in m.iter_mut() {
+            row[4] = 0.0;
+        }
+        m[4] = vec![0.0; 5];
+        let dense = Dense::new(&m);
+        let err = DirectSolver::ldlt(vec![1, 1, 1, -1, -1])
+            .solve(dense.csc(), &[1.0; 5], &[])
+            .unwrap_err();
+        assert_eq!(err, SolveError::Singular { dof: 4 });
+        let message = err.to_string();
+        assert!(
+            message.contains("singular") && message.contains("dof 4"),
+            "{message}"
+        );
+    }
+}

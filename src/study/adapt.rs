@@ -1,0 +1,42 @@
+//! The adaptation strategies: what changes between two cycles. Fixed-number grid marking now;
+//! the model strategies (Algorithms III.2, III.3: faces move between z and Signorini), model and
+//! grid together (Algorithm III.25) and load steps are further implementations of
+//! [`Adaptation`], each changing the [`Discretisation`] its way.
+
+use super::problem::{Discretisation, Estimate};
+use crate::adaptivity::{mark_fixed_number, rounded_measure};
+
+/// One adaptation step between two solves.
+pub trait Adaptation {
+    /// Change the discretisation according to the estimate of the solve just done.
+    fn adapt(&mut self, disc: &mut Discretisation, estimate: &Estimate) -> Result<(), String>;
+}
+
+/// Fixed-number grid marking of every Chapter IV grid-adaptive run (refine the fraction
+/// `refine` of the cells with the largest η_Q, coarsen the fraction `coarsen` with the smallest,
+/// [`mark_fixed_number`]); indicators at or below the estimate's noise floor count as zero.
+pub struct FixedNumber {
+    pub refine: f64,
+    pub coarsen: f64,
+}
+
+impl Adaptation for FixedNumber {
+    fn adapt(&mut self, disc: &mut Discretisation, estimate: &Estimate) -> Result<(), String> {
+        let floor = estimate.noise_floor.unwrap_or(f64::NEG_INFINITY);
+        let eta: Vec<f64> = estimate
+            .cells
+            .iter()
+            .map(|&e| if e < floor { 0.0 } else { e.sqrt() })
+            .collect();
+        let mesh = &disc.mesh;
+        let marking = mark_fixed_number(
+            &eta,
+            |k| rounded_measure(mesh, mesh.active()[k]),
+            self.refine,
+            self.coarsen,
+        );
+        disc.mesh
+            .refine_and_coarsen(&marking.refine, &marking.coarsen);
+        Ok(())
+    }
+}

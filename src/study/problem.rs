@@ -1,0 +1,145 @@
+//! What a study iterates on, and the two places where table families differ: the *problem*
+//! (what is assembled and solved, which columns it produces) and the *adaptation* (what changes
+//! between cycles, [`super::adapt`]).
+
+use crate::estimators::FaceIndicators;
+use crate::experiment::Scene;
+use crate::fe::System;
+use crate::mesh::Mesh;
+use crate::results::{columns, DeformedPicture, FieldPicture, Value};
+
+use super::clock::PhaseClock;
+
+/// What changes from cycle to cycle: the mesh (and, for the model-adaptive families, the model
+/// of each face or cell, and the load step of a forming run, as they arrive).
+#[derive(Clone, Debug)]
+pub struct Discretisation {
+    pub mesh: Mesh,
+}
+
+impl Discretisation {
+    /// The scene's coarse grid of its domain, refined globally `global_refinements` times.
+    pub fn initial(scene: &Scene) -> Discretisation {
+        let d = &scene.domain;
+        let mut mesh = Mesh::new(d.x, d.y, scene.coarse_cells[0], scene.coarse_cells[1]);
+        for _ in 0..scene.global_refinements {
+            mesh.refine_global();
+        }
+        Discretisation { mesh }
+    }
+}
+
+/// A solution of one cycle: the field (hanging dofs distributed) and solver counters.
+pub struct Solution {
+    pub u: Vec<f64>,
+    /// Count columns for the row, e.g. `active_set_iterations`.
+    pub counters: Vec<(String, i64)>,
+}
+
+impl Solution {
+    /// The solution, or an error naming the first dof where it is not finite.
+    pub fn finite(self) -> Result<Solution, String> {
+        match self.u.iter().position(|v| !v.is_finite()) {
+            Some(i) => Err(format!("the solution is not finite at dof {i}")),
+            None => Ok(self),
+        }
+    }
+}
+
+/// The a-posteriori estimate of one cycle.
+pub struct Estimate {
+    /// η_Q² per active cell (in the order of `mesh.active()`): the grid marking's indicators.
+    pub cells: Vec<f64>,
+    /// Indicators on boundary faces by stable id, where the model has them (contact faces).
+    pub faces: FaceIndicators,
+    /// The row's columns from the estimate, in order.
+    pub columns: Vec<(String, Value)>,
+    /// Indicators η_Q² at or below this are rounding noise for the marking (kept in the
+    /// printed estimate).
+    pub noise_floor: Option<f64>,
+}
+
+impl Estimate {
+    /// The estimate of the grid-adaptive tables: the indicators and the column `estimate`
+    /// = √(Σ_Q η_Q²).
+    pub fn of_cells(cells: Vec<f64>) -> Estimate {
+        let total = crate::estimators::total(&cells);
+        Estimate {
+            cells,
+            faces: FaceIndicators::new(),
+            columns: vec![(columns::ESTIMATE.to_string(), Value::Real(Some(total)))],
+            noise_floor: None,
+        }
+    }
+
+    /// Append a real column.
+    pub fn with(mut self, name: &str, value: f64) -> Estimate {
+        self.columns
+            .push((name.to_string(), Value::Real(Some(value))));
+        self
+    }
+
+    /// √(Σ_Q η_Q²), or an error if it is not finite.
+    pub fn finite_total(&self) -> Result<f64, String> {
+        let total = crate::estimators::total(&self.cells);
+        if total.is_finite() {
+            Ok(total)
+        } else {
+            Err("the error estimate is not finite".into())
+        }
+    }
+}
+
+/// Figures of the last printed cycle.
+#[derive(Default)]
+pub struct Pictures {
+    pub deformed: Vec<DeformedPicture>,
+    pub fields: Vec<FieldPicture>,
+}
+
+/// One model inside the study loop ([`super::run_study`]): each method is one phase of a cycle.
+pub trait Problem {
+    /// Dofs, constraints and sparsity pattern on the current discretisation.
+    fn setup(&mut self, disc: &Discretisation) -> System;
+
+    /// Matrix, load and whatever else the solve needs (contact constraints transferred from the
+    /// previous cycle, the cavitation load). An error message names what failed (the loop adds
+    /// table and cycle).
+    fn assemble(&mut self, disc: &Discretisation, system: &mut System) -> Result<(), String>;
+
+    /// Solve the assembled problem. Work of another phase inside the solve (a re-assembly) is
+    /// timed on `clock`.
+    fn solve(
+        &mut self,
+        disc: &Discretisation,
+        system: &mut System,
+        clock: &PhaseClock,
+    ) -> Result<Solution, String>;
+
+    /// Indicators and the row's estimate columns.
+    fn estimate(&mut self, disc: &Discretisation, system: &System, solution: &Solution)
+        -> Estimate;
+
+    /// After the row is recorded and before the adaptation: keep what the next cycle transfers
+    /// (the previous solution).
+    fn finish_cycle(&mut self, _disc: &Discretisation, _system: System, _solution: Solution) {}
+
+    /// The figures of the last printed cycle.
+    fn pictures(
+        &mut self,
+        _disc: &Discretisation,
+        _system: &System,
+        _solution: &Solution,
+        _cycle: usize,
+    ) -> Pictures {
+        Pictures::default()
+    }
+
+    /// The field component of a probe (`s1`, `s2`, `psi`).
+    fn component(&self, name: &str) -> Option<usize>;
+
+    /// Notes the run adds to its table (e.g. where `cavitation = "auto"` switched).
+    fn notes(&self) -> Vec<String> {
+        Vec::new()
+    }
+}

@@ -1,0 +1,38 @@
+//! Alternative readings of a scene that the report runs beside the experiment as written, to
+//! show how much a choice of reading matters. One match arm per problem; the thin-film problems
+//! share the readings of the cavitation source ([`super::thin_film::source_readings`]).
+
+use super::thin_film::source_readings;
+use crate::experiment::{Experiment, Problem};
+
+/// An experiment with one reading changed.
+pub struct AlternativeReading {
+    /// What changes, for the report's heading.
+    pub label: String,
+    /// Suffix of the alternative's data file (`report/data/<table>.<suffix>.csv`).
+    pub suffix: String,
+    pub experiment: Experiment,
+}
+
+/// The alternative readings the report compares an experiment with: for Reynolds with
+/// cavitation and the printed γ₃c of (I.61), two readings of the source term R₃c
+/// ([`source_readings`]); none for the other problems.
+pub fn alternative_readings(experiment: &Experiment) -> Vec<AlternativeReading> {
+    match &experiment.problem {
+        Problem::Reynolds(data) => source_readings(data.cavitation, data.cavitation_source)
+            .into_iter()
+            .map(|reading| {
+                let mut alt = experiment.clone();
+                if let Some(r) = alt.problem.reynolds_mut() {
+                    r.cavitation_source = reading.source;
+                }
+                AlternativeReading {
+                    label: reading.label.into(),
+                    suffix: reading.suffix.into(),
+                    experiment: alt,
+                }
+            })
+            .collect(),
+        Problem::Elasticity(_) | Problem::Contact { .. } => Vec::new(),
+    }
+}

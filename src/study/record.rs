@@ -1,0 +1,153 @@
+//! What a study keeps of its cycles: one row per printed solve (named columns, the ratio beside
+//! the estimate, seconds per phase), the meshes of the last printed cycles, and the probes and
+//! figures of the last one.
+
+use super::problem::{Discretisation, Estimate, Problem, Solution};
+use super::transfer::evaluate;
+use super::{Solve, Tier};
+use crate::experiment::Experiment;
+use crate::fe::System;
+use crate::mesh::Mesh;
+use crate::results::{columns, CellBox, MeshPicture, PhaseSeconds, Probe, Row, RunResult, Value};
+
+/// Builds the [`RunResult`] of one study.
+pub struct Recorder<'a> {
+    experiment: &'a Experiment,
+    result: RunResult,
+    /// Printed rows of the tier.
+    printed: usize,
+}
+
+impl<'a> Recorder<'a> {
+    pub fn new(experiment: &'a Experiment, tier: Tier, printed: usize) -> Recorder<'a> {
+        let d = experiment.scene.domain;
+        Recorder {
+            experiment,
+            result: RunResult {
+                table: experiment.table.clone(),
+                section: experiment.section.clone(),
+                title: experiment.title.clone(),
+                tier: tier.name().to_string(),
+                rows: Vec::new(),
+                probes: Vec::new(),
+                meshes: Vec::new(),
+                deformed: Vec::new(),
+                fields: Vec::new(),
+                domain: [d.x[0], d.x[1], d.y[0], d.y[1]],
+                notes: experiment.notes.clone(),
+            },
+            printed,
+        }
+    }
+
+    /// Record a solve: its row if it is printed (active cells, dofs, the estimate's columns with
+    /// the ratio after `estimate`, the solver's counters), the mesh of the last four printed
+    /// cycles, and probes and figures of the last one.
+    pub fn cycle(
+        &mut self,
+        solve: &Solve,
+        disc: &Discretisation,
+        system: &System,
+        solution: &Solution,
+        estimate: &Estimate,
+        problem: &mut dyn Problem,
+    ) {
+        let Some(cycle) = solve.row else {
+            return;
+        };
+        if cycle + 4 >= self.printed {
+            self.result.meshes.push(mesh_picture(&disc.mesh, cycle));
+        }
+        if cycle + 1 == self.printed {
+            self.result.probes = self.probes(disc, system, solution, &*problem);
+            let pictures = problem.pictures(disc, system, solution, cycle);
+            self.result.deformed.extend(pictures.deformed);
+            self.result.fields.extend(pictures.fields);
+        }
+        let mut row = Row::new(cycle)
+            .count(columns::ACTIVE_CELLS, disc.mesh.n_active())
+            .count(columns::DOFS, system.dofs.n_dofs());
+        for (name, value) in &estimate.columns {
+            row.columns.push((name.clone(), *value));
+            if name == columns::ESTIMATE {
+                let before = self.result.rows.last().and_then(|r| r.estimate());
+                let ratio = match (value, before) {
+                    (Value::Real(Some(now)), Some(before)) => Some(now / before),
+                    _ => None,
+                };
+                row = row.real(columns::RATIO, ratio);
+            }
+        }
+        for (name, n) in &solution.counters {
+            row.columns.push((name.clone(), Value::Count(*n)));
+        }
+        self.result.rows.push(row);
+    }
+
+    /// The seconds per phase of a printed solve.
+    pub fn seconds(&mut self, solve: &Solve, seconds: PhaseSeconds) {
+        if let (Some(cycle), Some(row)) = (solve.row, self.result.rows.last_mut()) {
+            if row.cycle == cycle {
+                row.seconds = seconds;
+            }
+        }
+    }
+
+    /// The result, with the problem's notes.
+    pub fn finish(mut self, problem: &dyn Problem) -> RunResult {
+        self.result.notes.extend(problem.notes());
+        self.result
+    }
+
+    /// Probe values at every (x, y) of the experiment's probe lists.
+    fn probes(
+        &self,
+        disc: &Discretisation,
+        system: &System,
+        solution: &Solution,
+        problem: &dyn Problem,
+    ) -> Vec<Probe> {
+        let probes = &self.experiment.probes;
+        let mut out = Vec::new();
+        for &y in &probes.y {
+            for &x in &probes.x {
+                for name in &probes.components {
+                    let Some(comp) = problem.component(name) else {
+                        continue;
+                    };
+                    if let Some(value) =
+                        evaluate(&disc.mesh, &system.dofs, &solution.u, comp, [x, y])
+                    {
+                        out.push(Probe {
+                            x,
+                            y,
+                            component: name.clone(),
+                            value,
+                        });
+                    }
+                }
+            }
+        }
+        out
+    }
+}
+
+/// The active cells of a mesh after a cycle, for the report.
+pub fn mesh_picture(mesh: &Mesh, cycle: usize) -> MeshPicture {
+    MeshPicture {
+        cycle,
+        cells: mesh
+            .active()
+            .iter()
+            .map(|&c| {
+                let b = mesh.cell_box(c);
+                CellBox {
+                    x0: b[0],
+                    y0: b[1],
+                    x1: b[2],
+                    y1: b[3],
+                }
+            })
+            .collect(),
+    }
+}

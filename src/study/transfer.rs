@@ -1,0 +1,31 @@
+//! The previous cycle's solution on the next mesh: the linearisation point s₀ and the warm start
+//! of the contact active set, the initial active set of the cavitation solve. One transfer for
+//! every problem: the Q₁ field of the old mesh evaluated at the points of the new one.
+
+use crate::fe::cell_values::evaluate_at;
+use crate::fe::DofMap;
+use crate::mesh::Mesh;
+
+/// Value of component `comp` of the Q₁ field `u` at a physical point (None outside the domain).
+pub fn evaluate(mesh: &Mesh, dofs: &DofMap, u: &[f64], comp: usize, p: [f64; 2]) -> Option<f64> {
+    let c = mesh.locate(p)?;
+    let k = mesh.active_index(c);
+    let shape = mesh.cell_shape(c);
+    Some(evaluate_at(&shape, dofs.corner_values(u, k, comp), p).0)
+}
+
+/// Mesh, dofs and solution of the previous cycle.
+#[derive(Clone, Debug)]
+pub struct PreviousSolution {
+    pub mesh: Mesh,
+    pub dofs: DofMap,
+    pub u: Vec<f64>,
+}
+
+impl PreviousSolution {
+    /// Component `comp` of the previous solution at a physical point of the new mesh (None
+    /// outside the previous mesh).
+    pub fn value(&self, comp: usize, p: [f64; 2]) -> Option<f64> {
+        evaluate(&self.mesh, &self.dofs, &self.u, comp, p)
+    }
+}
