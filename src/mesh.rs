@@ -150,6 +150,7 @@ pub enum CellShape {
 
 impl CellShape {
     /// The four vertices (lexicographic order).
+    #[inline]
     pub fn vertices(&self) -> [[f64; 2]; 4] {
         match *self {
             CellShape::Rectangle { x0, y0, x1, y1 } => [[x0, y0], [x1, y0], [x0, y1], [x1, y1]],
@@ -195,29 +196,34 @@ impl CellShape {
 
     /// Reference coordinates (ξ, η) of a physical point (Newton's method on a quadrilateral; the
     /// point need not lie inside the cell).
+    #[inline]
     pub fn reference(&self, p: [f64; 2]) -> (f64, f64) {
         match *self {
             CellShape::Rectangle { x0, y0, x1, y1 } => {
                 ((p[0] - x0) / (x1 - x0), (p[1] - y0) / (y1 - y0))
             }
-            CellShape::Quadrilateral(_) => {
-                let (mut xi, mut eta) = (0.5, 0.5);
-                for _ in 0..50 {
-                    let x = self.point(xi, eta);
-                    let r = [x[0] - p[0], x[1] - p[1]];
-                    let j = self.jacobian(xi, eta);
-                    let det = j[0][0] * j[1][1] - j[0][1] * j[1][0];
-                    let dxi = (j[1][1] * r[0] - j[0][1] * r[1]) / det;
-                    let deta = (j[0][0] * r[1] - j[1][0] * r[0]) / det;
-                    xi -= dxi;
-                    eta -= deta;
-                    if dxi.abs().max(deta.abs()) <= 1e-15 {
-                        break;
-                    }
-                }
-                (xi, eta)
+            CellShape::Quadrilateral(_) => self.reference_by_newton(p),
+        }
+    }
+
+    /// [`CellShape::reference`] on a quadrilateral: Newton's method for x(ξ, η) = p from the
+    /// cell's centre.
+    fn reference_by_newton(&self, p: [f64; 2]) -> (f64, f64) {
+        let (mut xi, mut eta) = (0.5, 0.5);
+        for _ in 0..50 {
+            let x = self.point(xi, eta);
+            let r = [x[0] - p[0], x[1] - p[1]];
+            let j = self.jacobian(xi, eta);
+            let det = j[0][0] * j[1][1] - j[0][1] * j[1][0];
+            let dxi = (j[1][1] * r[0] - j[0][1] * r[1]) / det;
+            let deta = (j[0][0] * r[1] - j[1][0] * r[0]) / det;
+            xi -= dxi;
+            eta -= deta;
+            if dxi.abs().max(deta.abs()) <= 1e-15 {
+                break;
             }
         }
+        (xi, eta)
     }
 
     /// Area of the cell.
@@ -240,6 +246,7 @@ impl CellShape {
 
     /// Diameter h_Q: the largest distance between two vertices (the diagonal of a rectangle),
     /// the cell size of every estimator.
+    #[inline]
     pub fn diameter(&self) -> f64 {
         match *self {
             CellShape::Rectangle { x0, y0, x1, y1 } => (x1 - x0).hypot(y1 - y0),
@@ -256,9 +263,11 @@ impl CellShape {
     }
 
     /// The end points of a face, in increasing reference coordinate.
+    #[inline]
     pub fn face_vertices(&self, face: Face) -> [[f64; 2]; 2] {
         let v = self.vertices();
-        face.vertices().map(|i| v[i])
+        let [a, b] = face.vertices();
+        [v[a], v[b]]
     }
 
     /// Length of a face.
@@ -276,6 +285,7 @@ impl CellShape {
     }
 
     /// Outward unit normal of a (straight) face.
+    #[inline]
     pub fn face_normal(&self, face: Face) -> [f64; 2] {
         match self {
             CellShape::Rectangle { .. } => face.normal(),
@@ -603,6 +613,7 @@ impl Mesh {
 
     /// The physical shape of a cell: an axis-parallel rectangle on an unmoved grid, the bilinear
     /// quadrilateral of its vertices on a moved one.
+    #[inline]
     pub fn cell_shape(&self, c: CellId) -> CellShape {
         if self.moved.is_some() {
             CellShape::Quadrilateral(self.corner_keys(c).map(|k| self.point(k)))

@@ -3,7 +3,7 @@
 use crate::common::refine_around;
 use tribo::adaptivity::{apply_noise_floor, mark_fixed_number, rounded_measure, PLATEAU_CELLS};
 use tribo::fe::{Constraints, DofMap};
-use tribo::mesh::{Mesh, Neighbor, FACES};
+use tribo::mesh::{BoundaryFace, Mesh, Neighbor, Side, FACES};
 
 #[test]
 fn twelve_levels_of_local_refinement_keep_two_to_one_and_valid_constraints() {
@@ -240,4 +240,112 @@ fn rounded_measures_differ_by_position_only_in_the_last_bits() {
     distinct.sort_by(f64::total_cmp);
     distinct.dedup();
     assert!(distinct.len() > 10, "{} distinct values", distinct.len());
+}
+
+/// The boundary faces of a side, with the cells they belong to, in order along the side.
+fn boundary_faces(mesh: &Mesh, side: Side) -> Vec<BoundaryFace> {
+    let mut faces: Vec<BoundaryFace> = mesh
+        .active()
+        .iter()
+        .flat_map(|&c| {
+            FACES
+                .into_iter()
+                .filter_map(move |f| mesh.boundary_face(c, f))
+        })
+        .filter(|f| f.side == side)
+        .collect();
+    faces.sort();
+    faces
+}
+
+/// A face of the coarse contact boundary keeps its id while it exists; refinement replaces it by
+/// two faces that name it as their parent; the faces of a side tile it without gaps.
+#[test]
+fn boundary_face_ids_are_stable_and_children_name_their_parent() {
+    let mut mesh = Mesh::new([-16.0, 16.0], [0.0, 1.0], 64, 2);
+    let before = boundary_faces(&mesh, Side::Bottom);
+    assert_eq!(before.len(), 64);
+    assert!(before.iter().all(|f| f.level == 0 && f.parent().is_none()));
+    refine_around(&mut mesh, [0.3, 0.0], 3);
+    let after = boundary_faces(&mesh, Side::Bottom);
+    assert!(after.len() > before.len());
+    let mut end = 0;
+    for f in &after {
+        assert_eq!(f.start, end, "faces tile the side: {f:?}");
+        end = f.end();
+        if f.level == 0 {
+            assert!(before.contains(f), "an unrefined coarse face keeps its id");
+        } else {
+            let parent = f.parent().unwrap();
+            assert!(parent.children().contains(f));
+            let mut root = *f;
+            while let Some(p) = root.parent() {
+                root = p;
+            }
+            assert!(before.contains(&root), "{f:?} descends from a coarse face");
+            assert!(!before.contains(f));
+        }
+    }
+    assert_eq!(end, mesh.extent().0, "the faces cover the whole side");
+    // Cell keys survive refinement elsewhere.
+    let keys: Vec<_> = mesh.active().iter().map(|&c| mesh.cell_key(c)).collect();
+    let far = mesh.locate([15.9, 0.9]).unwrap();
+    let far_key = mesh.cell_key(far);
+    refine_around(&mut mesh, [-10.0, 0.5], 1);
+    let still = mesh.locate([15.9, 0.9]).unwrap();
+    assert_eq!(mesh.cell_key(still), far_key);
+    assert!(keys.contains(&far_key));
+}
+
+/// A grid with moved coarse vertices: vertices shared by cells have the same position in each,
+/// the cells tile the body, points are located, and a folded coarse cell is refused.
+#[test]
+fn moved_coarse_vertices_describe_one_body_and_folded_cells_are_refused() {
+    let vertices = vec![
+        [0.0, 0.0],
+        [1.1, 0.1],
+        [2.0, 0.0],
+        [0.1, 1.0],
+        [0.9, 1.2],
+        [2.1, 0.9],
+    ];
+    let mut mesh = Mesh::with_coarse_vertices(2, 1, vertices.clone()).unwrap();
+    let area: f64 = mesh
+        .active()
+        .iter()
+        .map(|&c| mesh.cell_shape(c).area())
+        .sum();
+    refine_around(&mut mesh, [1.0, 0.6], 2);
+    assert!(mesh.is_balanced());
+    let refined_area: f64 = mesh
+        .active()
+        .iter()
+        .map(|&c| mesh.cell_shape(c).area())
+        .sum();
+    assert!(
+        (area - refined_area).abs() < 1e-12,
+        "{area} vs {refined_area}"
+    );
+    for &c in mesh.active() {
+        let shape = mesh.cell_shape(c);
+        let centre = shape.point(0.5, 0.5);
+        assert_eq!(mesh.locate(centre), Some(c));
+    }
+    // A hanging vertex lies at the midpoint of its parents (the edges stay straight).
+    let dofs = DofMap::new(&mesh, 1);
+    let v = &dofs.vertices;
+    assert!(!v.hanging.is_empty());
+    for h in &v.hanging {
+        let (m, a, b) = (
+            v.coords[h.vertex as usize],
+            v.coords[h.parents[0] as usize],
+            v.coords[h.parents[1] as usize],
+        );
+        assert!((m[0] - 0.5 * (a[0] + b[0])).abs() < 1e-14);
+        assert!((m[1] - 0.5 * (a[1] + b[1])).abs() < 1e-14);
+    }
+    let mut folded = vertices;
+    folded.swap(0, 1);
+    let err = Mesh::with_coarse_vertices(2, 1, folded).unwrap_err();
+    assert!(err.contains("coarse cell (0, 0) is folded"), "{err}");
 }

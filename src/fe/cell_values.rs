@@ -12,77 +12,70 @@
 
 use crate::mesh::{bilinear, bilinear_gradients, CellShape};
 
-/// Q₁ values of one cell at the `N` points of a quadrature rule.
-#[derive(Clone, Debug)]
-pub struct CellValues<const N: usize> {
+/// Q₁ on one cell at the `N` points of a quadrature rule. Each quantity is computed when asked
+/// for, so a caller pays only for what it uses (an estimator that needs values and weights does
+/// not compute gradients).
+#[derive(Clone, Copy, Debug)]
+pub struct CellValues<'a, const N: usize> {
     shape: CellShape,
-    values: [[f64; 4]; N],
-    gradients: [[[f64; 2]; 4]; N],
-    weights: [f64; N],
-    dets: [f64; N],
-    points: [[f64; 2]; N],
+    rule: &'a [(f64, f64, f64); N],
 }
 
-impl<const N: usize> CellValues<N> {
-    /// The values of the cell `shape` at the points of `rule` (`(ξ, η, weight)`, e.g.
+impl<'a, const N: usize> CellValues<'a, N> {
+    /// The cell `shape` at the points of `rule` (`(ξ, η, weight)`, e.g.
     /// [`super::quadrature::square_rule`]).
-    pub fn new(shape: CellShape, rule: &[(f64, f64, f64); N]) -> CellValues<N> {
-        let mut cv = CellValues {
-            shape,
-            values: [[0.0; 4]; N],
-            gradients: [[[0.0; 2]; 4]; N],
-            weights: [0.0; N],
-            dets: [0.0; N],
-            points: [[0.0; 2]; N],
-        };
-        for (q, &(xi, eta, w)) in rule.iter().enumerate() {
-            cv.values[q] = bilinear(xi, eta);
-            cv.gradients[q] = gradients(&shape, xi, eta);
-            cv.weights[q] = w;
-            cv.dets[q] = det_j(&shape, xi, eta);
-            cv.points[q] = shape.point(xi, eta);
-        }
-        cv
+    pub fn new(shape: CellShape, rule: &'a [(f64, f64, f64); N]) -> CellValues<'a, N> {
+        CellValues { shape, rule }
     }
 
     pub fn shape(&self) -> &CellShape {
         &self.shape
     }
 
+    /// Reference coordinates (ξ, η) of point q.
+    #[inline]
+    pub fn reference(&self, q: usize) -> (f64, f64) {
+        (self.rule[q].0, self.rule[q].1)
+    }
+
     /// φ_a at point q (a = 0…3, lexicographic vertices).
     #[inline]
-    pub fn values(&self, q: usize) -> &[f64; 4] {
-        &self.values[q]
+    pub fn values(&self, q: usize) -> [f64; 4] {
+        let (xi, eta) = self.reference(q);
+        bilinear(xi, eta)
     }
 
     /// ∇φ_a at point q.
     #[inline]
-    pub fn gradients(&self, q: usize) -> &[[f64; 2]; 4] {
-        &self.gradients[q]
+    pub fn gradients(&self, q: usize) -> [[f64; 2]; 4] {
+        let (xi, eta) = self.reference(q);
+        gradients(&self.shape, xi, eta)
     }
 
     /// Quadrature weight of point q on the reference square.
     #[inline]
     pub fn weight(&self, q: usize) -> f64 {
-        self.weights[q]
+        self.rule[q].2
     }
 
     /// det J at point q (the area of a rectangle).
     #[inline]
     pub fn det(&self, q: usize) -> f64 {
-        self.dets[q]
+        let (xi, eta) = self.reference(q);
+        det_j(&self.shape, xi, eta)
     }
 
     /// w_q · det J(x_q), the physical weight of point q.
     #[inline]
     pub fn jxw(&self, q: usize) -> f64 {
-        self.weights[q] * self.dets[q]
+        self.weight(q) * self.det(q)
     }
 
     /// Physical position of point q.
     #[inline]
     pub fn point(&self, q: usize) -> [f64; 2] {
-        self.points[q]
+        let (xi, eta) = self.reference(q);
+        self.shape.point(xi, eta)
     }
 
     /// ∫_Q f ≈ Σ_q f(q)·w_q·det J(x_q). On a rectangle det J is the same at every point and is
@@ -92,14 +85,14 @@ impl<const N: usize> CellValues<N> {
             CellShape::Rectangle { .. } => {
                 let mut sum = 0.0;
                 for q in 0..N {
-                    sum += f(q) * self.weights[q];
+                    sum += f(q) * self.weight(q);
                 }
-                sum * self.dets[0]
+                sum * self.det(0)
             }
             CellShape::Quadrilateral(_) => {
                 let mut sum = 0.0;
                 for q in 0..N {
-                    sum += f(q) * self.weights[q] * self.dets[q];
+                    sum += f(q) * self.weight(q) * self.det(q);
                 }
                 sum
             }
@@ -109,7 +102,7 @@ impl<const N: usize> CellValues<N> {
     /// Value of the Q₁ field with vertex values `u` at point q.
     #[inline]
     pub fn value(&self, u: [f64; 4], q: usize) -> f64 {
-        let phi = &self.values[q];
+        let phi = self.values(q);
         u[0] * phi[0] + u[1] * phi[1] + u[2] * phi[2] + u[3] * phi[3]
     }
 }
@@ -127,7 +120,7 @@ fn det_j(shape: &CellShape, xi: f64, eta: f64) -> f64 {
 }
 
 /// Physical gradients of the four shape functions at the reference point (ξ, η).
-#[inline]
+#[inline(always)]
 pub fn gradients(shape: &CellShape, xi: f64, eta: f64) -> [[f64; 2]; 4] {
     match *shape {
         CellShape::Rectangle { x0, y0, x1, y1 } => {
@@ -153,7 +146,7 @@ pub fn gradients(shape: &CellShape, xi: f64, eta: f64) -> [[f64; 2]; 4] {
 }
 
 /// Value and gradient of the Q₁ field with vertex values `u` at the reference point (ξ, η).
-#[inline]
+#[inline(always)]
 pub fn evaluate(shape: &CellShape, u: [f64; 4], xi: f64, eta: f64) -> (f64, [f64; 2]) {
     let v = bilinear(xi, eta);
     let g = gradients(shape, xi, eta);
@@ -169,7 +162,7 @@ pub fn evaluate(shape: &CellShape, u: [f64; 4], xi: f64, eta: f64) -> (f64, [f64
 
 /// Value and gradient of the Q₁ field with vertex values `u` at the physical point `p` of the
 /// cell.
-#[inline]
+#[inline(always)]
 pub fn evaluate_at(shape: &CellShape, u: [f64; 4], p: [f64; 2]) -> (f64, [f64; 2]) {
     let (xi, eta) = shape.reference(p);
     evaluate(shape, u, xi, eta)
@@ -220,7 +213,8 @@ mod tests {
         let shape = quad();
         let lin = |p: [f64; 2]| 0.3 - 1.7 * p[0] + 2.5 * p[1];
         let u = shape.vertices().map(lin);
-        let cv = CellValues::<9>::new(shape, &square_rule());
+        let rule = square_rule::<9>();
+        let cv = CellValues::new(shape, &rule);
         let mut area = 0.0;
         for q in 0..9 {
             let g: [f64; 2] = (0..4).fold([0.0, 0.0], |a, i| {

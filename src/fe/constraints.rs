@@ -7,9 +7,11 @@
 //!   into their parents when cell matrices are scattered ([`super::SparsityPattern`] builds its
 //!   scatter plan from [`Constraints::hanging_parents`]); their rows keep a diagonal entry and
 //!   are eliminated with value 0 during the solve;
-//! * **fixed dofs** and the **overlay** are eliminated by the solver
-//!   ([`Constraints::eliminated_with`] lists them: rows and columns removed, a diagonal entry
-//!   kept, so the sparsity pattern and its symbolic factorisation survive a changing active set);
+//! * **fixed dofs** are eliminated by the solver ([`Constraints::eliminated`] lists them: rows
+//!   and columns removed, a diagonal entry kept, so the sparsity pattern and its symbolic
+//!   factorisation survive a changing active set); the **active set** of a variational
+//!   inequality is an overlay on that list ([`crate::linalg::active_set`] appends it in every
+//!   iteration);
 //! * [`Constraints::distribute`] sets every hanging dof from its parents after a solve.
 //!
 //! Hanging vertices are never fixed nor put in an active set: their values follow from their
@@ -18,12 +20,12 @@
 use super::dofs::{DofMap, Hanging};
 use crate::mesh::Side;
 
-/// What constrains one dof.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// What constrains one dof (one byte per dof; the values of fixed dofs are kept apart).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Line {
     Free,
     Hanging,
-    Fixed(f64),
+    Fixed,
 }
 
 /// Hanging-node and fixed-value constraints of the dofs of one mesh (module docs).
@@ -31,6 +33,8 @@ enum Line {
 pub struct Constraints {
     n_components: usize,
     lines: Vec<Line>,
+    /// Values of the fixed dofs, sorted by dof.
+    fixed: Vec<(usize, f64)>,
     /// Hanging vertices with their parents, sorted by vertex.
     hanging: Vec<Hanging>,
 }
@@ -49,6 +53,7 @@ impl Constraints {
         Constraints {
             n_components: nc,
             lines,
+            fixed: Vec::new(),
             hanging: dofs.vertices.hanging.clone(),
         }
     }
@@ -64,7 +69,11 @@ impl Constraints {
             self.lines[dof] != Line::Hanging,
             "dof {dof} is hanging and cannot be fixed"
         );
-        self.lines[dof] = Line::Fixed(value);
+        self.lines[dof] = Line::Fixed;
+        match self.fixed.binary_search_by_key(&dof, |f| f.0) {
+            Ok(i) => self.fixed[i].1 = value,
+            Err(i) => self.fixed.insert(i, (dof, value)),
+        }
     }
 
     /// Dirichlet data `value` for one component at every vertex of a side.
@@ -78,7 +87,7 @@ impl Constraints {
 
     /// Whether a dof is fixed (Dirichlet or a single fixed dof).
     pub fn is_fixed(&self, dof: usize) -> bool {
-        matches!(self.lines[dof], Line::Fixed(_))
+        self.lines[dof] == Line::Fixed
     }
 
     /// Whether a dof belongs to a hanging vertex.
@@ -100,26 +109,18 @@ impl Constraints {
         Some(self.hanging[i].parents)
     }
 
-    /// The dofs the solver eliminates, with their values: every fixed dof at its value and every
-    /// hanging dof at 0 (its equation is condensed into its parents), in dof order, followed by
-    /// the `overlay` (the active constraints of an active-set iteration) in its own order.
-    /// Written into `out` (cleared first), so an iteration reuses the allocation.
-    pub fn eliminated_with(&self, overlay: &[(usize, f64)], out: &mut Vec<(usize, f64)>) {
-        out.clear();
+    /// The dofs the solver eliminates, with their values, in dof order: every fixed dof at its
+    /// value and every hanging dof at 0 (its equation is condensed into its parents).
+    pub fn eliminated(&self) -> Vec<(usize, f64)> {
+        let mut out = Vec::with_capacity(self.fixed.len() + self.hanging.len() * self.n_components);
+        let mut fixed = self.fixed.iter();
         for (dof, line) in self.lines.iter().enumerate() {
-            match *line {
+            match line {
                 Line::Free => {}
                 Line::Hanging => out.push((dof, 0.0)),
-                Line::Fixed(value) => out.push((dof, value)),
+                Line::Fixed => out.push(*fixed.next().expect("a value per fixed dof")),
             }
         }
-        out.extend_from_slice(overlay);
-    }
-
-    /// [`Constraints::eliminated_with`] without an overlay.
-    pub fn eliminated(&self) -> Vec<(usize, f64)> {
-        let mut out = Vec::new();
-        self.eliminated_with(&[], &mut out);
         out
     }
 

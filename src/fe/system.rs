@@ -45,6 +45,14 @@ impl System {
         (self.matrix, self.rhs) = self.pattern.assemble(n_cells, cell);
     }
 
+    /// The dofs, dropping the rest once the solve is done: the estimate and the transfer to
+    /// the next mesh need the numbering, not the assembled system, whose pattern with its
+    /// scatter plan (512 bytes per cell for vector Q₁) and matrix are the largest arrays alive
+    /// at that point.
+    pub fn into_dofs(self) -> DofMap {
+        self.dofs
+    }
+
     /// The assembled matrix.
     pub fn matrix(&self) -> Csc<'_> {
         self.pattern.matrix(&self.matrix)
@@ -59,11 +67,5 @@ impl System {
             self.pattern.row_idx(),
             self.dofs.n_components,
         )
-    }
-
-    /// The constraints' eliminated dofs followed by `overlay`
-    /// ([`Constraints::eliminated_with`]).
-    pub fn eliminated_with(&self, overlay: &[(usize, f64)], out: &mut Vec<(usize, f64)>) {
-        self.constraints.eliminated_with(overlay, out);
     }
 }

@@ -33,12 +33,29 @@ impl Sense {
     }
 }
 
-/// A bound on one dof (of the rotated system where a [`Rotation`] is given).
+/// A bound on one dof (of the rotated system where a [`Rotation`] is given). 16 bytes: a
+/// cavitation problem has a bound at almost every dof.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Bound {
-    pub dof: usize,
-    pub value: f64,
+    dof: u32,
     pub sense: Sense,
+    pub value: f64,
+}
+
+impl Bound {
+    pub fn new(dof: usize, sense: Sense, value: f64) -> Bound {
+        Bound {
+            dof: u32::try_from(dof).expect("fewer than 2³² dofs"),
+            sense,
+            value,
+        }
+    }
+
+    /// The bounded dof.
+    #[inline]
+    pub fn dof(&self) -> usize {
+        self.dof as usize
+    }
 }
 
 /// A pre-transform of a two-component system into local frames: at each listed vertex the dofs
@@ -114,18 +131,15 @@ pub struct ActiveSetOptions {
     pub violation: ViolationTolerance,
 }
 
-/// Writes the eliminated dofs (fixed and hanging) followed by an overlay into a vector
-/// ([`crate::fe::Constraints::eliminated_with`]).
-pub type Eliminated<'a> = &'a (dyn Fn(&[(usize, f64)], &mut Vec<(usize, f64)>) + Sync);
-
-/// The problem: the matrix and load (Cartesian), the bounds, an optional rotation, and the
-/// eliminated dofs with an overlay.
+/// The problem: the matrix and load (Cartesian), the bounds, an optional rotation, and the dofs
+/// the constraints eliminate ([`crate::fe::Constraints::eliminated`]), on top of which the active
+/// set is laid in every iteration.
 pub struct NodalBounds<'a> {
     pub matrix: Csc<'a>,
     pub rhs: &'a [f64],
     pub bounds: &'a [Bound],
     pub rotation: Option<&'a Rotation>,
-    pub eliminated: Eliminated<'a>,
+    pub eliminated: &'a [(usize, f64)],
 }
 
 /// The converged iterate.
@@ -170,28 +184,25 @@ pub fn primal_dual_active_set(
         Some(a) if a.len() == bounds.len() => a.to_vec(),
         _ => vec![false; bounds.len()],
     };
-    let mut eliminated = Vec::new();
-    let mut overlay = Vec::new();
+    // The constraints' eliminated dofs, then the active bounds at their values (the overlay).
+    let mut eliminated = problem.eliminated.to_vec();
+    let constrained = eliminated.len();
     let mut iterations = 0;
     loop {
         iterations += 1;
-        overlay.clear();
-        overlay.extend(
+        eliminated.truncate(constrained);
+        eliminated.extend(
             bounds
                 .iter()
                 .zip(&active)
                 .filter(|(_, &a)| a)
-                .map(|(b, _)| (b.dof, b.value)),
+                .map(|(b, _)| (b.dof(), b.value)),
         );
-        (problem.eliminated)(&overlay, &mut eliminated);
         let x = solver
             .solve(matrix, &rhs, &eliminated)
             .map_err(|e| e.to_string())?;
         let kx = matrix.multiply(&x);
-        let multipliers: Vec<f64> = bounds
-            .iter()
-            .map(|b| b.sense.sign() * (rhs[b.dof] - kx[b.dof]))
-            .collect();
+        let multiplier = |b: &Bound| b.sense.sign() * (rhs[b.dof()] - kx[b.dof()]);
         let scale = match options.violation {
             ViolationTolerance::SolutionScale(_) => x.iter().fold(0.0f64, |m, v| m.max(v.abs())),
             ViolationTolerance::PerBound(_) => 0.0,
@@ -199,26 +210,26 @@ pub fn primal_dual_active_set(
         let next: Vec<bool> = bounds
             .iter()
             .zip(&active)
-            .zip(&multipliers)
-            .map(|((b, &is_active), &lambda)| {
+            .map(|(b, &is_active)| {
                 if is_active {
-                    lambda > -options.multiplier_tolerance
+                    multiplier(b) > -options.multiplier_tolerance
                 } else {
                     let tol = match options.violation {
                         ViolationTolerance::PerBound(f) => f * (1.0 + b.value.abs()),
                         ViolationTolerance::SolutionScale(f) => f * scale,
                     };
-                    let d = diag[b.dof];
+                    let d = diag[b.dof()];
                     // σ(x − b) beyond rounding (scaled by the diagonal, as the iteration's
                     // c·(x − b) with c = K_dd)
-                    d * (b.sense.sign() * (x[b.dof] - b.value)) > d * tol
+                    d * (b.sense.sign() * (x[b.dof()] - b.value)) > d * tol
                 }
             })
             .collect();
         if next == active {
+            let multipliers = bounds.iter().map(multiplier).collect();
             let slack = bounds
                 .iter()
-                .map(|b| b.sense.sign() * (b.value - x[b.dof]))
+                .map(|b| b.sense.sign() * (b.value - x[b.dof()]))
                 .collect();
             let mut x = x;
             if let Some(rotation) = problem.rotation {
@@ -239,5 +250,211 @@ pub fn primal_dual_active_set(
             ));
         }
         active = next;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The 1D obstacle problem −u'' = f on (0, 1), u(0) = u(1) = 0, by finite differences on
+    /// `n` intervals (the matrix of h⁻¹·tridiag(−1, 2, −1), load h·f), in full CSC storage.
+    struct Laplacian1d {
+        col_ptr: Vec<usize>,
+        row_idx: Vec<usize>,
+        diag: Vec<usize>,
+        values: Vec<f64>,
+        rhs: Vec<f64>,
+    }
+
+    impl Laplacian1d {
+        fn new(n: usize, f: impl Fn(f64) -> f64) -> Laplacian1d {
+            let h = 1.0 / n as f64;
+            let (mut col_ptr, mut row_idx, mut diag, mut values) =
+                (vec![0], vec![], vec![], vec![]);
+            for j in 0..=n {
+                for i in j.saturating_sub(1)..=(j + 1).min(n) {
+                    if i == j {
+                        diag.push(values.len());
+                    }
+                    row_idx.push(i);
+                    values.push(if i == j { 2.0 / h } else { -1.0 / h });
+                }
+                col_ptr.push(values.len());
+            }
+            let rhs = (0..=n).map(|i| h * f(i as f64 * h)).collect();
+            Laplacian1d {
+                col_ptr,
+                row_idx,
+                diag,
+                values,
+                rhs,
+            }
+        }
+
+        fn matrix(&self) -> Csc<'_> {
+            Csc {
+                col_ptr: &self.col_ptr,
+                row_idx: &self.row_idx,
+                diag: &self.diag,
+                values: &self.values,
+            }
+        }
+    }
+
+    /// Every KKT condition of the bounds at the converged iterate, to rounding.
+    fn assert_kkt(matrix: Csc<'_>, rhs: &[f64], bounds: &[Bound], s: &ActiveSetSolution) {
+        let kx = matrix.multiply(&s.x);
+        for (i, b) in bounds.iter().enumerate() {
+            let sign = match b.sense {
+                Sense::Upper => 1.0,
+                Sense::Lower => -1.0,
+            };
+            let lambda = sign * (rhs[b.dof()] - kx[b.dof()]);
+            let slack = sign * (b.value - s.x[b.dof()]);
+            assert!((lambda - s.multipliers[i]).abs() < 1e-9, "bound {i}");
+            assert!((slack - s.slack[i]).abs() < 1e-12, "bound {i}");
+            assert!(slack >= -1e-12, "bound {i} violated by {slack}");
+            if s.active[i] {
+                assert!(lambda > 0.0 && slack.abs() < 1e-12, "bound {i}: λ {lambda}");
+            } else {
+                assert!(lambda.abs() < 1e-9, "bound {i}: free with λ {lambda}");
+            }
+        }
+    }
+
+    #[test]
+    fn obstacle_problem_from_above_and_below_satisfies_the_kkt_conditions() {
+        let n = 64;
+        let lap = Laplacian1d::new(n, |_| 20.0);
+        let boundary = [(0, 0.0), (n, 0.0)];
+        // u ≤ 1 − 2(x − ½)² (an upper obstacle the load pushes against in the middle), and
+        // u ≥ 0 with a load pulling down on the left half (a lower bound like cavitation).
+        let upper: Vec<Bound> = (1..n)
+            .map(|i| {
+                let x = i as f64 / n as f64;
+                Bound::new(i, Sense::Upper, 1.0 - 2.0 * (x - 0.5).powi(2))
+            })
+            .collect();
+        let pull = Laplacian1d::new(n, |x| if x < 0.5 { -40.0 } else { 20.0 });
+        let lower: Vec<Bound> = (1..n).map(|i| Bound::new(i, Sense::Lower, 0.0)).collect();
+        let options = ActiveSetOptions {
+            max_iterations: 50,
+            multiplier_tolerance: 0.0,
+            violation: ViolationTolerance::PerBound(1e-13),
+        };
+        for (system, bounds) in [(&lap, &upper), (&pull, &lower)] {
+            let problem = NodalBounds {
+                matrix: system.matrix(),
+                rhs: &system.rhs,
+                bounds,
+                rotation: None,
+                eliminated: &boundary,
+            };
+            let s = primal_dual_active_set(&problem, &mut DirectSolver::cholesky(), None, &options)
+                .expect("converges");
+            assert!(s.active.iter().any(|&a| a) && s.active.iter().any(|&a| !a));
+            assert_kkt(system.matrix(), &system.rhs, bounds, &s);
+            // A warm start at the solution's active set converges in one solve.
+            let again = primal_dual_active_set(
+                &problem,
+                &mut DirectSolver::cholesky(),
+                Some(&s.active),
+                &options,
+            )
+            .unwrap();
+            assert_eq!(again.iterations, 1);
+            assert_eq!(again.x, s.x);
+        }
+    }
+
+    #[test]
+    fn too_few_iterations_is_an_error_that_says_so() {
+        let n = 64;
+        let lap = Laplacian1d::new(n, |_| 20.0);
+        let bounds: Vec<Bound> = (1..n).map(|i| Bound::new(i, Sense::Upper, 0.01)).collect();
+        let problem = NodalBounds {
+            matrix: lap.matrix(),
+            rhs: &lap.rhs,
+            bounds: &bounds,
+            rotation: None,
+            eliminated: &[(0, 0.0), (n, 0.0)],
+        };
+        let options = ActiveSetOptions {
+            max_iterations: 1,
+            multiplier_tolerance: 0.0,
+            violation: ViolationTolerance::PerBound(1e-13),
+        };
+        let err = primal_dual_active_set(&problem, &mut DirectSolver::cholesky(), None, &options)
+            .unwrap_err();
+        assert!(
+            err.contains("did not converge") && err.contains("1 iterations"),
+            "{err}"
+        );
+    }
+
+    /// Two vertices, two components each, a spring between them and to the ground; a bound on
+    /// n·s at vertex 1 in its rotated frame holds in Cartesian components after the solve.
+    #[test]
+    fn rotated_bound_constrains_the_normal_component() {
+        // K = [[3, 0, −1, 0], [0, 3, 0, −1], [−1, 0, 2, 0], [0, −1, 0, 2]], F pulls vertex 1 along
+        // (1, 1).
+        let k = [
+            [3.0, 0.0, -1.0, 0.0],
+            [0.0, 3.0, 0.0, -1.0],
+            [-1.0, 0.0, 2.0, 0.0],
+            [0.0, -1.0, 0.0, 2.0],
+        ];
+        let (mut col_ptr, mut row_idx, mut diag, mut values) = (vec![0], vec![], vec![], vec![]);
+        for j in 0..4 {
+            // Vertex-block complete: the two vertices are coupled, so all 16 entries are stored.
+            for (i, row) in k.iter().enumerate() {
+                if i == j {
+                    diag.push(values.len());
+                }
+                row_idx.push(i);
+                values.push(row[j]);
+            }
+            col_ptr.push(values.len());
+        }
+        let matrix = Csc {
+            col_ptr: &col_ptr,
+            row_idx: &row_idx,
+            diag: &diag,
+            values: &values,
+        };
+        let rhs = [0.0, 0.0, 1.0, 1.0];
+        let n = [std::f64::consts::FRAC_1_SQRT_2; 2];
+        let rotation = Rotation {
+            frames: vec![(1, n)],
+        };
+        let bounds = [Bound::new(2, Sense::Upper, 0.1)];
+        let problem = NodalBounds {
+            matrix,
+            rhs: &rhs,
+            bounds: &bounds,
+            rotation: Some(&rotation),
+            eliminated: &[],
+        };
+        let options = ActiveSetOptions {
+            max_iterations: 10,
+            multiplier_tolerance: 0.0,
+            violation: ViolationTolerance::PerBound(1e-13),
+        };
+        let s = primal_dual_active_set(&problem, &mut DirectSolver::cholesky(), None, &options)
+            .unwrap();
+        assert_eq!(s.active, [true]);
+        let normal = n[0] * s.x[2] + n[1] * s.x[3];
+        assert!((normal - 0.1).abs() < 1e-14, "n·s = {normal}");
+        // Tangentially free: the residual F − Ks is along n at vertex 1 and zero at vertex 0.
+        let r: Vec<f64> = matrix
+            .multiply(&s.x)
+            .iter()
+            .zip(&rhs)
+            .map(|(kx, f)| f - kx)
+            .collect();
+        assert!(r[0].abs() < 1e-14 && r[1].abs() < 1e-14, "{r:?}");
+        assert!((r[2] - r[3]).abs() < 1e-14 && r[2] > 0.0, "{r:?}");
+        assert!((s.multipliers[0] - (n[0] * r[2] + n[1] * r[3])).abs() < 1e-14);
     }
 }

@@ -233,15 +233,9 @@ pub fn solve_contact(
     };
     let bounds: Vec<Bound> = constraints
         .iter()
-        .map(|c| Bound {
-            dof: system.dofs.dof(c.vertex, 0),
-            value: c.bound,
-            sense: Sense::Upper,
-        })
+        .map(|c| Bound::new(system.dofs.dof(c.vertex, 0), Sense::Upper, c.bound))
         .collect();
-    let eliminated = |overlay: &[(usize, f64)], out: &mut Vec<(usize, f64)>| {
-        system.eliminated_with(overlay, out)
-    };
+    let eliminated = system.constraints.eliminated();
     let problem = NodalBounds {
         matrix: system.matrix(),
         rhs: &system.rhs,

@@ -35,9 +35,10 @@ use rayon::prelude::*;
 
 use crate::fe::cell_values::CellValues;
 use crate::fe::quadrature::{self, square_rule};
-use crate::fe::System;
+use crate::fe::{LocalDofs, System};
 use crate::linalg::active_set::{
-    primal_dual_active_set, ActiveSetOptions, Bound, NodalBounds, Sense, ViolationTolerance,
+    primal_dual_active_set, ActiveSetOptions, ActiveSetSolution, Bound, NodalBounds, Sense,
+    ViolationTolerance,
 };
 use crate::linalg::DirectSolver;
 use crate::mesh::{CellId, CellKey, Mesh};
@@ -284,6 +285,7 @@ impl ReynoldsProblem {
         let active = mesh.active();
         let rule = square_rule::<4>();
         let form = self.form;
+        let local = LocalDofs::new(1);
         system.assemble(active.len(), |k, ke, fe| {
             let cv = CellValues::new(mesh.cell_shape(active[k]), &rule);
             for q in 0..rule.len() {
@@ -295,7 +297,7 @@ impl ReynoldsProblem {
                         let m = data.dg_over_g[k][q];
                         for a in 0..4 {
                             for b in 0..4 {
-                                ke[a * 4 + b] +=
+                                ke[local.entry(a, b)] +=
                                     (g[a][0] * g[b][0] + g[a][1] * g[b][1] + m * phi[a] * phi[b])
                                         * jw;
                             }
@@ -309,7 +311,8 @@ impl ReynoldsProblem {
                         });
                         for a in 0..4 {
                             for b in 0..4 {
-                                ke[a * 4 + b] += (v[a][0] * v[b][0] + v[a][1] * v[b][1]) * jw;
+                                ke[local.entry(a, b)] +=
+                                    (v[a][0] * v[b][0] + v[a][1] * v[b][1]) * jw;
                             }
                         }
                     }
@@ -343,21 +346,15 @@ pub fn solve_cavitation(
     let constrained: Vec<bool> = (0..n).map(|d| system.constraints.is_free(d)).collect();
     let bounds: Vec<Bound> = (0..n)
         .filter(|&d| constrained[d])
-        .map(|dof| Bound {
-            dof,
-            value: 0.0,
-            sense: Sense::Lower,
-        })
+        .map(|dof| Bound::new(dof, Sense::Lower, 0.0))
         .collect();
-    let initial: Vec<bool> = bounds.iter().map(|b| initial[b.dof]).collect();
+    let initial: Vec<bool> = bounds.iter().map(|b| initial[b.dof()]).collect();
     let load_scale = rhs
         .iter()
         .zip(&constrained)
         .filter(|(_, &c)| c)
         .fold(0.0f64, |m, (f, _)| m.max(f.abs()));
-    let eliminated = |overlay: &[(usize, f64)], out: &mut Vec<(usize, f64)>| {
-        system.eliminated_with(overlay, out)
-    };
+    let eliminated = system.constraints.eliminated();
     let problem = NodalBounds {
         matrix: system.matrix(),
         rhs,
@@ -370,9 +367,15 @@ pub fn solve_cavitation(
         multiplier_tolerance: 1e-12 * load_scale.max(1.0),
         violation: ViolationTolerance::SolutionScale(1e-13),
     };
-    let solution = primal_dual_active_set(&problem, solver, Some(&initial), &options)
+    // Multipliers and slacks are not needed here: dropped at once.
+    let ActiveSetSolution {
+        x: mut psi,
+        active: bound_active,
+        iterations,
+        ..
+    } = primal_dual_active_set(&problem, solver, Some(&initial), &options)
         .map_err(|e| format!("cavitation: {e}"))?;
-    let mut psi = solution.x;
+    drop(initial);
     let scale = psi.iter().fold(0.0f64, |m, v| m.max(v.abs()));
     for i in 0..n {
         if constrained[i] && psi[i] < 0.0 {
@@ -392,12 +395,12 @@ pub fn solve_cavitation(
         .map(|i| psi[i].min(kpsi[i] - rhs[i]).abs())
         .fold(0.0f64, f64::max);
     let mut active = vec![false; n];
-    for (b, &a) in bounds.iter().zip(&solution.active) {
-        active[b.dof] = a;
+    for (b, &a) in bounds.iter().zip(&bound_active) {
+        active[b.dof()] = a;
     }
     Ok(CavitationSolution {
         psi,
-        iterations: solution.iterations,
+        iterations,
         active,
         complementarity,
         load_scale,

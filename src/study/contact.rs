@@ -12,7 +12,7 @@ use super::problem::{Discretisation, Estimate, Pictures, Problem, Solution};
 use super::transfer::PreviousSolution;
 use crate::estimators::contact::{self as contact_estimator, ContactEstimate, ContactEstimator};
 use crate::experiment::{ContactData, ElasticityData};
-use crate::fe::System;
+use crate::fe::{DofMap, System};
 use crate::linalg::DirectSolver;
 use crate::mesh::{BoundaryFace, Mesh};
 use crate::models::contact::{
@@ -133,11 +133,11 @@ impl ContactProblem {
     }
 
     /// The indicators of Theorem III.15 for the current state.
-    pub fn contact_estimate(&self, mesh: &Mesh, system: &System, u: &[f64]) -> ContactEstimate {
+    pub fn contact_estimate(&self, mesh: &Mesh, dofs: &DofMap, u: &[f64]) -> ContactEstimate {
         let state = self.state.as_ref().expect("estimate after solve");
         contact_estimator::indicators(
             mesh,
-            &system.dofs,
+            dofs,
             u,
             &self.model,
             &self.boundaries,
@@ -151,12 +151,11 @@ impl ContactProblem {
     pub fn picture(
         &self,
         mesh: &Mesh,
-        system: &System,
+        dofs: &DofMap,
         state: &CycleState,
         cycle: usize,
         label: &str,
     ) -> DeformedPicture {
-        let dofs = &system.dofs;
         let u = &state.solution.u;
         let mut pic = deformed_picture(mesh, dofs, u, cycle, None);
         let (x0, x1) = mesh
@@ -280,14 +279,9 @@ impl Problem for ContactProblem {
         Ok(Solution { u, counters })
     }
 
-    fn estimate(
-        &mut self,
-        disc: &Discretisation,
-        system: &System,
-        solution: &Solution,
-    ) -> Estimate {
+    fn estimate(&mut self, disc: &Discretisation, dofs: &DofMap, solution: &Solution) -> Estimate {
         let u = &solution.u;
-        let e = self.contact_estimate(&disc.mesh, system, u);
+        let e = self.contact_estimate(&disc.mesh, dofs, u);
         let mut estimate = Estimate::of_cells(e.eta2);
         estimate.faces = e.faces;
         if self.estimator == ContactEstimator::SignoriniCode {
@@ -313,14 +307,14 @@ impl Problem for ContactProblem {
         self.previous_parts = Some((e.contact, e.gap));
         estimate.with(
             "penetration",
-            penetration(&self.boundaries, &system.dofs, u, PENETRATION_SAMPLES),
+            penetration(&self.boundaries, dofs, u, PENETRATION_SAMPLES),
         )
     }
 
-    fn finish_cycle(&mut self, disc: &Discretisation, system: System, solution: Solution) {
+    fn finish_cycle(&mut self, disc: &Discretisation, dofs: DofMap, solution: Solution) {
         self.previous = Some(PreviousSolution {
             mesh: disc.mesh.clone(),
-            dofs: system.dofs,
+            dofs,
             u: solution.u,
         });
     }
@@ -328,7 +322,7 @@ impl Problem for ContactProblem {
     fn pictures(
         &mut self,
         disc: &Discretisation,
-        system: &System,
+        dofs: &DofMap,
         _solution: &Solution,
         cycle: usize,
     ) -> Pictures {
@@ -341,7 +335,7 @@ impl Problem for ContactProblem {
         } else {
             model_label(ContactModel::Z)
         };
-        let mut deformed = vec![self.picture(mesh, system, state, cycle, label)];
+        let mut deformed = vec![self.picture(mesh, dofs, state, cycle, label)];
         if self.uses_signorini {
             // Side by side (thesis Figs. IV.20 and IV.32): the z-solution on the same mesh.
             let mut z = self.with_model(ContactModel::Z);
@@ -352,7 +346,7 @@ impl Problem for ContactProblem {
             if let (Ok(_), Some(z_state)) = (solved, &z.state) {
                 deformed.push(z.picture(
                     mesh,
-                    &z_system,
+                    &z_system.dofs,
                     z_state,
                     cycle,
                     "for comparison, z-contact on the same mesh",

@@ -73,15 +73,10 @@ impl Problem for ElasticityProblem {
         })
     }
 
-    fn estimate(
-        &mut self,
-        disc: &Discretisation,
-        system: &System,
-        solution: &Solution,
-    ) -> Estimate {
+    fn estimate(&mut self, disc: &Discretisation, dofs: &DofMap, solution: &Solution) -> Estimate {
         Estimate::of_cells(estimators::elasticity::indicators(
             &disc.mesh,
-            &system.dofs,
+            dofs,
             &solution.u,
             &self.model,
             &self.terms,
@@ -91,14 +86,14 @@ impl Problem for ElasticityProblem {
     fn pictures(
         &mut self,
         disc: &Discretisation,
-        system: &System,
+        dofs: &DofMap,
         solution: &Solution,
         cycle: usize,
     ) -> Pictures {
         Pictures {
             deformed: vec![deformed_picture(
                 &disc.mesh,
-                &system.dofs,
+                dofs,
                 &solution.u,
                 cycle,
                 Some(self.height),

@@ -156,12 +156,13 @@ pub fn run_study(
             .time(Phase::Solve, || problem.solve(&disc, &mut system, &clock))
             .and_then(Solution::finite)
             .map_err(fail)?;
+        let dofs = system.into_dofs();
         let estimate = clock.time(Phase::Estimate, || {
-            problem.estimate(&disc, &system, &solution)
+            problem.estimate(&disc, &dofs, &solution)
         });
         estimate.finite_total().map_err(fail)?;
-        record.cycle(&solve, &disc, &system, &solution, &estimate, problem);
-        problem.finish_cycle(&disc, system, solution);
+        record.cycle(&solve, &disc, &dofs, &solution, &estimate, problem);
+        problem.finish_cycle(&disc, dofs, solution);
         if !solve.last {
             clock
                 .time(Phase::Refine, || adaptation.adapt(&mut disc, &estimate))

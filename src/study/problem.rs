@@ -4,7 +4,7 @@
 
 use crate::estimators::FaceIndicators;
 use crate::experiment::Scene;
-use crate::fe::System;
+use crate::fe::{DofMap, System};
 use crate::mesh::Mesh;
 use crate::results::{columns, DeformedPicture, FieldPicture, Value};
 
@@ -116,19 +116,19 @@ pub trait Problem {
         clock: &PhaseClock,
     ) -> Result<Solution, String>;
 
-    /// Indicators and the row's estimate columns.
-    fn estimate(&mut self, disc: &Discretisation, system: &System, solution: &Solution)
-        -> Estimate;
+    /// Indicators and the row's estimate columns (after the solve only the dofs of the system
+    /// are kept).
+    fn estimate(&mut self, disc: &Discretisation, dofs: &DofMap, solution: &Solution) -> Estimate;
 
     /// After the row is recorded and before the adaptation: keep what the next cycle transfers
     /// (the previous solution).
-    fn finish_cycle(&mut self, _disc: &Discretisation, _system: System, _solution: Solution) {}
+    fn finish_cycle(&mut self, _disc: &Discretisation, _dofs: DofMap, _solution: Solution) {}
 
     /// The figures of the last printed cycle.
     fn pictures(
         &mut self,
         _disc: &Discretisation,
-        _system: &System,
+        _dofs: &DofMap,
         _solution: &Solution,
         _cycle: usize,
     ) -> Pictures {

@@ -6,7 +6,7 @@ use super::problem::{Discretisation, Estimate, Problem, Solution};
 use super::transfer::evaluate;
 use super::{Solve, Tier};
 use crate::experiment::Experiment;
-use crate::fe::System;
+use crate::fe::DofMap;
 use crate::mesh::Mesh;
 use crate::results::{columns, CellBox, MeshPicture, PhaseSeconds, Probe, Row, RunResult, Value};
 
@@ -47,7 +47,7 @@ impl<'a> Recorder<'a> {
         &mut self,
         solve: &Solve,
         disc: &Discretisation,
-        system: &System,
+        dofs: &DofMap,
         solution: &Solution,
         estimate: &Estimate,
         problem: &mut dyn Problem,
@@ -59,14 +59,14 @@ impl<'a> Recorder<'a> {
             self.result.meshes.push(mesh_picture(&disc.mesh, cycle));
         }
         if cycle + 1 == self.printed {
-            self.result.probes = self.probes(disc, system, solution, &*problem);
-            let pictures = problem.pictures(disc, system, solution, cycle);
+            self.result.probes = self.probes(disc, dofs, solution, &*problem);
+            let pictures = problem.pictures(disc, dofs, solution, cycle);
             self.result.deformed.extend(pictures.deformed);
             self.result.fields.extend(pictures.fields);
         }
         let mut row = Row::new(cycle)
             .count(columns::ACTIVE_CELLS, disc.mesh.n_active())
-            .count(columns::DOFS, system.dofs.n_dofs());
+            .count(columns::DOFS, dofs.n_dofs());
         for (name, value) in &estimate.columns {
             row.columns.push((name.clone(), *value));
             if name == columns::ESTIMATE {
@@ -103,7 +103,7 @@ impl<'a> Recorder<'a> {
     fn probes(
         &self,
         disc: &Discretisation,
-        system: &System,
+        dofs: &DofMap,
         solution: &Solution,
         problem: &dyn Problem,
     ) -> Vec<Probe> {
@@ -115,9 +115,7 @@ impl<'a> Recorder<'a> {
                     let Some(comp) = problem.component(name) else {
                         continue;
                     };
-                    if let Some(value) =
-                        evaluate(&disc.mesh, &system.dofs, &solution.u, comp, [x, y])
-                    {
+                    if let Some(value) = evaluate(&disc.mesh, dofs, &solution.u, comp, [x, y]) {
                         out.push(Probe {
                             x,
                             y,

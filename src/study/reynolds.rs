@@ -16,7 +16,7 @@ use super::transfer::{evaluate, PreviousSolution};
 use crate::estimators;
 use crate::estimators::reynolds::{VolumeResidual, ZoneResidual};
 use crate::experiment::{Rectangle, ReynoldsData, ReynoldsEstimator};
-use crate::fe::System;
+use crate::fe::{DofMap, System};
 use crate::linalg::DirectSolver;
 use crate::models::reynolds::{solve_cavitation, CellDataCache, Load, ReynoldsProblem};
 use crate::results::{columns, CellBox, FieldPicture};
@@ -171,12 +171,7 @@ impl Problem for ReynoldsFilm {
         self.solve_with_cavitation(system, Some(&psi))
     }
 
-    fn estimate(
-        &mut self,
-        disc: &Discretisation,
-        system: &System,
-        solution: &Solution,
-    ) -> Estimate {
+    fn estimate(&mut self, disc: &Discretisation, dofs: &DofMap, solution: &Solution) -> Estimate {
         let data = &self.cache.as_ref().expect("estimate after assembly").data;
         let cavitation = self.switch.is_on();
         let zone = if cavitation {
@@ -195,7 +190,7 @@ impl Problem for ReynoldsFilm {
                 ..VolumeResidual::thesis_code(cavitation)
             },
         };
-        let (mesh, dofs, psi) = (&disc.mesh, &system.dofs, &solution.u);
+        let (mesh, psi) = (&disc.mesh, &solution.u);
         let (eta2, theorem_total) = if residual == theorem {
             let eta2 = estimators::reynolds::indicators_with(mesh, dofs, psi, data, residual);
             (eta2, None)
@@ -214,10 +209,10 @@ impl Problem for ReynoldsFilm {
         estimate
     }
 
-    fn finish_cycle(&mut self, disc: &Discretisation, system: System, solution: Solution) {
+    fn finish_cycle(&mut self, disc: &Discretisation, dofs: DofMap, solution: Solution) {
         self.previous = self.switch.is_on().then(|| PreviousSolution {
             mesh: disc.mesh.clone(),
-            dofs: system.dofs,
+            dofs,
             u: solution.u,
         });
     }
@@ -225,7 +220,7 @@ impl Problem for ReynoldsFilm {
     fn pictures(
         &mut self,
         disc: &Discretisation,
-        system: &System,
+        dofs: &DofMap,
         solution: &Solution,
         cycle: usize,
     ) -> Pictures {
@@ -244,8 +239,7 @@ impl Problem for ReynoldsFilm {
                     y1: d.y[0] + (j + 1) as f64 * wy,
                 };
                 let centre = [0.5 * (b.x0 + b.x1), 0.5 * (b.y0 + b.y1)];
-                let v =
-                    evaluate(&disc.mesh, &system.dofs, &solution.u, 0, centre).unwrap_or(f64::NAN);
+                let v = evaluate(&disc.mesh, dofs, &solution.u, 0, centre).unwrap_or(f64::NAN);
                 if cavitation && v <= 0.0 {
                     zone.push(b);
                 }
