@@ -44,14 +44,74 @@ pub fn rel(a: f64, b: f64) -> f64 {
     a / b - 1.0
 }
 
-/// The ratios tribo/thesis of a table vary by at most `limit` (largest ÷ smallest − 1).
-pub fn assert_ratio_spread(table: &str, ratios: &[f64], limit: f64) {
-    let (lo, hi) = ratios
-        .iter()
-        .fold((f64::INFINITY, 0.0f64), |(l, h), &q| (l.min(q), h.max(q)));
+/// The ratios tribo/thesis of a table, one per row of `r`, vary by at most `limit`
+/// (largest ÷ smallest − 1).
+pub fn assert_ratio_spread(table: &str, r: &RunResult, ratios: &[f64], limit: f64) {
+    let cycles: Vec<usize> = r.rows.iter().map(|row| row.cycle).collect();
+    let (mut lo, mut hi) = (0, 0);
+    for (i, q) in ratios.iter().enumerate() {
+        if *q < ratios[lo] {
+            lo = i;
+        }
+        if *q > ratios[hi] {
+            hi = i;
+        }
+    }
+    let spread = ratios[hi] / ratios[lo] - 1.0;
     assert!(
-        hi / lo - 1.0 <= limit,
-        "{table}: ratio tribo/thesis varies from {lo} to {hi}: {ratios:?}"
+        spread <= limit,
+        "{table}: ratio tribo/thesis varies by {:.1} % (limit {:.0} %), from {} in cycle {} to {} \
+         in cycle {}: {ratios:?}",
+        100.0 * spread,
+        100.0 * limit,
+        ratios[lo],
+        cycles[lo],
+        ratios[hi],
+        cycles[hi]
+    );
+}
+
+/// Run `check` on every table of `tables` at full tier and collect the failures (a failing table
+/// never hides the others); panic at the end with every failure, each naming table, cycle and
+/// number. Prints a line per table (run with `--nocapture` to see them).
+pub fn full_tier(tables: &[&str], check: fn(&str, &RunResult)) {
+    let mut failures = Vec::new();
+    for &t in tables {
+        let start = std::time::Instant::now();
+        let r = match study::run(&spec(t), Tier::Full, &|_, _, _| {}) {
+            Ok(r) => r,
+            Err(e) => {
+                failures.push(format!("{t}: the run failed: {e}"));
+                continue;
+            }
+        };
+        let outcome = std::panic::catch_unwind(|| check(t, &r));
+        let verdict = match outcome {
+            Ok(()) => "holds".to_string(),
+            Err(panic) => {
+                let message = panic
+                    .downcast_ref::<String>()
+                    .cloned()
+                    .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
+                    .unwrap_or_else(|| "a check failed".into());
+                failures.push(message.clone());
+                format!("FAILS: {message}")
+            }
+        };
+        let last = r.rows.last();
+        println!(
+            "{t}: {} rows, last dofs {:?}, last estimate {:?}, {:.1} s; agreement and convergence {verdict}",
+            r.rows.len(),
+            last.and_then(|row| row.dofs()),
+            last.and_then(|row| row.estimate()),
+            start.elapsed().as_secs_f64()
+        );
+    }
+    assert!(
+        failures.is_empty(),
+        "{} full-tier check(s) failed:\n{}",
+        failures.len(),
+        failures.join("\n")
     );
 }
 

@@ -12,9 +12,17 @@ use tribo::fe::{CellValues, DofMap, System};
 use tribo::linalg::DirectSolver;
 use tribo::mesh::{Mesh, Side};
 use tribo::models::elasticity::{Elasticity, VolumeForce};
+use tribo::results::RunResult;
 use tribo::study::{self, Tier};
 
-const TABLES: [&str; 5] = ["IV.1", "IV.2", "IV.3", "IV.4", "IV.5"];
+pub const TABLES: [&str; 5] = ["IV.1", "IV.2", "IV.3", "IV.4", "IV.5"];
+
+/// The full-tier rules of a table (`tests/full_tier.rs`): every row within 3 % of the printed
+/// dofs and 5 % of the printed estimate, and the convergence rule over the window.
+pub fn full_tier_rules(t: &str, r: &RunResult) {
+    crate::common::assert_thesis_rows(t, r, 0.03, Some(0.05));
+    crate::common::assert_convergence(t, r);
+}
 
 #[test]
 fn golden_snapshots() {

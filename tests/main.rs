@@ -5,5 +5,6 @@ mod cli;
 mod common;
 mod contact;
 mod elasticity;
+mod full_tier;
 mod mesh;
 mod reynolds;

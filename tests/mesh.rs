@@ -14,20 +14,7 @@ fn twelve_levels_of_local_refinement_keep_two_to_one_and_valid_constraints() {
     assert_eq!(max_level, 12);
     let dofs = DofMap::new(&mesh, 1);
     let v = &dofs.vertices;
-    assert!(!v.hanging.is_empty());
-    for h in &v.hanging {
-        // A hanging vertex is the midpoint of its parents, which are not hanging themselves.
-        let (m, a, b) = (
-            v.coords[h.vertex as usize],
-            v.coords[h.parents[0] as usize],
-            v.coords[h.parents[1] as usize],
-        );
-        assert!(
-            (m[0] - 0.5 * (a[0] + b[0])).abs() < 1e-12
-                && (m[1] - 0.5 * (a[1] + b[1])).abs() < 1e-12
-        );
-        assert!(!v.is_hanging[h.parents[0] as usize] && !v.is_hanging[h.parents[1] as usize]);
-    }
+    assert_hanging_vertices_are_midpoints(&dofs, 1e-12);
     // Every hanging vertex lies on a face between a coarse and two fine cells, and every such
     // face has exactly one hanging vertex.
     let mut faces_with_finer = 0;
@@ -331,8 +318,17 @@ fn moved_coarse_vertices_describe_one_body_and_folded_cells_are_refused() {
         let centre = shape.point(0.5, 0.5);
         assert_eq!(mesh.locate(centre), Some(c));
     }
-    // A hanging vertex lies at the midpoint of its parents (the edges stay straight).
-    let dofs = DofMap::new(&mesh, 1);
+    // The edges of moved cells stay straight.
+    assert_hanging_vertices_are_midpoints(&DofMap::new(&mesh, 1), 1e-14);
+    let mut folded = vertices;
+    folded.swap(0, 1);
+    let err = Mesh::with_coarse_vertices(2, 1, folded).unwrap_err();
+    assert!(err.contains("coarse cell (0, 0) is folded"), "{err}");
+}
+
+/// Every hanging vertex is the midpoint of its two parents (to `tol`), which are not hanging
+/// themselves, and there is at least one.
+fn assert_hanging_vertices_are_midpoints(dofs: &DofMap, tol: f64) {
     let v = &dofs.vertices;
     assert!(!v.hanging.is_empty());
     for h in &v.hanging {
@@ -341,11 +337,11 @@ fn moved_coarse_vertices_describe_one_body_and_folded_cells_are_refused() {
             v.coords[h.parents[0] as usize],
             v.coords[h.parents[1] as usize],
         );
-        assert!((m[0] - 0.5 * (a[0] + b[0])).abs() < 1e-14);
-        assert!((m[1] - 0.5 * (a[1] + b[1])).abs() < 1e-14);
+        assert!(
+            (m[0] - 0.5 * (a[0] + b[0])).abs() < tol && (m[1] - 0.5 * (a[1] + b[1])).abs() < tol,
+            "hanging vertex {} at {m:?}, parents at {a:?} and {b:?}",
+            h.vertex
+        );
+        assert!(!v.is_hanging[h.parents[0] as usize] && !v.is_hanging[h.parents[1] as usize]);
     }
-    let mut folded = vertices;
-    folded.swap(0, 1);
-    let err = Mesh::with_coarse_vertices(2, 1, folded).unwrap_err();
-    assert!(err.contains("coarse cell (0, 0) is folded"), "{err}");
 }

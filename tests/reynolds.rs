@@ -22,7 +22,7 @@ fn reynolds_mut(s: &mut tribo::experiment::Experiment) -> &mut tribo::experiment
     s.problem.reynolds_mut().expect("a Reynolds table")
 }
 
-const TABLES: [&str; 20] = [
+pub const TABLES: [&str; 20] = [
     "IV.36", "IV.37", "IV.38", "IV.39", "IV.40", "IV.41", "IV.42", "IV.43", "IV.44", "IV.45",
     "IV.46", "IV.47", "IV.48", "IV.49", "IV.64", "IV.65", "IV.66", "IV.67", "IV.68", "IV.69",
 ];
@@ -153,7 +153,7 @@ fn assert_estimate_ratio_spread(t: &str, r: &RunResult) {
         .iter()
         .map(|row| row.value(PREVIOUS_ESTIMATE).unwrap() / printed_estimate(&thesis, row.cycle))
         .collect();
-    crate::common::assert_ratio_spread(t, &ratios, 0.10);
+    crate::common::assert_ratio_spread(t, r, &ratios, 0.10);
 }
 
 /// The printed estimate of row `cycle`, without the additive part where the table has one.
@@ -308,7 +308,7 @@ fn linear_gap_sliding_estimates_are_the_thesis_without_its_constant_part() {
 /// The quick tier holds a single ratio inside the window [2, 7], and fixed-number marking of
 /// 30 % makes the ratio alternate with period two (the thesis too: 0.827, 0.659, 0.807, 0.712 in
 /// IV.36), so the quick tier applies the rule to one full period, printed rows 1–2; the full
-/// tier applies `assert_convergence` on [2, 7] (`full_tier_convergence`, ignored by default).
+/// tier applies `assert_convergence` on [2, 7] (`full_tier::reynolds`, ignored by default).
 #[test]
 fn convergence_rate_inside_the_window() {
     for t in TABLES {
@@ -328,25 +328,21 @@ fn convergence_rate_inside_the_window() {
     }
 }
 
-/// Full tier: the convergence rule on printed rows 2–7 and the agreement rules (dofs, ratio
-/// spread, IV.43's part) on all eight rows (about two and a half minutes for all tables).
-#[test]
-#[ignore]
-fn full_tier_convergence() {
-    for t in TABLES {
-        if CONSTANT.contains(&t) {
-            continue;
-        }
-        let r = study::run(&spec(t), Tier::Full, &|_, _, _| {}).expect("runs");
-        assert_convergence(t, &r);
-        if DUPLICATES.contains(&t) {
-            continue;
-        }
-        assert_dofs_follow_the_thesis(t, &r);
-        assert_estimate_ratio_spread(t, &r);
-        if spec(t).thesis.additive_part.is_some() {
-            assert_additive_part_explains_the_drift(t, &r);
-        }
+/// The full-tier rules of a table (`tests/full_tier.rs`): the convergence rule on printed rows
+/// 2–7 (not for the constant solutions) and the agreement rules — dofs, ratio spread, IV.43's
+/// part — on all eight rows (not for the copies).
+pub fn full_tier_rules(t: &str, r: &RunResult) {
+    if CONSTANT.contains(&t) {
+        return;
+    }
+    assert_convergence(t, r);
+    if DUPLICATES.contains(&t) {
+        return;
+    }
+    assert_dofs_follow_the_thesis(t, r);
+    assert_estimate_ratio_spread(t, r);
+    if spec(t).thesis.additive_part.is_some() {
+        assert_additive_part_explains_the_drift(t, r);
     }
 }
 

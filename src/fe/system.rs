@@ -4,7 +4,7 @@
 use super::constraints::Constraints;
 use super::dofs::DofMap;
 use super::pattern::SparsityPattern;
-use crate::linalg::{Csc, Ordering};
+use crate::linalg::{Csc, DirectSolver, Ordering, SolveError};
 use crate::mesh::Mesh;
 
 /// Dofs, constraints, pattern and assembled values of one mesh.
@@ -43,6 +43,14 @@ impl System {
         F: Fn(usize, &mut [f64], &mut [f64]) + Sync,
     {
         (self.matrix, self.rhs) = self.pattern.assemble(n_cells, cell);
+    }
+
+    /// Solve the assembled linear system with the constraints eliminated, and distribute the
+    /// hanging dofs.
+    pub fn solve(&self, solver: &mut DirectSolver) -> Result<Vec<f64>, SolveError> {
+        let mut u = solver.solve(self.matrix(), &self.rhs, &self.constraints.eliminated())?;
+        self.constraints.distribute(&mut u);
+        Ok(u)
     }
 
     /// The dofs, dropping the rest once the solve is done: the estimate and the transfer to

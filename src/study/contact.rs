@@ -8,7 +8,7 @@
 
 use super::clock::PhaseClock;
 use super::elasticity::{deformed_picture, displacement_component};
-use super::problem::{Discretisation, Estimate, Pictures, Problem, Solution};
+use super::problem::{setup_system, Discretisation, Estimate, Pictures, Problem, Solution};
 use super::transfer::PreviousSolution;
 use crate::estimators::contact::{self as contact_estimator, ContactEstimate, ContactEstimator};
 use crate::experiment::{ContactData, ElasticityData};
@@ -212,10 +212,7 @@ fn model_label(model: ContactModel) -> &'static str {
 
 impl Problem for ContactProblem {
     fn setup(&mut self, disc: &Discretisation) -> System {
-        let mut system = System::new(&disc.mesh, 2);
-        self.model.constrain(&mut system);
-        self.solver.reorder(system.ordering());
-        system
+        setup_system(disc, 2, &mut self.solver, |s| self.model.constrain(s))
     }
 
     /// The elasticity system and the contact constraints: the previous cycle's solution at the

@@ -1,7 +1,7 @@
 //! Tables IV.1–IV.5: linear elasticity (I.17) with the estimator of Theorem III.12.
 
 use super::clock::PhaseClock;
-use super::problem::{Discretisation, Estimate, Pictures, Problem, Solution};
+use super::problem::{setup_system, Discretisation, Estimate, Pictures, Problem, Solution};
 use crate::estimators::{self, elasticity::BoundaryTerms};
 use crate::experiment::{ElasticityData, Rectangle};
 use crate::fe::{DofMap, System};
@@ -41,10 +41,7 @@ pub fn displacement_component(name: &str) -> Option<usize> {
 
 impl Problem for ElasticityProblem {
     fn setup(&mut self, disc: &Discretisation) -> System {
-        let mut system = System::new(&disc.mesh, 2);
-        self.model.constrain(&mut system);
-        self.solver.reorder(system.ordering());
-        system
+        setup_system(disc, 2, &mut self.solver, |s| self.model.constrain(s))
     }
 
     fn assemble(&mut self, disc: &Discretisation, system: &mut System) -> Result<(), String> {

@@ -65,7 +65,7 @@ pub fn printed_rows(experiment: &Experiment, tier: Tier) -> usize {
 
 /// Number of solves of a run (the unprinted ones included), for progress bars.
 pub fn solves(experiment: &Experiment, tier: Tier) -> usize {
-    experiment.study.unprinted_cycles + printed_rows(experiment, tier)
+    Schedule::of(experiment, tier).len()
 }
 
 /// One solve of a study: its number and the printed row it makes, if any.
@@ -79,20 +79,47 @@ pub struct Solve {
 }
 
 impl Solve {
-    /// The cycle an error is reported for (0 for the unprinted solves).
-    fn cycle(&self) -> usize {
-        self.row.unwrap_or(0)
+    /// The error of this solve in `table`, named by its cycle (0 for the unprinted solves).
+    fn error(&self, table: &str, message: String) -> RunError {
+        RunError {
+            table: table.to_string(),
+            cycle: self.row.unwrap_or(0),
+            message,
+        }
     }
 }
 
-/// The solves of a study: `unprinted` silent ones, then one per printed row.
-fn schedule(unprinted: usize, printed: usize) -> impl Iterator<Item = Solve> {
-    let total = unprinted + printed;
-    (0..total).map(move |index| Solve {
-        index,
-        row: index.checked_sub(unprinted),
-        last: index + 1 == total,
-    })
+/// The solves of a study: `unprinted` silent ones, then one per printed row of the tier.
+#[derive(Clone, Copy, Debug)]
+pub struct Schedule {
+    pub unprinted: usize,
+    pub printed: usize,
+}
+
+impl Schedule {
+    pub fn of(experiment: &Experiment, tier: Tier) -> Schedule {
+        Schedule {
+            unprinted: experiment.study.unprinted_cycles,
+            printed: printed_rows(experiment, tier),
+        }
+    }
+
+    /// Number of solves.
+    pub fn len(&self) -> usize {
+        self.unprinted + self.printed
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    pub fn solves(self) -> impl Iterator<Item = Solve> {
+        (0..self.len()).map(move |index| Solve {
+            index,
+            row: index.checked_sub(self.unprinted),
+            last: index + 1 == self.len(),
+        })
+    }
 }
 
 /// Run one experiment: build its problem and its adaptation, then the study loop.
@@ -135,18 +162,11 @@ pub fn run_study(
     problem: &mut dyn Problem,
     adaptation: &mut dyn Adaptation,
 ) -> Result<RunResult, RunError> {
-    let (unprinted, printed) = (
-        experiment.study.unprinted_cycles,
-        printed_rows(experiment, tier),
-    );
+    let schedule = Schedule::of(experiment, tier);
     let mut disc = Discretisation::initial(&experiment.scene);
-    let mut record = Recorder::new(experiment, tier, printed);
-    for solve in schedule(unprinted, printed) {
-        let fail = |message: String| RunError {
-            table: experiment.table.clone(),
-            cycle: solve.cycle(),
-            message,
-        };
+    let mut record = Recorder::new(experiment, tier, schedule.printed);
+    for solve in schedule.solves() {
+        let fail = |message| solve.error(&experiment.table, message);
         let clock = PhaseClock::default();
         let mut system = clock.time(Phase::Setup, || problem.setup(&disc));
         clock
@@ -169,7 +189,7 @@ pub fn run_study(
                 .map_err(fail)?;
         }
         record.seconds(&solve, clock.seconds());
-        progress(&experiment.table, solve.index + 1, unprinted + printed);
+        progress(&experiment.table, solve.index + 1, schedule.len());
     }
     Ok(record.finish(problem))
 }

@@ -5,6 +5,7 @@
 use crate::estimators::FaceIndicators;
 use crate::experiment::Scene;
 use crate::fe::{DofMap, System};
+use crate::linalg::DirectSolver;
 use crate::mesh::Mesh;
 use crate::results::{columns, DeformedPicture, FieldPicture, Value};
 
@@ -27,6 +28,20 @@ impl Discretisation {
         }
         Discretisation { mesh }
     }
+}
+
+/// The setup of a Q₁ problem with `n_components` per vertex: the system on the current mesh,
+/// the problem's constraints (`constrain`), and `solver` reordered for its pattern.
+pub fn setup_system(
+    disc: &Discretisation,
+    n_components: usize,
+    solver: &mut DirectSolver,
+    constrain: impl FnOnce(&mut System),
+) -> System {
+    let mut system = System::new(&disc.mesh, n_components);
+    constrain(&mut system);
+    solver.reorder(system.ordering());
+    system
 }
 
 /// A solution of one cycle: the field (hanging dofs distributed) and solver counters.

@@ -10,7 +10,7 @@
 //! below the rounding noise of ψ_h ([`noise_floor`]).
 
 use super::clock::{Phase, PhaseClock};
-use super::problem::{Discretisation, Estimate, Pictures, Problem, Solution};
+use super::problem::{setup_system, Discretisation, Estimate, Pictures, Problem, Solution};
 use super::thin_film::{noise_floor, CavitationSwitch, PreviousEstimate};
 use super::transfer::{evaluate, PreviousSolution};
 use crate::estimators;
@@ -128,10 +128,7 @@ fn max_abs(u: &[f64]) -> f64 {
 
 impl Problem for ReynoldsFilm {
     fn setup(&mut self, disc: &Discretisation) -> System {
-        let mut system = System::new(&disc.mesh, 1);
-        self.problem.constrain(&mut system);
-        self.solver.reorder(system.ordering());
-        system
+        setup_system(disc, 1, &mut self.solver, |s| self.problem.constrain(s))
     }
 
     fn assemble(&mut self, disc: &Discretisation, system: &mut System) -> Result<(), String> {

@@ -1,0 +1,33 @@
+//! The full-tier checks that CI runs after the snapshot regression (`.ci/run`): every table at
+//! thesis size, its agreement with the printed rows and its convergence rate over the
+//! experiment's window. Ignored by default (about three minutes on two cores); run with
+//!
+//! ```sh
+//! cargo test --release --test tribo -- --ignored full_tier --nocapture
+//! ```
+//!
+//! A failure names the table, the cycle and the number; every table of a family is checked even
+//! when an earlier one fails.
+
+use crate::common::full_tier;
+
+#[test]
+#[ignore]
+fn elasticity() {
+    full_tier(
+        &crate::elasticity::TABLES,
+        crate::elasticity::full_tier_rules,
+    );
+}
+
+#[test]
+#[ignore]
+fn contact() {
+    full_tier(&crate::contact::TABLES, crate::contact::full_tier_rules);
+}
+
+#[test]
+#[ignore]
+fn reynolds() {
+    full_tier(&crate::reynolds::TABLES, crate::reynolds::full_tier_rules);
+}
