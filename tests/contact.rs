@@ -207,6 +207,44 @@ fn constraints_and_complementarity_hold_at_the_solution() {
     }
 }
 
+/// The contact estimate's face indicators: one per face of Γ_C, keyed by stable ids in order along
+/// the side, each the contact part of its cell's indicator, together the parts of the estimate;
+/// the refined faces descend from the 64 faces of the coarse contact boundary.
+#[test]
+fn contact_faces_carry_indicators_under_stable_ids() {
+    for t in ["IV.7", "IV.12"] {
+        let (model, _) = quick_with_state(t);
+        let previous = model.previous().unwrap();
+        let e = model.contact_estimate(&previous.mesh, &previous.dofs, &previous.u);
+        let faces: Vec<_> = e.faces.iter().map(|(f, _)| *f).collect();
+        let mut sorted = faces.clone();
+        sorted.sort();
+        sorted.dedup();
+        assert_eq!(faces, sorted, "{t}: face ids sorted and unique");
+        let mesh = &previous.mesh;
+        let gamma_c: usize = mesh
+            .active()
+            .iter()
+            .filter(|&&c| mesh.boundary_face(c, tribo::mesh::Face::Bottom).is_some())
+            .count();
+        assert_eq!(faces.len(), gamma_c, "{t}: one indicator per contact face");
+        for f in &faces {
+            let mut root = *f;
+            while let Some(p) = root.parent() {
+                root = p;
+            }
+            assert_eq!((root.level, root.start % (1 << 24)), (0, 0), "{t}: {f:?}");
+        }
+        let total: f64 = e.faces.iter().map(|(_, v)| v).sum();
+        let parts = e.contact + e.gap + if t == "IV.7" { e.obstacle } else { 0.0 };
+        assert!(
+            (total - parts).abs() <= 1e-12 * parts.max(1e-300),
+            "{t}: faces {total} vs parts {parts}"
+        );
+        assert!(total > 0.0, "{t}: the contact faces carry an error");
+    }
+}
+
 #[test]
 fn signorini_penetrates_much_less_than_z_contact_for_two_obstacles() {
     let (z, s) = (quick("IV.10"), quick("IV.16"));

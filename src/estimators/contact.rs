@@ -159,12 +159,14 @@ pub fn indicators(
                         let slope = (cb.obstacle.eta_z(xb[0]) - cb.obstacle.eta_z(xa[0])) / len;
                         obstacle += h * slope * slope * len;
                     }
-                    ContactEstimator::SignoriniCode => {
+                    // Only faces of cells with a vertex in contact carry the terms (the face
+                    // still gets its indicator, 0).
+                    ContactEstimator::SignoriniCode => 'face: {
                         let in_contact = cv
                             .iter()
                             .any(|&v| of_vertex[v as usize].map(|i| active[i]).unwrap_or(false));
                         if !in_contact {
-                            continue;
+                            break 'face;
                         }
                         // Nodal n and b at the two face vertices.
                         let nodal = |v: u32, x: [f64; 2]| -> ([f64; 2], f64) {

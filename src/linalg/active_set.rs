@@ -58,6 +58,68 @@ impl Bound {
     }
 }
 
+/// The bounds of a problem: listed one by one (contact), or one value at every dof a mask selects
+/// (cavitation: ψ ≥ 0 at every free vertex), which needs no list as long as the system.
+#[derive(Clone, Copy, Debug)]
+pub enum Bounds<'a> {
+    Listed(&'a [Bound]),
+    Uniform {
+        at: &'a [bool],
+        sense: Sense,
+        value: f64,
+    },
+}
+
+impl<'a> Bounds<'a> {
+    /// The bounds in order (of the list, or of the dofs).
+    pub fn iter(&self) -> BoundIter<'a> {
+        match *self {
+            Bounds::Listed(list) => BoundIter::Listed(list.iter()),
+            Bounds::Uniform { at, sense, value } => BoundIter::Uniform {
+                at: at.iter().enumerate(),
+                sense,
+                value,
+            },
+        }
+    }
+
+    /// Number of bounds.
+    pub fn len(&self) -> usize {
+        match self {
+            Bounds::Listed(list) => list.len(),
+            Bounds::Uniform { at, .. } => at.iter().filter(|&&m| m).count(),
+        }
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+/// Iterator over [`Bounds`].
+pub enum BoundIter<'a> {
+    Listed(std::slice::Iter<'a, Bound>),
+    Uniform {
+        at: std::iter::Enumerate<std::slice::Iter<'a, bool>>,
+        sense: Sense,
+        value: f64,
+    },
+}
+
+impl Iterator for BoundIter<'_> {
+    type Item = Bound;
+
+    #[inline]
+    fn next(&mut self) -> Option<Bound> {
+        match self {
+            BoundIter::Listed(list) => list.next().copied(),
+            BoundIter::Uniform { at, sense, value } => at
+                .find(|(_, &m)| m)
+                .map(|(dof, _)| Bound::new(dof, *sense, *value)),
+        }
+    }
+}
+
 /// A pre-transform of a two-component system into local frames: at each listed vertex the dofs
 /// (2v, 2v + 1) become the components along n and along t = (−n₂, n₁) (values ← QᵀKQ, rhs ← QᵀF
 /// with the 2×2 block R_v = [n | t]). A bound on dof 2v is then a bound on n·s.
@@ -137,7 +199,7 @@ pub struct ActiveSetOptions {
 pub struct NodalBounds<'a> {
     pub matrix: Csc<'a>,
     pub rhs: &'a [f64],
-    pub bounds: &'a [Bound],
+    pub bounds: Bounds<'a>,
     pub rotation: Option<&'a Rotation>,
     pub eliminated: &'a [(usize, f64)],
 }
@@ -180,9 +242,10 @@ pub fn primal_dual_active_set(
     let matrix = problem.matrix.with_values(&values);
     let diag = matrix.diagonal();
     let bounds = problem.bounds;
+    let n_bounds = bounds.len();
     let mut active: Vec<bool> = match initial {
-        Some(a) if a.len() == bounds.len() => a.to_vec(),
-        _ => vec![false; bounds.len()],
+        Some(a) if a.len() == n_bounds => a.to_vec(),
+        _ => vec![false; n_bounds],
     };
     // The constraints' eliminated dofs, then the active bounds at their values (the overlay).
     let mut eliminated = problem.eliminated.to_vec();
@@ -212,7 +275,7 @@ pub fn primal_dual_active_set(
             .zip(&active)
             .map(|(b, &is_active)| {
                 if is_active {
-                    multiplier(b) > -options.multiplier_tolerance
+                    multiplier(&b) > -options.multiplier_tolerance
                 } else {
                     let tol = match options.violation {
                         ViolationTolerance::PerBound(f) => f * (1.0 + b.value.abs()),
@@ -226,7 +289,7 @@ pub fn primal_dual_active_set(
             })
             .collect();
         if next == active {
-            let multipliers = bounds.iter().map(multiplier).collect();
+            let multipliers = bounds.iter().map(|b| multiplier(&b)).collect();
             let slack = bounds
                 .iter()
                 .map(|b| b.sense.sign() * (b.value - x[b.dof()]))
@@ -303,7 +366,7 @@ mod tests {
     }
 
     /// Every KKT condition of the bounds at the converged iterate, to rounding.
-    fn assert_kkt(matrix: Csc<'_>, rhs: &[f64], bounds: &[Bound], s: &ActiveSetSolution) {
+    fn assert_kkt(matrix: Csc<'_>, rhs: &[f64], bounds: Bounds<'_>, s: &ActiveSetSolution) {
         let kx = matrix.multiply(&s.x);
         for (i, b) in bounds.iter().enumerate() {
             let sign = match b.sense {
@@ -337,13 +400,19 @@ mod tests {
             })
             .collect();
         let pull = Laplacian1d::new(n, |x| if x < 0.5 { -40.0 } else { 20.0 });
-        let lower: Vec<Bound> = (1..n).map(|i| Bound::new(i, Sense::Lower, 0.0)).collect();
+        // ψ ≥ 0 at the interior nodes, as one uniform bound over a mask.
+        let interior: Vec<bool> = (0..=n).map(|i| i > 0 && i < n).collect();
+        let lower = Bounds::Uniform {
+            at: &interior,
+            sense: Sense::Lower,
+            value: 0.0,
+        };
         let options = ActiveSetOptions {
             max_iterations: 50,
             multiplier_tolerance: 0.0,
             violation: ViolationTolerance::PerBound(1e-13),
         };
-        for (system, bounds) in [(&lap, &upper), (&pull, &lower)] {
+        for (system, bounds) in [(&lap, Bounds::Listed(&upper)), (&pull, lower)] {
             let problem = NodalBounds {
                 matrix: system.matrix(),
                 rhs: &system.rhs,
@@ -376,7 +445,7 @@ mod tests {
         let problem = NodalBounds {
             matrix: lap.matrix(),
             rhs: &lap.rhs,
-            bounds: &bounds,
+            bounds: Bounds::Listed(&bounds),
             rotation: None,
             eliminated: &[(0, 0.0), (n, 0.0)],
         };
@@ -432,7 +501,7 @@ mod tests {
         let problem = NodalBounds {
             matrix,
             rhs: &rhs,
-            bounds: &bounds,
+            bounds: Bounds::Listed(&bounds),
             rotation: Some(&rotation),
             eliminated: &[],
         };

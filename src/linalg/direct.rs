@@ -124,6 +124,14 @@ impl DirectSolver {
         self.symbolic = None;
     }
 
+    /// Drop the ordering and the symbolic factorisation of the current pattern once its last
+    /// solve is done (they are as large as the pattern), keeping the work arrays for the next
+    /// one.
+    pub fn release_pattern(&mut self) {
+        self.ordering = None;
+        self.symbolic = None;
+    }
+
     /// New diagonal signs for LDLᵀ (with [`DirectSolver::reorder`], when the dofs change).
     pub fn set_signs(&mut self, signs: Vec<i8>) {
         if let Factorisation::Ldlt { signs: s } = &mut self.factorisation {
@@ -134,7 +142,8 @@ impl DirectSolver {
     /// Solve A x = b where the dofs in `eliminated` take the given values. Rows and columns of
     /// eliminated dofs are removed keeping a diagonal entry (the mean |diagonal| of the free rows,
     /// with the dof's sign for LDLᵀ), so the pattern and the symbolic factorisation are reused
-    /// between calls. Without an ordering ([`DirectSolver::reorder`]) the natural order is used.
+    /// between calls. Without an ordering ([`DirectSolver::reorder`], none yet or released) the
+    /// natural order is used.
     pub fn solve(
         &mut self,
         matrix: Csc<'_>,

@@ -25,7 +25,7 @@
 
 use crate::fe::{Constraints, DofMap, System};
 use crate::linalg::active_set::{
-    primal_dual_active_set, ActiveSetOptions, Bound, NodalBounds, Rotation, Sense,
+    primal_dual_active_set, ActiveSetOptions, Bound, Bounds, NodalBounds, Rotation, Sense,
     ViolationTolerance,
 };
 use crate::linalg::DirectSolver;
@@ -239,7 +239,7 @@ pub fn solve_contact(
     let problem = NodalBounds {
         matrix: system.matrix(),
         rhs: &system.rhs,
-        bounds: &bounds,
+        bounds: Bounds::Listed(&bounds),
         rotation: Some(&rotation),
         eliminated: &eliminated,
     };

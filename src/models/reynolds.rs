@@ -37,7 +37,7 @@ use crate::fe::cell_values::CellValues;
 use crate::fe::quadrature::{self, square_rule};
 use crate::fe::{LocalDofs, System};
 use crate::linalg::active_set::{
-    primal_dual_active_set, ActiveSetOptions, ActiveSetSolution, Bound, NodalBounds, Sense,
+    primal_dual_active_set, ActiveSetOptions, ActiveSetSolution, Bounds, NodalBounds, Sense,
     ViolationTolerance,
 };
 use crate::linalg::DirectSolver;
@@ -344,10 +344,11 @@ pub fn solve_cavitation(
     let n = system.dofs.n_dofs();
     let rhs = &system.rhs;
     let constrained: Vec<bool> = (0..n).map(|d| system.constraints.is_free(d)).collect();
-    let bounds: Vec<Bound> = (0..n)
-        .filter(|&d| constrained[d])
-        .map(|dof| Bound::new(dof, Sense::Lower, 0.0))
-        .collect();
+    let bounds = Bounds::Uniform {
+        at: &constrained,
+        sense: Sense::Lower,
+        value: 0.0,
+    };
     let initial: Vec<bool> = bounds.iter().map(|b| initial[b.dof()]).collect();
     let load_scale = rhs
         .iter()
@@ -358,7 +359,7 @@ pub fn solve_cavitation(
     let problem = NodalBounds {
         matrix: system.matrix(),
         rhs,
-        bounds: &bounds,
+        bounds,
         rotation: None,
         eliminated: &eliminated,
     };

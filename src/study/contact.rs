@@ -257,7 +257,9 @@ impl Problem for ContactProblem {
             &mut self.solver,
             &self.constraints,
             self.initial.as_deref(),
-        )?;
+        );
+        self.solver.release_pattern();
+        let solution = solution?;
         let counters = vec![
             (
                 "active_set_iterations".to_string(),

@@ -98,6 +98,29 @@ impl ReynoldsFilm {
         }
     }
 
+    /// [`Problem::solve`] on the current mesh, before its factorisation is released.
+    fn solve_on_mesh(
+        &mut self,
+        disc: &Discretisation,
+        system: &mut System,
+        clock: &PhaseClock,
+    ) -> Result<Solution, String> {
+        let solve = self.switch.begin_solve();
+        if self.switch.is_on() {
+            return self.solve_with_cavitation(system, None);
+        }
+        let psi = system.solve(&mut self.solver).map_err(|e| e.to_string())?;
+        if !self.switch.after_free_solve(solve, &psi) {
+            self.psi_scale = max_abs(&psi);
+            return Ok(Solution {
+                u: psi,
+                counters: Vec::new(),
+            });
+        }
+        clock.time(Phase::Assemble, || self.assemble_load(disc, system));
+        self.solve_with_cavitation(system, Some(&psi))
+    }
+
     /// The cavitation solve (I.82) on the assembled system.
     fn solve_with_cavitation(
         &mut self,
@@ -144,28 +167,9 @@ impl Problem for ReynoldsFilm {
         system: &mut System,
         clock: &PhaseClock,
     ) -> Result<Solution, String> {
-        let solve = self.switch.begin_solve();
-        if self.switch.is_on() {
-            return self.solve_with_cavitation(system, None);
-        }
-        let mut psi = self
-            .solver
-            .solve(
-                system.matrix(),
-                &system.rhs,
-                &system.constraints.eliminated(),
-            )
-            .map_err(|e| e.to_string())?;
-        system.constraints.distribute(&mut psi);
-        if !self.switch.after_free_solve(solve, &psi) {
-            self.psi_scale = max_abs(&psi);
-            return Ok(Solution {
-                u: psi,
-                counters: Vec::new(),
-            });
-        }
-        clock.time(Phase::Assemble, || self.assemble_load(disc, system));
-        self.solve_with_cavitation(system, Some(&psi))
+        let solution = self.solve_on_mesh(disc, system, clock);
+        self.solver.release_pattern();
+        solution
     }
 
     fn estimate(&mut self, disc: &Discretisation, dofs: &DofMap, solution: &Solution) -> Estimate {
