@@ -63,11 +63,19 @@ pub mod columns {
 pub enum Value {
     /// An integer: cells, dofs, faces, iterations.
     Count(i64),
-    /// A real number; `None` where it is undefined (the first ratio).
+    /// A real number; `None` where it is undefined (the first ratio, a ratio to 0). Never NaN
+    /// or infinite when made with [`Value::real`], which every producer uses: an undefined value
+    /// is an empty cell in the CSV files and the snapshots (report/README.md).
     Real(Option<f64>),
 }
 
 impl Value {
+    /// A real value, `None` (undefined) unless it is finite: 0/0 and x/0 are undefined, not NaN
+    /// or infinite, in every output.
+    pub fn real(v: Option<f64>) -> Value {
+        Value::Real(v.filter(|x| x.is_finite()))
+    }
+
     /// The value as a real number (counts converted).
     pub fn as_f64(&self) -> Option<f64> {
         match *self {
@@ -107,12 +115,16 @@ impl Row {
 
     /// Append a real column.
     pub fn real(mut self, name: &str, v: Option<f64>) -> Row {
-        self.columns.push((name.to_string(), Value::Real(v)));
+        self.columns.push((name.to_string(), Value::real(v)));
         self
     }
 
     /// Set a column's value (appended if the row does not have it yet).
     pub fn set(&mut self, name: &str, value: Value) {
+        let value = match value {
+            Value::Real(v) => Value::real(v),
+            count => count,
+        };
         match self.columns.iter_mut().find(|(n, _)| n == name) {
             Some((_, v)) => *v = value,
             None => self.columns.push((name.to_string(), value)),

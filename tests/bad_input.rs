@@ -386,7 +386,7 @@ fn contradictory_fields_name_file_and_field() {
             "empty-domain",
             edit("x = [-16.0, 16.0]", "x = [16.0, -16.0]"),
             "scene.domain.x",
-            "x0 < x1",
+            "lo < hi",
         ),
         (
             "no-coarse-cells",
@@ -398,7 +398,7 @@ fn contradictory_fields_name_file_and_field() {
             "negative-shear-modulus",
             edit("mu = 1.0", "mu = -1.0"),
             "scene.elasticity.mu",
-            "> 0",
+            "between 1e-30 and 1e30",
         ),
         (
             "nan-lambda",

@@ -150,8 +150,15 @@ fn quick_with_state(t: &str) -> (ContactProblem, RunResult) {
     let s = spec(t);
     let mut model = contact_problem(t);
     let mut adaptation = study::build_adaptation(&s.study);
-    let r = study::run_study(&s, Tier::Quick, &|_, _, _| {}, &mut model, &mut *adaptation)
-        .unwrap_or_else(|e| panic!("{e}"));
+    let r = study::run_study(
+        &s,
+        Tier::Quick,
+        study::Budget::machine(),
+        &|_, _, _| {},
+        &mut model,
+        &mut *adaptation,
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
     (model, r)
 }
 

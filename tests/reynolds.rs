@@ -386,7 +386,15 @@ fn auto_cavitation_switches_where_the_pressure_gets_negative() {
         s.study.quick_rows = 0;
         let mut model = ReynoldsFilm::new(s.problem.reynolds().unwrap(), &s.scene.domain);
         let mut adaptation = study::build_adaptation(&s.study);
-        run_study(&s, Tier::Quick, &|_, _, _| {}, &mut model, &mut *adaptation).expect("runs");
+        run_study(
+            &s,
+            Tier::Quick,
+            tribo::study::Budget::machine(),
+            &|_, _, _| {},
+            &mut model,
+            &mut *adaptation,
+        )
+        .expect("runs");
         minima.push((*eq, model.switch.first_min_psi.unwrap()));
         if model.switch.switched_at.is_some() {
             switched.push(*eq);

@@ -20,6 +20,25 @@ use super::{Experiment, Problem, Scene};
 /// Highest table number of Chapter IV (Table IV.75).
 const LAST_TABLE: u32 = 75;
 
+/// Most printed rows of a study (and of a thesis table); Chapter IV prints at most 26.
+pub const MAX_ROWS: usize = 200;
+/// Most unprinted cycles before row 0 (Chapter IV uses at most a few).
+pub const MAX_UNPRINTED_CYCLES: usize = 200;
+/// Most global refinements of the coarse grid (the size of the run is bounded by the memory
+/// budget of the study as well).
+const MAX_GLOBAL_REFINEMENTS: usize = 12;
+/// Range of the length of a side of the domain.
+const MIN_LENGTH: f64 = 1e-30;
+const MAX_LENGTH: f64 = 1e30;
+/// Largest ratio of the two sides of a coarse cell.
+const MAX_ASPECT_RATIO: f64 = 1e4;
+/// Range of the Lamé constants μ, λ (λ may also be 0).
+const MIN_MATERIAL: f64 = 1e-30;
+const MAX_MATERIAL: f64 = 1e30;
+/// Largest λ/μ: beyond it (Poisson ratio within 5e-9 of ½) the Q₁ system is singular to
+/// working precision.
+const MAX_LAMBDA_OVER_MU: f64 = 1e8;
+
 /// Parse and validate one experiment file.
 ///
 /// Errors name the file and the field: I/O errors, TOML syntax, type, missing- and
@@ -133,10 +152,34 @@ fn toml_error(path: &Path, text: &str, error: &toml::de::Error) -> ExperimentErr
     }
     ExperimentError::Toml {
         path: path.to_path_buf(),
-        field: field.filter(|f| !f.is_empty()),
+        field: field
+            .filter(|f| !f.is_empty())
+            .map(|f| shorten(&f, MAX_FIELD_CHARS)),
         line: position.map(|pos| line_of(text, pos)),
-        message: error.to_string().trim_end().to_owned(),
+        message: error
+            .to_string()
+            .trim_end()
+            .lines()
+            .map(|line| shorten(line, MAX_LINE_CHARS))
+            .collect::<Vec<_>>()
+            .join("\n"),
     }
+}
+
+/// Longest field path and longest line of toml's message quoted in an error: a 100 000-deep
+/// nested array made a 200 KB message, its path and the quoted source line.
+const MAX_FIELD_CHARS: usize = 120;
+const MAX_LINE_CHARS: usize = 240;
+
+/// `text` cut to about `max` characters, keeping its beginning and end around an ellipsis.
+fn shorten(text: &str, max: usize) -> String {
+    let n = text.chars().count();
+    if n <= max {
+        return text.to_owned();
+    }
+    let head: String = text.chars().take(max / 2).collect();
+    let tail: String = text.chars().skip(n - max / 2).collect();
+    format!("{head}…{tail}")
 }
 
 /// The text between `prefix` and the next backtick in `message`.
@@ -317,6 +360,48 @@ impl Check<'_> {
         Ok(())
     }
 
+    /// One side of the domain, `[lo, hi]`: finite, ordered, and neither so small nor so large
+    /// that the cell geometry (Jacobians of order (hi − lo)², distances relative to |lo|, |hi|)
+    /// underflows, overflows or drowns in rounding.
+    fn domain_extent(&self, field: &str, lo: f64, hi: f64) -> Checked {
+        self.finite_all(field, &[lo, hi])?;
+        self.ensure(
+            lo < hi,
+            field,
+            "[lo, hi] with lo < hi",
+            format!("[{lo}, {hi}]"),
+        )?;
+        let width = hi - lo;
+        let scale = lo.abs().max(hi.abs());
+        self.ensure(
+            (MIN_LENGTH..=MAX_LENGTH).contains(&width) && width >= 1e-9 * scale,
+            field,
+            &format!(
+                "an interval of length between {MIN_LENGTH:e} and {MAX_LENGTH:e}, \
+                 and at least 1e-9 of its largest coordinate"
+            ),
+            format!("[{lo}, {hi}] of length {width:e}"),
+        )
+    }
+
+    /// A material constant of (I.17): finite, in a range where the stiffness matrix and the
+    /// squared energy norms of the estimators stay representable.
+    fn material(&self, field: &str, value: f64, zero_allowed: bool) -> Checked {
+        let ok = value.is_finite()
+            && (value <= MAX_MATERIAL)
+            && (value >= MIN_MATERIAL || (zero_allowed && value == 0.0));
+        self.ensure(
+            ok,
+            field,
+            &format!(
+                "a finite value between {MIN_MATERIAL:e} and {MAX_MATERIAL:e}{} (outside, the \
+                 stiffness matrix and the squared norms of the estimate overflow or underflow)",
+                if zero_allowed { ", or 0" } else { "" }
+            ),
+            value,
+        )
+    }
+
     fn experiment(&self, spec: &ExperimentFile) -> Checked {
         self.identity(spec)?;
         self.scene(&spec.scene)?;
@@ -355,6 +440,27 @@ impl Check<'_> {
             "title",
             "a non-empty title",
             "an empty string",
+        )?;
+        self.printable("section", &spec.section)?;
+        self.printable("title", &spec.title)?;
+        for (i, note) in spec.notes.iter().enumerate() {
+            self.printable(&format!("notes[{i}]"), note)?;
+        }
+        Ok(())
+    }
+
+    /// Text shown on the page and in file names: no control characters (a NUL or BEL would be
+    /// copied into `index.html`). Line breaks are allowed in notes only, which is where they
+    /// can be written in TOML anyway.
+    fn printable(&self, field: &str, text: &str) -> Checked {
+        let bad = text
+            .chars()
+            .find(|&c| c.is_control() && !(field.starts_with("notes") && (c == '\n' || c == '\t')));
+        self.ensure(
+            bad.is_none(),
+            field,
+            "text without control characters",
+            format!("the control character {:?}", bad.unwrap_or(' ')),
         )
     }
 
@@ -365,21 +471,10 @@ impl Check<'_> {
             "a non-empty descriptive name",
             "an empty string",
         )?;
-        let Rectangle { x, y } = scene.domain;
-        self.finite_all("scene.domain.x", &x)?;
-        self.finite_all("scene.domain.y", &y)?;
-        self.ensure(
-            x[0] < x[1],
-            "scene.domain.x",
-            "x0 < x1",
-            format!("[{}, {}]", x[0], x[1]),
-        )?;
-        self.ensure(
-            y[0] < y[1],
-            "scene.domain.y",
-            "y0 < y1",
-            format!("[{}, {}]", y[0], y[1]),
-        )?;
+        self.printable("scene.name", &scene.name)?;
+        for (name, [lo, hi]) in [("x", scene.domain.x), ("y", scene.domain.y)] {
+            self.domain_extent(&format!("scene.domain.{name}"), lo, hi)?;
+        }
         for (i, &n) in scene.coarse_cells.iter().enumerate() {
             self.ensure(
                 n >= 1,
@@ -388,10 +483,27 @@ impl Check<'_> {
                 n,
             )?;
         }
+        let [nx, ny] = scene.coarse_cells;
+        let hx = (scene.domain.x[1] - scene.domain.x[0]) / nx as f64;
+        let hy = (scene.domain.y[1] - scene.domain.y[0]) / ny as f64;
+        let aspect = (hx / hy).max(hy / hx);
         self.ensure(
-            scene.global_refinements <= 12,
+            aspect <= MAX_ASPECT_RATIO,
+            "scene.coarse_cells",
+            &format!(
+                "coarse cells with sides in a ratio of at most {MAX_ASPECT_RATIO:e} \
+                 (flatter cells make the stiffness matrix numerically singular)"
+            ),
+            format!("{hx:e} × {hy:e} cells, ratio {aspect:e}"),
+        )?;
+        self.ensure(
+            scene.global_refinements <= MAX_GLOBAL_REFINEMENTS,
             "scene.global_refinements",
-            "at most 12 global refinements",
+            &format!(
+                "at most {MAX_GLOBAL_REFINEMENTS} global refinements (the mesh supports {} \
+                 refinement levels; the size of a run is bounded separately)",
+                crate::mesh::MAX_LEVEL
+            ),
             scene.global_refinements,
         )?;
         self.effects(scene)?;
@@ -496,8 +608,17 @@ impl Check<'_> {
     /// Material and loads of (I.17) / (IV.1).
     fn elasticity(&self, data: &ElasticityData) -> Checked {
         const F: &str = "scene.elasticity";
-        self.positive(&format!("{F}.mu"), data.mu)?;
-        self.non_negative(&format!("{F}.lambda"), data.lambda)?;
+        self.material(&format!("{F}.mu"), data.mu, false)?;
+        self.material(&format!("{F}.lambda"), data.lambda, true)?;
+        self.ensure(
+            data.lambda <= MAX_LAMBDA_OVER_MU * data.mu,
+            &format!("{F}.lambda"),
+            &format!(
+                "λ ≤ {MAX_LAMBDA_OVER_MU:e}·μ (a nearly incompressible material locks the Q₁ \
+                 elements and makes the stiffness matrix numerically singular)"
+            ),
+            format!("λ/μ = {:e}", data.lambda / data.mu),
+        )?;
         self.unique_sides(&format!("{F}.dirichlet"), data.dirichlet.iter().copied())?;
         if let Some(load) = &data.volume_load {
             self.finite_all(&format!("{F}.volume_load.direction"), &load.direction)?;
@@ -666,6 +787,21 @@ impl Check<'_> {
         )?;
         self.finite(&format!("{F}.boundary_pressure"), data.boundary_pressure)?;
         self.ensure(
+            data.cavitation == Cavitation::Off || data.boundary_pressure >= 0.0,
+            &format!("{F}.boundary_pressure"),
+            "a pressure ≥ 0 when cavitation is `on` or `auto` (the cavitation problem asks \
+             ψ ≥ 0, which a negative boundary value contradicts)",
+            data.boundary_pressure,
+        )?;
+        self.ensure(
+            data.cavitation != Cavitation::Off
+                || data.cavitation_source == CavitationSource::default(),
+            &format!("{F}.cavitation_source"),
+            "no cavitation_source when cavitation = \"off\" (it chooses the source term of \
+             the cavitation problem only)",
+            format!("{:?} with cavitation = \"off\"", data.cavitation_source),
+        )?;
+        self.ensure(
             data.zone_residual == ZoneResidual::Full || data.cavitation != Cavitation::Off,
             &format!("{F}.zone_residual"),
             "`full` (or left out) when cavitation = \"off\": there is no cavitation zone",
@@ -676,6 +812,18 @@ impl Check<'_> {
     /// Fixed-fraction grid adaptivity (§IV.1: refine 30 %, coarsen 3 %) and the printed cycles.
     fn study(&self, study: &Study) -> Checked {
         self.ensure(study.rows >= 1, "study.rows", "at least 1", study.rows)?;
+        self.ensure(
+            study.rows <= MAX_ROWS,
+            "study.rows",
+            &format!("at most {MAX_ROWS} printed rows"),
+            study.rows,
+        )?;
+        self.ensure(
+            study.unprinted_cycles <= MAX_UNPRINTED_CYCLES,
+            "study.unprinted_cycles",
+            &format!("at most {MAX_UNPRINTED_CYCLES} cycles before the printed rows"),
+            study.unprinted_cycles,
+        )?;
         self.ensure(
             study.quick_rows >= 1,
             "study.quick_rows",
@@ -796,6 +944,15 @@ impl Check<'_> {
             "at least one printed row",
             "an empty list",
         )?;
+        self.ensure(
+            thesis.rows.len() <= MAX_ROWS,
+            "thesis.rows",
+            &format!("at most {MAX_ROWS} printed rows (as study.rows)"),
+            format!("{} rows", thesis.rows.len()),
+        )?;
+        for (i, column) in columns.iter().enumerate() {
+            self.printable(&format!("thesis.columns[{i}]"), column)?;
+        }
         for (i, row) in thesis.rows.iter().enumerate() {
             let field = format!("thesis.rows[{i}]");
             self.ensure(

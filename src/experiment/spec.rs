@@ -9,7 +9,8 @@
 //! these types (the study does it when it builds a model), so imports run one way: the models
 //! know nothing of the file format.
 
-use serde::{Deserialize, Serialize};
+use serde::de::Error as _;
+use serde::{Deserialize, Deserializer, Serialize};
 
 /// Sides of the domain are the mesh's own geometric type.
 pub use crate::mesh::Side;
@@ -55,6 +56,7 @@ pub struct SceneFile {
     /// Rectangle `[x0, x1] × [y0, y1]`.
     pub domain: Rectangle,
     /// Number of coarse cells in x and y (the level-0 quadtree roots).
+    #[serde(deserialize_with = "exactly")]
     pub coarse_cells: [usize; 2],
     /// Global refinements of the coarse grid before the first solve. The cells they create can
     /// be coarsened again (level-0 cells cannot): the fluid tables' row-0 cell counts (7777,
@@ -71,7 +73,9 @@ pub struct SceneFile {
 #[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct Rectangle {
+    #[serde(deserialize_with = "exactly")]
     pub x: [f64; 2],
+    #[serde(deserialize_with = "exactly")]
     pub y: [f64; 2],
 }
 
@@ -94,6 +98,7 @@ pub struct ElasticityData {
 #[derive(Clone, Debug, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct VolumeLoad {
+    #[serde(deserialize_with = "exactly")]
     pub direction: [f64; 2],
     pub profile: Profile,
 }
@@ -116,6 +121,7 @@ pub enum Profile {
 #[serde(deny_unknown_fields)]
 pub struct Traction {
     pub side: Side,
+    #[serde(deserialize_with = "exactly")]
     pub value: [f64; 2],
 }
 
@@ -285,6 +291,7 @@ pub struct ReynoldsData {
     pub equation: String,
     pub gap: GapShape,
     /// Constant upper-wall velocity δv = v(z₁) (lower wall at rest).
+    #[serde(deserialize_with = "exactly")]
     pub upper_wall_velocity: [f64; 3],
     /// ψ₀ on ∂Ω₂.
     pub boundary_pressure: f64,
@@ -325,6 +332,7 @@ pub struct Study {
     pub refine_fraction: f64,
     pub coarsen_fraction: f64,
     /// Printed cycles `[first, last]` (inclusive) where the convergence rule applies.
+    #[serde(deserialize_with = "exactly")]
     pub convergence_window: [usize; 2],
 }
 
@@ -368,4 +376,19 @@ pub struct AdditivePart {
     pub table: String,
     /// Its printed `estimate` column, row by row.
     pub estimate: Vec<f64>,
+}
+
+/// A list of exactly `N` values. serde's own `[T; N]` reads the first `N` values of a longer list
+/// and drops the rest without a word (`upper_wall_velocity = [0, 0, 0, -10]` ran as `[0, 0, 0]`:
+/// the squeeze was lost), so every fixed-length field of the format is read through this.
+fn exactly<'de, D, T, const N: usize>(deserializer: D) -> Result<[T; N], D::Error>
+where
+    D: Deserializer<'de>,
+    T: Deserialize<'de>,
+{
+    let values = Vec::<T>::deserialize(deserializer)?;
+    let found = values.len();
+    values.try_into().map_err(|_| {
+        D::Error::invalid_length(found, &format!("a list of exactly {N} values").as_str())
+    })
 }

@@ -49,9 +49,9 @@ pub enum Factorisation {
 pub enum SolveError {
     #[error(
         "sparse Cholesky factorisation failed: the pivot of dof {dof} is not positive, the system \
-         is not symmetric positive definite — check the boundary conditions"
+         is not symmetric positive definite — {cause}"
     )]
-    NotPositiveDefinite { dof: usize },
+    NotPositiveDefinite { dof: usize, cause: Cause },
     #[error(
         "sparse LDLᵀ factorisation failed: the matrix is singular, the pivot of dof {dof} vanishes \
          (its row is zero once the dofs before it are eliminated) — check the boundary conditions \
@@ -66,6 +66,63 @@ pub enum SolveError {
     NonFiniteData(usize),
     #[error("dof {0} has no diagonal sign for the LDLᵀ factorisation ({1} signs for {2} dofs)")]
     Signs(usize, usize, usize),
+}
+
+/// The likely cause of a failed Cholesky factorisation, read off the matrix that was factored.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Cause {
+    /// An entry is NaN or infinite: the data overflowed while assembling.
+    NonFinite { dof: usize },
+    /// The diagonal spans more than [`ILL_CONDITIONED`]: rounding swamps the small pivots.
+    IllConditioned { spread: f64 },
+    /// A well-scaled matrix that is singular or indefinite.
+    Singular,
+}
+
+/// Ratio of the largest to the smallest diagonal entry beyond which a failed Cholesky
+/// factorisation is put down to conditioning rather than to the boundary conditions.
+const ILL_CONDITIONED: f64 = 1e12;
+
+impl std::fmt::Display for Cause {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Cause::NonFinite { dof } => write!(
+                f,
+                "the matrix has a non-finite entry in the column of dof {dof}: the assembly \
+                 overflowed (check the size of the material constants, loads and domain)"
+            ),
+            Cause::IllConditioned { spread } => write!(
+                f,
+                "its diagonal entries span a factor {spread:.1e}, so rounding swamps the small \
+                 pivots (check for extreme material constants such as λ ≫ μ, or degenerate cells)"
+            ),
+            Cause::Singular => write!(
+                f,
+                "the matrix is well scaled but singular: check the boundary conditions (a body \
+                 without a Dirichlet side can move rigidly)"
+            ),
+        }
+    }
+}
+
+impl Cause {
+    /// Diagnose the matrix `values` (with diagonal positions `diag`) that failed to factor.
+    fn of(values: &[f64], col_ptr: &[usize], diag: &[usize]) -> Cause {
+        if let Some(p) = values.iter().position(|v| !v.is_finite()) {
+            let dof = col_ptr.partition_point(|&start| start <= p) - 1;
+            return Cause::NonFinite { dof };
+        }
+        let (min, max) = diag.iter().fold((f64::INFINITY, 0.0_f64), |(lo, hi), &d| {
+            let v = values[d].abs();
+            (lo.min(v), hi.max(v))
+        });
+        let spread = max / min;
+        if min > 0.0 && spread > ILL_CONDITIONED {
+            Cause::IllConditioned { spread }
+        } else {
+            Cause::Singular
+        }
+    }
 }
 
 /// Work arrays of a solve: the eliminated matrix values, the values of the factor and faer's
@@ -263,6 +320,7 @@ impl DirectSolver {
                     .map_err(|e| match e {
                         LltError::NonPositivePivot { index } => SolveError::NotPositiveDefinite {
                             dof: pivot_dof(index),
+                            cause: Cause::of(a, col_ptr, diag),
                         },
                     })?;
                 llt.solve_in_place_with_conj(

@@ -11,10 +11,10 @@ use super::elasticity::{deformed_picture, displacement_component};
 use super::problem::{setup_system, Discretisation, Estimate, Pictures, Problem, Solution};
 use super::transfer::PreviousSolution;
 use crate::estimators::contact::{self as contact_estimator, ContactEstimate, ContactEstimator};
-use crate::experiment::{ContactData, ElasticityData};
+use crate::experiment::{ContactData, ElasticityData, Rectangle};
 use crate::fe::{DofMap, System};
 use crate::linalg::DirectSolver;
-use crate::mesh::{BoundaryFace, Mesh};
+use crate::mesh::{BoundaryFace, Mesh, Side};
 use crate::models::contact::{
     contact_boundaries, penetration, solve_contact, ConstraintBuilder, ContactBoundary,
     ContactConstraint, ContactModel, ContactSolution,
@@ -284,18 +284,18 @@ impl Problem for ContactProblem {
         let mut estimate = Estimate::of_cells(e.eta2);
         estimate.faces = e.faces;
         if self.estimator == ContactEstimator::SignoriniCode {
-            let ratio = |now: f64, before: Option<f64>| match before {
-                None => f64::INFINITY,
-                Some(b) => now.sqrt() / b.sqrt(),
+            // Undefined in the first row and after a part that was 0 (no contact yet).
+            let ratio = |now: f64, before: Option<f64>| {
+                before.filter(|&b| b > 0.0).map(|b| now.sqrt() / b.sqrt())
             };
             estimate = estimate
                 .with("contact_estimate", e.contact.sqrt())
-                .with(
+                .with_optional(
                     "contact_ratio",
                     ratio(e.contact, self.previous_parts.map(|p| p.0)),
                 )
                 .with("gap_estimate", e.gap.sqrt())
-                .with("gap_ratio", ratio(e.gap, self.previous_parts.map(|p| p.1)));
+                .with_optional("gap_ratio", ratio(e.gap, self.previous_parts.map(|p| p.1)));
         }
         if matches!(
             self.estimator,
@@ -361,4 +361,48 @@ impl Problem for ContactProblem {
     fn component(&self, name: &str) -> Option<usize> {
         displacement_component(name)
     }
+}
+
+/// Relative reach of an obstacle into the body at a clamped corner that is still accepted.
+pub const CORNER_TOLERANCE: f64 = 1e-3;
+
+/// Why a contact scene has no solution, if it has none that can be seen from its data: an
+/// obstacle that reaches into the body at a point the Dirichlet condition clamps. There s = 0,
+/// but the constraint asks s₂ ≥ b > 0 on a lower contact face and s₂ ≤ b < 0 on an upper one
+/// (§IV.2.1), so the convex set of admissible displacements is empty. The points checked are
+/// the ends of a contact face on a Dirichlet side (the corners the clamped sides share with it).
+///
+/// A reach below [`CORNER_TOLERANCE`] times the height of the body is let through: the smooth
+/// obstacles of the thesis do not vanish exactly at the corners (the saw of Table IV.17 has
+/// b(−16) = 2·10⁻⁶ from the tails of θ_s), and the discrete problem, which constrains only the
+/// contact vertices off the clamped sides, is solvable anyway.
+pub fn infeasible_obstacle(
+    elasticity: &ElasticityData,
+    contact: &ContactData,
+    domain: &Rectangle,
+) -> Option<String> {
+    let x = domain.x;
+    let tolerance = CORNER_TOLERANCE * (domain.y[1] - domain.y[0]);
+    for (i, boundary) in contact_boundaries(contact).iter().enumerate() {
+        for (side, corner) in [(Side::Left, x[0]), (Side::Right, x[1])] {
+            if !elasticity.dirichlet.contains(&side) {
+                continue;
+            }
+            let b = boundary.obstacle.shape.value(corner);
+            let upper = boundary.obstacle.upper;
+            if (!upper && b > tolerance) || (upper && b < -tolerance) {
+                return Some(format!(
+                    "scene.contact.obstacles[{i}]: the obstacle on the {} face reaches into the \
+                     body at the corner x₁ = {corner}, which the Dirichlet side `{}` clamps \
+                     (b = {b} {} 0 asks s₂ {} b there, but s = 0): the contact problem has no \
+                     solution",
+                    boundary.side.name(),
+                    side.name(),
+                    if upper { "<" } else { ">" },
+                    if upper { "≤" } else { "≥" },
+                ));
+            }
+        }
+    }
+    None
 }

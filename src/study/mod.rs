@@ -8,6 +8,7 @@
 //! thin-film code.
 
 pub mod adapt;
+pub mod budget;
 pub mod clock;
 pub mod contact;
 pub mod elasticity;
@@ -19,6 +20,7 @@ pub mod thin_film;
 pub mod transfer;
 
 pub use adapt::{Adaptation, FixedNumber};
+pub use budget::Budget;
 pub use clock::{Phase, PhaseClock};
 pub use problem::{Discretisation, Estimate, Pictures, Problem, Solution};
 pub use readings::{alternative_readings, AlternativeReading};
@@ -84,7 +86,10 @@ impl Solve {
         RunError {
             table: table.to_string(),
             cycle: self.row.unwrap_or(0),
-            message,
+            message: match self.row {
+                Some(_) => message,
+                None => format!("unprinted solve {} before row 0: {message}", self.index + 1),
+            },
         }
     }
 }
@@ -124,9 +129,49 @@ impl Schedule {
 
 /// Run one experiment: build its problem and its adaptation, then the study loop.
 pub fn run(experiment: &Experiment, tier: Tier, progress: Progress) -> Result<RunResult, RunError> {
+    run_within(experiment, tier, Budget::machine(), progress)
+}
+
+/// [`run`] with a memory budget other than the machine's memory.
+pub fn run_within(
+    experiment: &Experiment,
+    tier: Tier,
+    budget: Budget,
+    progress: Progress,
+) -> Result<RunResult, RunError> {
+    feasible(experiment)?;
+    budget.admit_run(experiment, Schedule::of(experiment, tier))?;
     let mut problem = build_problem(experiment);
     let mut adaptation = build_adaptation(&experiment.study);
-    run_study(experiment, tier, progress, &mut *problem, &mut *adaptation)
+    run_study(
+        experiment,
+        tier,
+        budget,
+        progress,
+        &mut *problem,
+        &mut *adaptation,
+    )
+}
+
+/// Reject, before the first solve, a scene whose problem has no solution (contact: an obstacle
+/// reaching into the body where it is clamped). The loader checks what the file alone says;
+/// this needs the models.
+fn feasible(experiment: &Experiment) -> Result<(), RunError> {
+    let problem = match &experiment.problem {
+        experiment::Problem::Contact {
+            elasticity,
+            contact,
+        } => contact::infeasible_obstacle(elasticity, contact, &experiment.scene.domain),
+        experiment::Problem::Elasticity(_) | experiment::Problem::Reynolds(_) => None,
+    };
+    match problem {
+        Some(message) => Err(RunError {
+            table: experiment.table.clone(),
+            cycle: 0,
+            message: format!("before the first solve: {message}"),
+        }),
+        None => Ok(()),
+    }
 }
 
 /// The model of an experiment's problem: one match arm per model.
@@ -158,6 +203,7 @@ pub fn build_adaptation(study: &experiment::Study) -> Box<dyn Adaptation> {
 pub fn run_study(
     experiment: &Experiment,
     tier: Tier,
+    budget: Budget,
     progress: Progress,
     problem: &mut dyn Problem,
     adaptation: &mut dyn Adaptation,
@@ -167,6 +213,9 @@ pub fn run_study(
     let mut record = Recorder::new(experiment, tier, schedule.printed);
     for solve in schedule.solves() {
         let fail = |message| solve.error(&experiment.table, message);
+        budget
+            .admit_cycle(experiment, disc.mesh.n_active())
+            .map_err(fail)?;
         let clock = PhaseClock::default();
         let mut system = clock.time(Phase::Setup, || problem.setup(&disc));
         clock

@@ -82,15 +82,19 @@ impl Estimate {
         Estimate {
             cells,
             faces: FaceIndicators::new(),
-            columns: vec![(columns::ESTIMATE.to_string(), Value::Real(Some(total)))],
+            columns: vec![(columns::ESTIMATE.to_string(), Value::real(Some(total)))],
             noise_floor: None,
         }
     }
 
-    /// Append a real column.
-    pub fn with(mut self, name: &str, value: f64) -> Estimate {
-        self.columns
-            .push((name.to_string(), Value::Real(Some(value))));
+    /// Append a real column (empty where `value` is not finite).
+    pub fn with(self, name: &str, value: f64) -> Estimate {
+        self.with_optional(name, Some(value))
+    }
+
+    /// Append a real column that may be undefined (`None`, or not finite).
+    pub fn with_optional(mut self, name: &str, value: Option<f64>) -> Estimate {
+        self.columns.push((name.to_string(), Value::real(value)));
         self
     }
 

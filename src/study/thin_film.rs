@@ -94,13 +94,13 @@ pub struct PreviousEstimate {
 }
 
 impl PreviousEstimate {
-    /// The column for a solve with estimate `total` (NaN in the first solve), remembering
-    /// `total` for the next.
+    /// The column for a solve with estimate `total` (undefined in the first solve),
+    /// remembering `total` for the next.
     pub fn column(&mut self, total: f64) -> (String, Value) {
-        let previous = self.last.replace(total).unwrap_or(f64::NAN);
+        let previous = self.last.replace(total);
         (
             columns::PREVIOUS_ESTIMATE.to_string(),
-            Value::Real(Some(previous)),
+            Value::real(previous),
         )
     }
 }
