@@ -683,3 +683,203 @@ fn load_dir_sorts_numerically_and_filters() {
     assert_eq!(error.field(), Some("study.rows"));
     let _ = fs::remove_dir_all(&dir);
 }
+
+/// The hostile inputs of issue 15 that the loader must refuse, each naming file and field:
+/// fixed-length lists of another length (serde's arrays dropped extra values and ran a changed
+/// problem), control characters in text that reaches the page, degenerate domains and extreme
+/// material constants (they reached the solver as "not positive definite"), contradictory
+/// physics, unbounded studies, and refinement beyond what the mesh supports.
+#[test]
+fn hostile_inputs_name_file_and_field() {
+    let reynolds = || reynolds_scene("{ kind = \"plain\", g0 = 0.1 }", "components = [\"psi\"]");
+    let cavitation = |pressure: &str, mode: &str| {
+        reynolds()
+            .replace(
+                "boundary_pressure = 200.0",
+                &format!("boundary_pressure = {pressure}"),
+            )
+            .replace("cavitation = \"off\"", &format!("cavitation = \"{mode}\""))
+    };
+    let thesis_rows = |n: usize| {
+        let rows: Vec<String> = (0..n)
+            .map(|i| format!("  [{i}, 128, 390, 0.5, 0.7],"))
+            .collect();
+        let start = VALID.find("rows = [\n").expect("thesis rows");
+        format!("{}rows = [\n{}\n]\n", &VALID[..start], rows.join("\n"))
+    };
+    let cases: Vec<(&str, String, &str, &str)> = vec![
+        // fixed-length lists
+        ("coarse-cells-three", edit("coarse_cells = [64, 2]", "coarse_cells = [64, 2, 3]"), "scene.coarse_cells", "exactly 2 values"),
+        ("coarse-cells-one", edit("coarse_cells = [64, 2]", "coarse_cells = [64]"), "scene.coarse_cells", "2"),
+        ("coarse-cells-empty", edit("coarse_cells = [64, 2]", "coarse_cells = []"), "scene.coarse_cells", "2"),
+        ("domain-x-three", edit("x = [-16.0, 16.0]", "x = [-16.0, 16.0, 99.0]"), "scene.domain.x", "exactly 2 values"),
+        ("domain-y-one", edit("y = [0.0, 1.0]", "y = [1.0]"), "scene.domain.y", "2"),
+        ("direction-three", edit("direction = [0.0, 1.0]", "direction = [0.0, 1.0, 0.0]"), "scene.elasticity.volume_load.direction", "exactly 2 values"),
+        ("window-three", edit("convergence_window = [2, 5]", "convergence_window = [2, 5, 9]"), "study.convergence_window", "exactly 2 values"),
+        ("window-one", edit("convergence_window = [2, 5]", "convergence_window = [2]"), "study.convergence_window", "2"),
+        ("velocity-four", reynolds().replace("upper_wall_velocity = [0.0, 0.0, -10.0]", "upper_wall_velocity = [0.0, 0.0, 0.0, -10.0]"), "scene.reynolds.upper_wall_velocity", "exactly 3 values"),
+        ("velocity-two", reynolds().replace("upper_wall_velocity = [0.0, 0.0, -10.0]", "upper_wall_velocity = [0.0, -10.0]"), "scene.reynolds.upper_wall_velocity", "3"),
+        ("traction-three", edit("dirichlet = [\"left\", \"right\"]", "dirichlet = [\"left\", \"right\"]\ntractions = [{ side = \"top\", value = [0.0, 1.0, 2.0] }]"), "scene.elasticity.tractions[0].value", "exactly 2 values"),
+        // control characters
+        ("title-nul", edit("title = \"Box under", "title = \"Box\\u0000 under"), "title", "control character"),
+        ("title-bel", edit("title = \"Box under", "title = \"Box\\u0007 under"), "title", "control character"),
+        ("title-escape", edit("title = \"Box under", "title = \"\\u001b[31mBox under"), "title", "control character"),
+        ("section-newline", edit("section = \"IV.1.1\"", "section = \"IV.1.1\\n\""), "section", "control character"),
+        ("scene-name-tab", edit("name = \"box-constant-load\"", "name = \"box\\tload\""), "scene.name", "control character"),
+        ("note-bel", edit("\n[scene]\n", "notes = [\"ok\", \"ring\\u0007\"]\n\n[scene]\n"), "notes[1]", "control character"),
+        ("thesis-column-nul", edit("\"active_cells\", \"dofs\"", "\"active\\u0000cells\", \"dofs\""), "thesis.columns[1]", "control character"),
+        // domain and mesh
+        ("domain-width-1e-300", edit("x = [-16.0, 16.0]", "x = [0.0, 1e-300]"), "scene.domain.x", "length between"),
+        ("domain-height-tiny", edit("y = [0.0, 1.0]", "y = [0.0, 1e-40]"), "scene.domain.y", "length between"),
+        ("domain-width-huge", edit("x = [-16.0, 16.0]", "x = [-1e300, 1e300]"), "scene.domain.x", "length between"),
+        ("domain-lost-in-rounding", edit("x = [-16.0, 16.0]", "x = [1e20, 1.0000000000001e20]"), "scene.domain.x", "1e-9 of its largest coordinate"),
+        ("domain-reversed-y", edit("y = [0.0, 1.0]", "y = [1.0, 0.0]"), "scene.domain.y", "lo < hi"),
+        ("domain-empty-y", edit("y = [0.0, 1.0]", "y = [0.5, 0.5]"), "scene.domain.y", "lo < hi"),
+        ("domain-infinite", edit("x = [-16.0, 16.0]", "x = [-inf, 16.0]"), "scene.domain.x[0]", "finite"),
+        ("coarse-cells-flat", edit("coarse_cells = [64, 2]", "coarse_cells = [1, 100000]"), "scene.coarse_cells", "ratio of at most"),
+        ("coarse-cells-zero-y", edit("coarse_cells = [64, 2]", "coarse_cells = [64, 0]"), "scene.coarse_cells[1]", "at least 1"),
+        ("coarse-cells-negative", edit("coarse_cells = [64, 2]", "coarse_cells = [-64, 2]"), "scene.coarse_cells[0]", "usize"),
+        ("global-refinements-13", edit("coarse_cells = [64, 2]", "coarse_cells = [64, 2]\nglobal_refinements = 13"), "scene.global_refinements", "at most 12"),
+        ("global-refinements-huge", edit("coarse_cells = [64, 2]", "coarse_cells = [64, 2]\nglobal_refinements = 1000000"), "scene.global_refinements", "refinement levels"),
+        // material constants
+        ("mu-overflows", edit("mu = 1.0", "mu = 1e308"), "scene.elasticity.mu", "between 1e-30 and 1e30"),
+        ("lambda-overflows", edit("mu = 1.0\nlambda = 1.0", "mu = 1e308\nlambda = 1e308"), "scene.elasticity.mu", "between 1e-30 and 1e30"),
+        ("lambda-locks", edit("lambda = 1.0", "lambda = 1e15"), "scene.elasticity.lambda", "λ/μ"),
+        ("lambda-just-past-ratio", edit("lambda = 1.0", "lambda = 1.0000001e8"), "scene.elasticity.lambda", "λ ≤ 1e8·μ"),
+        ("mu-underflows", edit("mu = 1.0", "mu = 1e-40"), "scene.elasticity.mu", "between 1e-30 and 1e30"),
+        ("mu-zero", edit("mu = 1.0", "mu = 0.0"), "scene.elasticity.mu", "between 1e-30 and 1e30"),
+        ("lambda-negative", edit("lambda = 1.0", "lambda = -0.5"), "scene.elasticity.lambda", "or 0"),
+        ("lambda-infinite", edit("lambda = 1.0", "lambda = inf"), "scene.elasticity.lambda", "finite"),
+        // contradictory physics
+        ("cavitation-negative-pressure", cavitation("-200.0", "on"), "scene.reynolds.boundary_pressure", "ψ ≥ 0"),
+        ("auto-cavitation-negative-pressure", cavitation("-1e-9", "auto"), "scene.reynolds.boundary_pressure", "ψ ≥ 0"),
+        ("source-without-cavitation", reynolds().replace("cavitation = \"off\"", "cavitation = \"off\"\ncavitation_source = \"reynolds\""), "scene.reynolds.cavitation_source", "cavitation = \"off\""),
+        ("self-consistent-without-cavitation", reynolds().replace("cavitation = \"off\"", "cavitation = \"off\"\ncavitation_source = \"self-consistent\""), "scene.reynolds.cavitation_source", "only"),
+        // the size of a study
+        ("rows-billion", edit("rows = 6", "rows = 1000000000"), "study.rows", "at most 200"),
+        ("unprinted-billion", edit("rows = 6", "rows = 6\nunprinted_cycles = 1000000000"), "study.unprinted_cycles", "at most 200"),
+        ("rows-overflow-usize", edit("rows = 6", "rows = 99999999999999999999999"), "study.rows", ""),
+        ("thesis-rows-201", thesis_rows(201), "thesis.rows", "at most 200"),
+        ("refine-fraction-huge", edit("refine_fraction = 0.3", "refine_fraction = 1e308"), "study.refine_fraction", "≤ 1"),
+        ("coarsen-fraction-nan", edit("coarsen_fraction = 0.03", "coarsen_fraction = nan"), "study.coarsen_fraction", "finite"),
+    ];
+    for (case, text, field, needle) in &cases {
+        expect_error(case, text, field, needle);
+    }
+    assert!(cases.len() >= 45, "{} cases", cases.len());
+}
+
+/// A 100 000-deep nested array made a 200 KB message; the message stays short and still names
+/// the file.
+#[test]
+fn deeply_nested_values_give_a_short_message() {
+    let depth = 100_000;
+    let nested = format!("{}1{}", "[".repeat(depth), "]".repeat(depth));
+    let dir = scratch_dir("deep");
+    let path = write(
+        &dir,
+        "IV.1.toml",
+        &edit("rows = 6", &format!("rows = {nested}")),
+    );
+    let error = load(&path).expect_err("a nested array is no row count");
+    let message = error.to_string();
+    assert!(message.contains(&path.display().to_string()), "{message}");
+    assert!(
+        message.len() < 2_000,
+        "{} bytes: {}",
+        message.len(),
+        &message[..200]
+    );
+    let _ = fs::remove_dir_all(&dir);
+}
+
+/// Load `text` as `IV.1.toml` and run it at the quick tier within `budget`: the study's error.
+fn run_error(case: &str, text: &str, budget: &str) -> tribo::study::RunError {
+    let dir = scratch_dir(case);
+    let path = write(&dir, "IV.1.toml", text);
+    let experiment = load(&path).unwrap_or_else(|e| panic!("{case}: {e}"));
+    let budget = tribo::study::Budget::parse(budget).expect("a budget");
+    let _ = fs::remove_dir_all(&dir);
+    match tribo::study::run_within(
+        &experiment,
+        tribo::study::Tier::Quick,
+        budget,
+        &|_, _, _| {},
+    ) {
+        Ok(_) => panic!("{case}: the run was expected to fail"),
+        Err(error) => error,
+    }
+}
+
+/// A study that would outgrow the memory is refused before its first solve, naming the table,
+/// the cycle the prediction passes the budget in, and the flag that sets the budget
+/// (`global_refinements = 12` passed 8 GB in 44 s; `refine_fraction = 1` quadruples the cells
+/// of every cycle).
+#[test]
+fn runs_beyond_the_memory_budget_are_refused_naming_table_and_cycle() {
+    let huge = edit(
+        "coarse_cells = [64, 2]",
+        "coarse_cells = [64, 2]\nglobal_refinements = 12",
+    );
+    let error = run_error("global-12", &huge, "64G");
+    assert_eq!((error.table.as_str(), error.cycle), ("IV.1", 0), "{error}");
+    assert!(
+        error.message.contains("memory budget of 64.0 GiB"),
+        "{error}"
+    );
+    assert!(error.message.contains("--memory-budget"), "{error}");
+
+    // 128 cells need about 1 MB; quadrupling every cycle passes 10 MB in cycle 2.
+    let greedy = edit(
+        "refine_fraction = 0.3\ncoarsen_fraction = 0.03",
+        "refine_fraction = 1.0\ncoarsen_fraction = 0.0",
+    );
+    let error = run_error("refine-all", &greedy, "10M");
+    assert_eq!(error.cycle, 2, "{error}");
+    assert!(
+        error.to_string().starts_with("table IV.1, cycle 2: "),
+        "{error}"
+    );
+}
+
+/// An obstacle reaching into the body where the Dirichlet sides clamp it leaves the contact
+/// problem without a solution: refused before the first solve (it ran and showed a penetration
+/// of 2.0 in a column).
+#[test]
+fn an_obstacle_above_the_clamped_corners_is_refused() {
+    let scene = contact_scene(
+        "[{ side = \"bottom\", shape = { kind = \"constant\", level = 2.0 } }]",
+        "[\"left\", \"right\"]",
+    );
+    let error = run_error("obstacle-above", &scene, "64G");
+    assert_eq!((error.table.as_str(), error.cycle), ("IV.1", 0), "{error}");
+    assert!(
+        error.message.contains("scene.contact.obstacles[0]")
+            && error.message.contains("no solution"),
+        "{error}"
+    );
+    // The same obstacle below the body is an ordinary contact problem.
+    let below = contact_scene(
+        "[{ side = \"bottom\", shape = { kind = \"constant\", level = -2.0 } }]",
+        "[\"left\", \"right\"]",
+    );
+    let dir = scratch_dir("obstacle-below");
+    let experiment = load(&write(&dir, "IV.1.toml", &below)).expect("loads");
+    tribo::study::run(&experiment, tribo::study::Tier::Quick, &|_, _, _| {}).expect("solves");
+    let _ = fs::remove_dir_all(&dir);
+}
+
+/// A body without a Dirichlet side can move rigidly: the solver's message says so, rather than
+/// blaming the boundary conditions for an overflow or the reverse.
+#[test]
+fn a_singular_system_names_the_boundary_conditions() {
+    let free = edit("dirichlet = [\"left\", \"right\"]", "dirichlet = []");
+    let error = run_error("no-dirichlet", &free, "64G");
+    assert_eq!(error.cycle, 0, "{error}");
+    assert!(
+        error
+            .message
+            .contains("singular: check the boundary conditions"),
+        "{error}"
+    );
+}

@@ -495,4 +495,29 @@ mod tests {
             "{message}"
         );
     }
+
+    #[test]
+    fn the_cause_of_a_failed_factorisation_is_read_off_the_matrix() {
+        // Diagonal 2×2 matrices: columns [0, 1), [1, 2), diagonal at 0 and 1.
+        let (col_ptr, diag) = ([0, 1, 2], [0, 1]);
+        assert_eq!(
+            Cause::of(&[1.0, f64::NAN], &col_ptr, &diag),
+            Cause::NonFinite { dof: 1 }
+        );
+        assert_eq!(
+            Cause::of(&[1e20, 1.0], &col_ptr, &diag),
+            Cause::IllConditioned { spread: 1e20 }
+        );
+        assert_eq!(Cause::of(&[1.0, -1.0], &col_ptr, &diag), Cause::Singular);
+        assert_eq!(Cause::of(&[1.0, 0.0], &col_ptr, &diag), Cause::Singular);
+        let message = SolveError::NotPositiveDefinite {
+            dof: 1,
+            cause: Cause::IllConditioned { spread: 1e20 },
+        }
+        .to_string();
+        assert!(
+            message.contains("span a factor 1.0e20") && message.contains("λ ≫ μ"),
+            "{message}"
+        );
+    }
 }
