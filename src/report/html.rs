@@ -2,7 +2,8 @@
 //!
 //! The page is built as a string with inline CSS and no scripts, so it renders identically from
 //! disk, from a CI artefact or from an archive. Every piece of text that comes from data (titles,
-//! notes, column names, captions) goes through [`escape`].
+//! notes, column names, captions) goes through [`escape`], which also makes control characters
+//! visible.
 
 use std::collections::BTreeSet;
 use std::fmt::Write as _;
@@ -21,6 +22,11 @@ pub(crate) struct SectionFigures {
 }
 
 /// Escape text for HTML and SVG (element content and quoted attribute values).
+///
+/// Control characters other than newline and tab (NUL, BEL, ESC, DEL, the C1 range) and the
+/// bidirectional overrides, which would reorder the text around them, become visible escapes
+/// such as `\u{7}`: raw, they are invalid in HTML and XML or invisible, and a file's title or
+/// note must not hide what it contains.
 pub(crate) fn escape(s: &str) -> String {
     let mut out = String::with_capacity(s.len());
     for c in s.chars() {
@@ -30,10 +36,19 @@ pub(crate) fn escape(s: &str) -> String {
             '>' => out.push_str("&gt;"),
             '"' => out.push_str("&quot;"),
             '\'' => out.push_str("&#39;"),
+            '\n' | '\t' => out.push(c),
+            c if c.is_control() || is_bidi_control(c) => {
+                let _ = write!(out, "\\u{{{:x}}}", c as u32);
+            }
             _ => out.push(c),
         }
     }
     out
+}
+
+/// The bidirectional embedding, override and isolate characters (U+202A–U+202E, U+2066–U+2069).
+fn is_bidi_control(c: char) -> bool {
+    matches!(c, '\u{202A}'..='\u{202E}' | '\u{2066}'..='\u{2069}')
 }
 
 /// A number with 4 significant digits, the precision the thesis prints (`0.2860`, `1.234e-5`).
@@ -652,5 +667,17 @@ mod tests {
     #[test]
     fn escapes_markup() {
         assert_eq!(escape("a<b & \"c\""), "a&lt;b &amp; &quot;c&quot;");
+    }
+
+    #[test]
+    fn control_characters_become_visible() {
+        assert_eq!(escape("a\u{0}b\u{7}c"), "a\\u{0}b\\u{7}c");
+        assert_eq!(
+            escape("\u{1b}[31m\u{7f}\u{85}"),
+            "\\u{1b}[31m\\u{7f}\\u{85}"
+        );
+        assert_eq!(escape("x\u{202e}y"), "x\\u{202e}y");
+        // Newlines and tabs are text, and so is everything printable.
+        assert_eq!(escape("a\nb\tc μ ≈ √"), "a\nb\tc μ ≈ √");
     }
 }
