@@ -5,12 +5,12 @@
 //! notes, column names, captions) goes through [`escape`], which also makes control characters
 //! visible.
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeSet, HashMap};
 use std::fmt::Write as _;
 
 use super::{
     compared_value, compares_previous_estimate, estimate_ratio, rel_diff, tolerance, Alternative,
-    Figure, ReportMeta, Section, Summary,
+    Figure, ReportMeta, Section, Summary, MAX_SHOWN_THESIS_ROWS,
 };
 use crate::results::columns::{PREVIOUS_ESTIMATE, THEOREM_ESTIMATE};
 use crate::results::{Row, RunResult, Value};
@@ -460,7 +460,11 @@ fn opt_count(v: Option<usize>) -> String {
 
 /// tribo beside the thesis: for each printed column tribo | thesis | Δ, then the estimate ratio,
 /// tribo-only columns and seconds per phase. Rows are the union of computed and printed cycles,
-/// so a quick tier that stops early still shows what the thesis printed further on.
+/// so a quick tier that stops early still shows what the thesis printed further on; of the
+/// printed rows, the first [`MAX_SHOWN_THESIS_ROWS`] are shown and the legend counts the rest.
+///
+/// The time is linear in the rows shown: each cycle's row of tribo is found through a map built
+/// once, and each printed value directly by its cycle ([`ThesisTable::value`]).
 fn comparison_table(h: &mut String, s: &Section) {
     let run = s.run;
     let thesis = s.thesis;
@@ -490,17 +494,33 @@ fn comparison_table(h: &mut String, s: &Section) {
             thesis
                 .rows
                 .iter()
+                .take(MAX_SHOWN_THESIS_ROWS)
                 .filter_map(|r| r.first().copied())
                 .filter(|c| c.is_finite() && *c >= 0.0)
                 .map(|c| c as usize),
         )
         .collect();
+    // The first row of each cycle, as a search from the front would find it.
+    let mut row_of_cycle: HashMap<usize, usize> = HashMap::with_capacity(run.rows.len());
+    for (i, r) in run.rows.iter().enumerate() {
+        row_of_cycle.entry(r.cycle).or_insert(i);
+    }
 
     h.push_str(
         "<p class=\"legend\">Each printed column as tribo | thesis | Δ = tribo/thesis − 1; \
          <span class=\"swatch\"></span> |Δ| beyond 3 % (cells, dofs) or 5 % (other columns). \
          — : not computed in this tier or not printed.</p>\n",
     );
+    if thesis.len() > MAX_SHOWN_THESIS_ROWS {
+        let _ = writeln!(
+            h,
+            "<p class=\"legend\">The thesis table has {} printed rows: the first {} are shown \
+             here and in the figures, {} are left out.</p>",
+            thesis.len(),
+            MAX_SHOWN_THESIS_ROWS,
+            thesis.len() - MAX_SHOWN_THESIS_ROWS
+        );
+    }
     if shifted {
         h.push_str(
             "<p class=\"legend\">The thesis prints each row's mesh after refinement next to the \
@@ -575,7 +595,7 @@ fn comparison_table(h: &mut String, s: &Section) {
         None => "<td class=\"first na\">—</td>".into(),
     };
     for cycle in cycles {
-        let index = run.rows.iter().position(|r| r.cycle == cycle);
+        let index = row_of_cycle.get(&cycle).copied();
         let row = index.map(|i| &run.rows[i]);
         let compared_at = |c: &str| index.and_then(|i| compared_value(&run.rows, i, c));
         let _ = write!(h, "<tr><td>{cycle}</td>");

@@ -46,6 +46,11 @@ pub struct ReportMeta {
     pub threads: usize,
 }
 
+/// Printed thesis rows beyond this many are left out of a section's table and figures (the page
+/// says how many): the shipped tables have at most a few dozen rows, and a file with millions
+/// would otherwise make a page no browser opens.
+pub const MAX_SHOWN_THESIS_ROWS: usize = 1000;
+
 /// Write `out_dir/index.html` and `out_dir/figures/<table>-<kind>.svg`; return the list of files
 /// written (figures first, `index.html` last).
 ///
