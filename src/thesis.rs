@@ -35,11 +35,17 @@ impl ThesisTable {
     }
 
     /// Printed value of `column` in printed cycle `cycle`, if the thesis has it.
+    ///
+    /// The loader checks that the printed rows are cycles 0, 1, 2, … in order, so row `cycle` is
+    /// looked at first: a lookup takes constant time, and a report of many rows stays linear. A
+    /// table built otherwise is searched from the front.
     pub fn value(&self, cycle: usize, column: &str) -> Option<f64> {
         let c = self.columns.iter().position(|n| n == column)?;
+        let is_cycle = |r: &&Vec<f64>| r.first().map(|v| *v as usize) == Some(cycle);
         self.rows
-            .iter()
-            .find(|r| r.first().map(|v| *v as usize) == Some(cycle))
+            .get(cycle)
+            .filter(is_cycle)
+            .or_else(|| self.rows.iter().find(is_cycle))
             .and_then(|r| r.get(c).copied())
     }
 

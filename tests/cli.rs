@@ -3,11 +3,11 @@
 use std::path::PathBuf;
 use std::process::Command;
 
-fn report() -> Command {
+pub fn report() -> Command {
     Command::new(env!("CARGO_BIN_EXE_report"))
 }
 
-fn temp_dir(name: &str) -> PathBuf {
+pub fn temp_dir(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("tribo-cli-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).unwrap();
@@ -54,12 +54,15 @@ fn malformed_experiment_file_names_file_and_field() {
         .arg(dir.join("out"))
         .output()
         .unwrap();
-    assert_eq!(out.status.code(), Some(2));
+    // The file is a failed entry of the page (exit status 1), not an error of the whole run.
+    assert_eq!(out.status.code(), Some(1));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(
         err.contains("IV.1.toml") && err.contains("study.rows"),
         "{err}"
     );
+    let html = std::fs::read_to_string(dir.join("out/index.html")).unwrap();
+    assert!(html.contains("not loaded") && html.contains("study.rows"));
 }
 
 #[test]

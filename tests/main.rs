@@ -8,4 +8,5 @@ mod elasticity;
 mod full_tier;
 mod mesh;
 mod properties;
+mod report_failures;
 mod reynolds;

@@ -1,18 +1,25 @@
 //! `cargo run --release --bin report` — run every experiment file and render the report.
 //!
 //! Writes `report/index.html`, `report/figures/*.svg`, `report/data/<table>.csv` and
-//! `report/data/<table>.probes.csv`. A failing experiment does not stop the others: its error is
-//! printed, the remaining tables are rendered, and the exit status is non-zero.
+//! `report/data/<table>.probes.csv`. Each table runs on its own: a file that does not load, a run
+//! that fails and a run that panics each become a failed entry of the page (in the summary with
+//! its status, and in a section with the table, the cycle and the message); the other tables are
+//! still reported, and the exit status is 1. Usage errors, an experiment folder that cannot be
+//! listed and an output folder that cannot be written end the program before anything is solved,
+//! with exit status 2.
 
-use std::path::PathBuf;
+use std::panic::{self, AssertUnwindSafe};
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::Mutex;
 use std::time::Instant;
 
 use clap::Parser;
 use indicatif::{ProgressBar, ProgressStyle};
 
 use tribo::experiment::{self, Experiment};
-use tribo::report::{self, data, Alternative, ReportMeta, Section};
+use tribo::report::{self, data, Alternative, Entry, Failure, FailureKind, ReportMeta, Section};
+use tribo::results::RunResult;
 use tribo::study::{self, Tier};
 use tribo::thesis::ThesisTable;
 
@@ -46,8 +53,14 @@ struct Cli {
     no_alternatives: bool,
 }
 
+/// Testing hook: when this environment variable holds a table id, the run of that table panics
+/// just before it starts, so that the tests can check that a panic is isolated to its table.
+/// Nothing else reads it.
+const TEST_PANIC_VARIABLE: &str = "TRIBO_TEST_PANIC";
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    install_panic_hook();
     match run(&cli) {
         Ok(true) => ExitCode::SUCCESS,
         Ok(false) => ExitCode::FAILURE,
@@ -58,7 +71,18 @@ fn main() -> ExitCode {
     }
 }
 
-/// Returns Ok(false) when some experiment failed (the others are still reported).
+/// How one table ended: its section's data, or why there is none. (The run is boxed: it is
+/// large beside a failure.)
+enum Outcome {
+    Done {
+        run: Box<RunResult>,
+        thesis: ThesisTable,
+        alternatives: Vec<Alternative>,
+    },
+    Failed(Failure),
+}
+
+/// Returns Ok(false) when some table failed (the others are still reported).
 fn run(cli: &Cli) -> Result<bool, String> {
     let started = Instant::now();
     let only: Option<Vec<String>> = cli.only.as_ref().map(|v| {
@@ -70,14 +94,17 @@ fn run(cli: &Cli) -> Result<bool, String> {
     if matches!(&only, Some(v) if v.is_empty()) {
         return Err("--only needs at least one table id, e.g. --only IV.1,IV.3".into());
     }
-    let specs =
-        experiment::load_dir(&cli.experiments, only.as_deref()).map_err(|e| e.to_string())?;
-    if specs.is_empty() {
+    let loaded =
+        experiment::load_each(&cli.experiments, only.as_deref()).map_err(|e| e.to_string())?;
+    if loaded.is_empty() {
         return Err(format!(
             "no experiment files (*.toml) in {}",
             cli.experiments.display()
         ));
     }
+    report::prepare_output(&cli.out)
+        .map_err(|e| format!("cannot write the report into {}: {e}", cli.out.display()))?;
+
     let tier = if cli.quick { Tier::Quick } else { Tier::Full };
     let readings_of = |s: &Experiment| {
         if cli.no_alternatives {
@@ -87,8 +114,9 @@ fn run(cli: &Cli) -> Result<bool, String> {
         }
     };
     let cycles = |s: &Experiment| study::solves(s, tier) as u64;
-    let total_cycles: u64 = specs
+    let total_cycles: u64 = loaded
         .iter()
+        .filter_map(|(_, loaded)| loaded.as_ref().ok())
         .map(|s| cycles(s) * (1 + readings_of(s).len() as u64))
         .sum();
     let bar = if cli.no_progress {
@@ -101,55 +129,101 @@ fn run(cli: &Cli) -> Result<bool, String> {
             .expect("valid template")
             .progress_chars("=> "),
     );
-    let mut runs = Vec::new();
-    let mut failed = Vec::new();
-    for spec in &specs {
+    let report_failure = |f: &Failure| {
+        bar.suspend(|| eprintln!("{}: {}", f.kind.name(), f.message));
+    };
+
+    let mut outcomes = Vec::with_capacity(loaded.len());
+    let mut failed = 0;
+    for (stem, loaded) in loaded {
+        // Whatever happens below, nothing of an earlier run of this table may stay behind.
+        let removed = report::remove_outputs(&cli.out, &stem).map_err(|e| {
+            format!(
+                "cannot remove the earlier output of {stem} from {}: {e}",
+                cli.out.display()
+            )
+        });
+        let ready = match (loaded, removed) {
+            (Ok(spec), Ok(_)) => Ok(spec),
+            (Err(e), _) => Err((FailureKind::NotLoaded, e.to_string())),
+            (Ok(_), Err(message)) => Err((FailureKind::Error, message)),
+        };
+        let spec = match ready {
+            Ok(spec) => spec,
+            Err((kind, message)) => {
+                let failure = Failure {
+                    table: stem,
+                    title: None,
+                    section: None,
+                    kind,
+                    cycle: None,
+                    message,
+                };
+                report_failure(&failure);
+                failed += 1;
+                outcomes.push(Outcome::Failed(failure));
+                continue;
+            }
+        };
         bar.set_message(format!("{} {}", spec.table, spec.title));
         let base = bar.position();
-        let readings = readings_of(spec);
+        let readings = readings_of(&spec);
         let runs_of_spec = 1 + readings.len() as u64;
         let progress = |_: &str, done: usize, _: usize| bar.set_position(base + done as u64);
-        match study::run(spec, tier, &progress) {
-            Ok(r) => {
-                let thesis = ThesisTable::of(spec);
-                write_data(&cli.out, &r)?;
+        let outcome = match run_isolated(&spec, tier, &progress)
+            .and_then(|run| write_data(&cli.out, &spec, run))
+        {
+            Ok(run) => {
                 let mut alternatives = Vec::new();
                 for alt in readings {
                     bar.set_message(format!("{} {} ({})", spec.table, spec.title, alt.suffix));
                     let base = bar.position();
                     let progress =
                         |_: &str, done: usize, _: usize| bar.set_position(base + done as u64);
-                    match study::run(&alt.experiment, tier, &progress) {
-                        Ok(mut run) => {
+                    let outcome =
+                        run_isolated(&alt.experiment, tier, &progress).and_then(|mut run| {
                             run.table = format!("{}.{}", spec.table, alt.suffix);
-                            write_data(&cli.out, &run)?;
-                            alternatives.push(Alternative {
-                                label: alt.label,
-                                run,
-                            });
-                        }
-                        Err(e) => {
-                            bar.suspend(|| eprintln!("error ({}): {e}", alt.suffix));
-                            failed.push(e.to_string());
-                        }
+                            write_data(&cli.out, &alt.experiment, run)
+                        });
+                    if let Err(f) = &outcome {
+                        report_failure(f);
+                        failed += 1;
                     }
+                    alternatives.push(Alternative {
+                        label: alt.label,
+                        outcome,
+                    });
                 }
-                runs.push((r, thesis, alternatives));
+                Outcome::Done {
+                    run: Box::new(run),
+                    thesis: ThesisTable::of(&spec),
+                    alternatives,
+                }
             }
-            Err(e) => {
-                bar.suspend(|| eprintln!("error: {e}"));
-                failed.push(e.to_string());
+            Err(f) => {
+                report_failure(&f);
+                failed += 1;
+                Outcome::Failed(f)
             }
-        }
-        bar.set_position(base + cycles(spec) * runs_of_spec);
+        };
+        outcomes.push(outcome);
+        bar.set_position(base + cycles(&spec) * runs_of_spec);
     }
     bar.finish_and_clear();
-    let sections: Vec<Section> = runs
+
+    let entries: Vec<Entry> = outcomes
         .iter()
-        .map(|(run, thesis, alternatives)| Section {
-            run,
-            thesis,
-            alternatives,
+        .map(|outcome| match outcome {
+            Outcome::Done {
+                run,
+                thesis,
+                alternatives,
+            } => Entry::Done(Section {
+                run,
+                thesis,
+                alternatives,
+            }),
+            Outcome::Failed(failure) => Entry::Failed(failure),
         })
         .collect();
     let meta = ReportMeta {
@@ -158,25 +232,107 @@ fn run(cli: &Cli) -> Result<bool, String> {
         total_seconds: started.elapsed().as_secs_f64(),
         threads: rayon::current_num_threads(),
     };
-    report::write_report(&cli.out, &sections, &meta)
+    let written = report::write_report(&cli.out, &entries, &meta)
         .map_err(|e| format!("cannot write the report into {}: {e}", cli.out.display()))?;
+    for message in &written.figure_failures {
+        eprintln!("error (figures): {message}");
+    }
+    let failures = failed + written.figure_failures.len();
     eprintln!(
         "wrote {} ({} tables, {} tier, {:.1} s){}",
         cli.out.join("index.html").display(),
-        runs.len(),
+        entries.len(),
         tier.name(),
         started.elapsed().as_secs_f64(),
-        if failed.is_empty() {
+        if failures == 0 {
             String::new()
         } else {
-            format!("; {} failed", failed.len())
+            format!("; {failures} failed")
         }
     );
-    Ok(failed.is_empty())
+    Ok(failures == 0)
 }
 
-/// Write `out/data/<table>.csv` and its probes.
-fn write_data(out: &std::path::Path, run: &tribo::results::RunResult) -> Result<(), String> {
+/// Run one experiment so that nothing in it can stop the other tables: an error of the study
+/// becomes a failed entry with its cycle, and so does a panic (caught here, with the message and
+/// the place the panic hook recorded).
+fn run_isolated(
+    spec: &Experiment,
+    tier: Tier,
+    progress: study::Progress,
+) -> Result<RunResult, Failure> {
+    let failure = |kind, cycle, message| Failure {
+        table: spec.table.clone(),
+        title: Some(spec.title.clone()),
+        section: Some(spec.section.clone()),
+        kind,
+        cycle,
+        message,
+    };
+    if let Ok(mut place) = LAST_PANIC_PLACE.lock() {
+        *place = None;
+    }
+    let caught = panic::catch_unwind(AssertUnwindSafe(|| {
+        if std::env::var(TEST_PANIC_VARIABLE).is_ok_and(|t| t == spec.table) {
+            panic!(
+                "{TEST_PANIC_VARIABLE}={}: a panic on purpose (testing hook)",
+                spec.table
+            );
+        }
+        study::run(spec, tier, progress)
+    }));
+    match caught {
+        Ok(Ok(run)) => Ok(run),
+        Ok(Err(e)) => Err(failure(FailureKind::Error, Some(e.cycle), e.to_string())),
+        Err(payload) => {
+            let message = report::panic_message(payload.as_ref());
+            let place = LAST_PANIC_PLACE
+                .lock()
+                .ok()
+                .and_then(|mut p| p.take())
+                .map_or_else(String::new, |p| format!(" (at {p})"));
+            Err(failure(
+                FailureKind::Panic,
+                None,
+                format!("table {}: panicked{place}: {message}", spec.table),
+            ))
+        }
+    }
+}
+
+/// Where the last panic happened (`file:line:column`), recorded by the panic hook so that a
+/// caught panic's section can say where it came from; the payload alone has only the message.
+static LAST_PANIC_PLACE: Mutex<Option<String>> = Mutex::new(None);
+
+/// Record the place of every panic in [`LAST_PANIC_PLACE`], then do what the default hook does
+/// (print the message to stderr).
+fn install_panic_hook() {
+    let default = panic::take_hook();
+    panic::set_hook(Box::new(move |info| {
+        if let (Some(location), Ok(mut place)) = (info.location(), LAST_PANIC_PLACE.lock()) {
+            *place = Some(location.to_string());
+        }
+        default(info);
+    }));
+}
+
+/// Write `out/data/<table>.csv` and its probes; a table whose data cannot be written is a failed
+/// entry like one whose run failed.
+fn write_data(out: &Path, spec: &Experiment, run: RunResult) -> Result<RunResult, Failure> {
     let dir = out.join("data");
-    data::write_csv(&dir, run).map_err(|e| format!("cannot write {}: {e}", dir.display()))
+    match data::write_csv(&dir, &run) {
+        Ok(()) => Ok(run),
+        Err(e) => Err(Failure {
+            table: run.table.clone(),
+            title: Some(spec.title.clone()),
+            section: Some(spec.section.clone()),
+            kind: FailureKind::Error,
+            cycle: None,
+            message: format!(
+                "cannot write the data of {} into {}: {e}",
+                run.table,
+                dir.display()
+            ),
+        }),
+    }
 }

@@ -20,6 +20,31 @@ pub enum ExperimentError {
         source: io::Error,
     },
 
+    /// The path is not a regular file: a directory, a FIFO, a device, a socket, or a symbolic link
+    /// to one of them. Such a path is never opened: opening a FIFO blocks until a writer comes,
+    /// and a device such as `/dev/zero` never ends.
+    #[error(
+        "{}: not a regular file ({kind}); an experiment file must be a regular TOML file",
+        path.display()
+    )]
+    NotRegularFile {
+        path: PathBuf,
+        /// What the path is instead, e.g. `a FIFO` or `a character device`.
+        kind: &'static str,
+    },
+
+    /// The file is larger than any experiment file needs to be; it is not read into memory.
+    #[error(
+        "{}: the file has {size} bytes, more than the {limit} bytes an experiment file may have",
+        path.display()
+    )]
+    TooLarge {
+        path: PathBuf,
+        /// Bytes found (at least `limit + 1` when the file grew while it was read).
+        size: u64,
+        limit: u64,
+    },
+
     /// The experiment directory could not be listed.
     #[error("{}: cannot list the experiment directory: {source}", dir.display())]
     ReadDir {
@@ -89,7 +114,11 @@ impl ExperimentError {
     /// The file or directory the error is about.
     pub fn path(&self) -> &Path {
         match self {
-            Self::Read { path, .. } | Self::Toml { path, .. } | Self::Invalid { path, .. } => path,
+            Self::Read { path, .. }
+            | Self::NotRegularFile { path, .. }
+            | Self::TooLarge { path, .. }
+            | Self::Toml { path, .. }
+            | Self::Invalid { path, .. } => path,
             Self::ReadDir { dir, .. } | Self::UnknownTable { dir, .. } => dir,
         }
     }
@@ -99,7 +128,11 @@ impl ExperimentError {
         match self {
             Self::Toml { field, .. } => field.as_deref(),
             Self::Invalid { field, .. } => Some(field),
-            Self::Read { .. } | Self::ReadDir { .. } | Self::UnknownTable { .. } => None,
+            Self::Read { .. }
+            | Self::NotRegularFile { .. }
+            | Self::TooLarge { .. }
+            | Self::ReadDir { .. }
+            | Self::UnknownTable { .. } => None,
         }
     }
 }

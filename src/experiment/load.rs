@@ -8,6 +8,7 @@
 
 use std::collections::BTreeSet;
 use std::fs;
+use std::io::Read;
 use std::path::{Path, PathBuf};
 
 use toml::de::{DeTable, DeValue};
@@ -45,10 +46,7 @@ const MAX_LAMBDA_OVER_MU: f64 = 1e8;
 /// unknown-field errors (wrapped with toml's message, which shows the line), and every
 /// semantic check of [`ExperimentFile`] (see the module documentation).
 pub fn load(path: &Path) -> Result<Experiment, ExperimentError> {
-    let text = fs::read_to_string(path).map_err(|source| ExperimentError::Read {
-        path: path.to_path_buf(),
-        source,
-    })?;
+    let text = read_experiment_file(path)?;
     let file: ExperimentFile =
         toml::from_str(&text).map_err(|error| toml_error(path, &text, &error))?;
     let check = Check { path };
@@ -85,27 +83,30 @@ pub fn load(path: &Path) -> Result<Experiment, ExperimentError> {
 /// Load every `*.toml` in `dir`, sorted by table number (IV.2 before IV.10).
 ///
 /// With `only`, load just those tables; an id without a file is an error that names it and
-/// lists the available tables. Files not asked for are not read, so one broken file does not
-/// block the others.
+/// lists the available tables. Files not asked for are not read. The first file that does not
+/// load fails the whole directory; [`load_each`] keeps going instead.
 pub fn load_dir(dir: &Path, only: Option<&[String]>) -> Result<Vec<Experiment>, ExperimentError> {
-    let read_dir_error = |source| ExperimentError::ReadDir {
-        dir: dir.to_path_buf(),
-        source,
-    };
-    let mut files: Vec<(String, PathBuf)> = Vec::new();
-    for entry in fs::read_dir(dir).map_err(read_dir_error)? {
-        let path = entry.map_err(read_dir_error)?.path();
-        if path.extension().and_then(|e| e.to_str()) != Some("toml") || !path.is_file() {
-            continue;
-        }
-        let stem = path
-            .file_stem()
-            .map(|s| s.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        files.push((stem, path));
-    }
-    files.sort_by_key(|(stem, _)| table_order(stem));
+    load_each(dir, only)?
+        .into_iter()
+        .map(|(_, experiment)| experiment)
+        .collect()
+}
 
+/// One entry of [`load_each`]: the file stem (the table id of a good file) and what loading the
+/// file gave.
+pub type Loaded = (String, Result<Experiment, ExperimentError>);
+
+/// Load every `*.toml` in `dir` (or just the tables of `only`) in table order, each file on its
+/// own: one `(stem, outcome)` per file, so that a broken file becomes one failed entry of the
+/// report while the other tables still run.
+///
+/// Every entry named `*.toml` counts, whatever it is: a directory, a FIFO, a device or a
+/// symbolic link to one is a failed entry ([`ExperimentError::NotRegularFile`]) and is never
+/// opened, so `--only IV.1` names `IV.1.toml` even when it is not a file. Only problems with
+/// the directory itself are errors of the whole call: it cannot be listed, or `only` names a
+/// table without an entry.
+pub fn load_each(dir: &Path, only: Option<&[String]>) -> Result<Vec<Loaded>, ExperimentError> {
+    let mut files = experiment_entries(dir)?;
     if let Some(only) = only {
         let mut wanted = BTreeSet::new();
         for id in only {
@@ -120,8 +121,101 @@ pub fn load_dir(dir: &Path, only: Option<&[String]>) -> Result<Vec<Experiment>, 
         }
         files.retain(|(stem, _)| wanted.contains(stem.as_str()));
     }
+    Ok(files
+        .into_iter()
+        .map(|(stem, path)| (stem, load(&path)))
+        .collect())
+}
 
-    files.iter().map(|(_, path)| load(path)).collect()
+/// The `(stem, path)` of every directory entry whose name ends in `.toml`, in table order.
+///
+/// Entries are not opened or followed here: what they are is for [`read_experiment_file`] to
+/// find out, so that an odd entry is named rather than skipped.
+fn experiment_entries(dir: &Path) -> Result<Vec<(String, PathBuf)>, ExperimentError> {
+    let read_dir_error = |source| ExperimentError::ReadDir {
+        dir: dir.to_path_buf(),
+        source,
+    };
+    let mut files: Vec<(String, PathBuf)> = Vec::new();
+    for entry in fs::read_dir(dir).map_err(read_dir_error)? {
+        let path = entry.map_err(read_dir_error)?.path();
+        if path.extension().and_then(|e| e.to_str()) != Some("toml") {
+            continue;
+        }
+        let stem = path
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        files.push((stem, path));
+    }
+    files.sort_by_key(|(stem, _)| table_order(stem));
+    Ok(files)
+}
+
+/// Largest experiment file read, in bytes. The largest shipped file has a few kilobytes; the
+/// cap keeps a mistaken path (a log, a disk image) from being read into memory.
+pub const MAX_FILE_BYTES: u64 = 16 * 1024 * 1024;
+
+/// The text of an experiment file: a regular file (a symbolic link to one is fine) of at most
+/// [`MAX_FILE_BYTES`], in UTF-8.
+///
+/// What the path is gets checked before it is opened, since opening a FIFO blocks until a writer
+/// comes and a device like `/dev/zero` has no end. The size is checked from the metadata and
+/// again while reading (through `take`), in case the file grows in between.
+fn read_experiment_file(path: &Path) -> Result<String, ExperimentError> {
+    let read_error = |source| ExperimentError::Read {
+        path: path.to_path_buf(),
+        source,
+    };
+    let metadata = fs::metadata(path).map_err(read_error)?;
+    if !metadata.is_file() {
+        return Err(ExperimentError::NotRegularFile {
+            path: path.to_path_buf(),
+            kind: file_kind(&metadata.file_type()),
+        });
+    }
+    let too_large = |size| ExperimentError::TooLarge {
+        path: path.to_path_buf(),
+        size,
+        limit: MAX_FILE_BYTES,
+    };
+    if metadata.len() > MAX_FILE_BYTES {
+        return Err(too_large(metadata.len()));
+    }
+    let file = fs::File::open(path).map_err(read_error)?;
+    let mut text = String::new();
+    file.take(MAX_FILE_BYTES + 1)
+        .read_to_string(&mut text)
+        .map_err(read_error)?;
+    if text.len() as u64 > MAX_FILE_BYTES {
+        return Err(too_large(text.len() as u64));
+    }
+    Ok(text)
+}
+
+/// What a path that is not a regular file is, for the error message.
+fn file_kind(file_type: &fs::FileType) -> &'static str {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        if file_type.is_fifo() {
+            return "a FIFO";
+        }
+        if file_type.is_char_device() {
+            return "a character device";
+        }
+        if file_type.is_block_device() {
+            return "a block device";
+        }
+        if file_type.is_socket() {
+            return "a socket";
+        }
+    }
+    if file_type.is_dir() {
+        "a directory"
+    } else {
+        "neither a file nor a directory"
+    }
 }
 
 /// Sort key of a file stem: tables in numeric order, anything else after them by name.

@@ -2,7 +2,7 @@
 //!
 //! [`spec`] holds the plain-data types of the format, [`load`] parses one file, checks it
 //! against the thesis's setting (§IV.1–§IV.3) and returns a typed [`Experiment`] whose
-//! [`Problem`] says which model to build; [`load_dir`] loads a whole directory in table order.
+//! [`Problem`] says which model to build; [`load_dir`] loads a whole directory in table order, [`load_each`] each file on its own.
 //! Every problem with a file — unreadable, bad TOML, wrong type, unknown or missing field,
 //! contradictory data — is an [`ExperimentError`] naming the file, the field and what was
 //! expected.
@@ -13,7 +13,7 @@ mod error;
 mod load;
 
 pub use error::ExperimentError;
-pub use load::{load, load_dir};
+pub use load::{load, load_dir, load_each, Loaded, MAX_FILE_BYTES};
 pub use spec::*;
 
 /// One experiment, loaded and checked: the scene's geometry, the typed problem, how to iterate,

@@ -64,10 +64,16 @@ pub fn probes_frame(run: &RunResult) -> PolarsResult<DataFrame> {
     )
 }
 
+/// The file-name stem of a table's CSV files: `<stem>.csv`, `<stem>.probes.csv`. Table ids are
+/// checked by the loader; a separator is still never let into a path.
+pub fn csv_stem(table: &str) -> String {
+    table.replace(['/', '\\'], "_")
+}
+
 /// Write both CSV files of a run into `dir`.
 pub fn write_csv(dir: &Path, run: &RunResult) -> PolarsResult<()> {
     std::fs::create_dir_all(dir)?;
-    let safe = run.table.replace(['/', '\\'], "_");
+    let safe = csv_stem(&run.table);
     let mut rows = rows_frame(run)?;
     CsvWriter::new(File::create(dir.join(format!("{safe}.csv")))?).finish(&mut rows)?;
     let mut probes = probes_frame(run)?;

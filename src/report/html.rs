@@ -2,25 +2,35 @@
 //!
 //! The page is built as a string with inline CSS and no scripts, so it renders identically from
 //! disk, from a CI artefact or from an archive. Every piece of text that comes from data (titles,
-//! notes, column names, captions) goes through [`escape`].
+//! notes, column names, captions, error messages) goes through [`escape`], which also makes
+//! control characters visible. Every table has a summary row with its status and a section, also
+//! a table that failed; its section holds the cycle and the message instead of data.
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeSet, HashMap};
 use std::fmt::Write as _;
 
 use super::{
-    compared_value, compares_previous_estimate, estimate_ratio, rel_diff, tolerance, Alternative,
-    Figure, ReportMeta, Section, Summary,
+    compared_value, compares_previous_estimate, estimate_ratio, rel_diff, tolerance, Entry,
+    Failure, FailureKind, Figure, ReportMeta, Section, Summary, MAX_SHOWN_THESIS_ROWS,
 };
 use crate::results::columns::{PREVIOUS_ESTIMATE, THEOREM_ESTIMATE};
 use crate::results::{Row, RunResult, Value};
 use crate::thesis::ThesisTable;
 
-/// The figures written for one section, in the order they appear.
+/// The figures written for one section, in the order they appear, or why there are none.
+#[derive(Default)]
 pub(crate) struct SectionFigures {
     pub figures: Vec<Figure>,
+    /// Set when drawing the section's figures failed (an I/O error or a panic).
+    pub error: Option<String>,
 }
 
 /// Escape text for HTML and SVG (element content and quoted attribute values).
+///
+/// Control characters other than newline and tab (NUL, BEL, ESC, DEL, the C1 range) and the
+/// bidirectional overrides, which would reorder the text around them, become visible escapes
+/// such as `\u{7}`: raw, they are invalid in HTML and XML or invisible, and a file's title or
+/// note must not hide what it contains.
 pub(crate) fn escape(s: &str) -> String {
     let mut out = String::with_capacity(s.len());
     for c in s.chars() {
@@ -30,10 +40,19 @@ pub(crate) fn escape(s: &str) -> String {
             '>' => out.push_str("&gt;"),
             '"' => out.push_str("&quot;"),
             '\'' => out.push_str("&#39;"),
+            '\n' | '\t' => out.push(c),
+            c if c.is_control() || is_bidi_control(c) => {
+                let _ = write!(out, "\\u{{{:x}}}", c as u32);
+            }
             _ => out.push(c),
         }
     }
     out
+}
+
+/// The bidirectional embedding, override and isolate characters (U+202A–U+202E, U+2066–U+2069).
+fn is_bidi_control(c: char) -> bool {
+    matches!(c, '\u{202A}'..='\u{202E}' | '\u{2066}'..='\u{2069}')
 }
 
 /// A number with 4 significant digits, the precision the thesis prints (`0.2860`, `1.234e-5`).
@@ -150,6 +169,11 @@ tbody tr:hover td { background: #eef3fb; }
 .legend .swatch { display: inline-block; width: 12px; height: 12px; background: var(--off); border: 1px solid var(--offink); vertical-align: -1px; }
 .warning { border: 1px solid #e0a800; border-left: 6px solid #e0a800; background: #fff8e1; padding: 8px 14px; margin: 10px 0; border-radius: 3px; }
 .meta { color: var(--muted); margin: 0 0 8px; }
+.failure { border: 1px solid var(--offink); border-left: 6px solid var(--offink); background: var(--off); padding: 8px 14px; margin: 10px 0; border-radius: 3px; }
+.failure pre { white-space: pre-wrap; margin: 6px 0 0; font-size: 13px; }
+td.status { text-align: left; }
+td.status.ok { color: var(--ok); }
+td.status.failed { background: var(--off); color: var(--offink); font-weight: 600; }
 ul.notes { margin: 4px 0; padding-left: 22px; }
 ul.notes li { margin: 2px 0; }
 .figures { display: flex; flex-wrap: wrap; gap: 18px; align-items: flex-start; }
@@ -162,8 +186,9 @@ figcaption { color: var(--muted); font-size: 13px; margin-top: 4px; max-width: 7
 footer { color: var(--muted); font-size: 13px; margin-top: 40px; border-top: 1px solid var(--rule); padding-top: 10px; }
 "#;
 
-/// The whole page.
-pub(crate) fn page(sections: &[Section], figures: &[SectionFigures], meta: &ReportMeta) -> String {
+/// The whole page: one summary row and one section per entry, in the order given; `figures` has
+/// one element per entry (empty for a failed one).
+pub(crate) fn page(entries: &[Entry], figures: &[SectionFigures], meta: &ReportMeta) -> String {
     let mut h = String::new();
     let _ = write!(
         h,
@@ -172,12 +197,15 @@ pub(crate) fn page(sections: &[Section], figures: &[SectionFigures], meta: &Repo
          <title>tribo — Chapter IV report ({tier})</title>\n<style>{CSS}</style>\n</head>\n<body>\n",
         tier = escape(&meta.tier)
     );
-    header(&mut h, sections, meta);
+    header(&mut h, entries, meta);
     h.push_str("<main>\n");
-    contents(&mut h, sections);
-    summary(&mut h, sections);
-    for (section, figs) in sections.iter().zip(figures) {
-        table_section(&mut h, section, figs);
+    contents(&mut h, entries);
+    summary(&mut h, entries);
+    for (entry, figs) in entries.iter().zip(figures) {
+        match entry {
+            Entry::Done(section) => table_section(&mut h, section, figs),
+            Entry::Failed(failure) => failed_section(&mut h, failure),
+        }
     }
     let _ = writeln!(
         h,
@@ -189,7 +217,16 @@ pub(crate) fn page(sections: &[Section], figures: &[SectionFigures], meta: &Repo
     h
 }
 
-fn header(h: &mut String, sections: &[Section], meta: &ReportMeta) {
+fn header(h: &mut String, entries: &[Entry], meta: &ReportMeta) {
+    let failed = entries
+        .iter()
+        .filter(|e| matches!(e, Entry::Failed(_)))
+        .count();
+    let tables = if failed == 0 {
+        entries.len().to_string()
+    } else {
+        format!("{} ({failed} failed)", entries.len())
+    };
     let _ = write!(
         h,
         "<header><div class=\"inner\">\n<h1>tribo — Chapter IV recomputed</h1>\n\
@@ -204,24 +241,34 @@ fn header(h: &mut String, sections: &[Section], meta: &ReportMeta) {
          <div><dt>threads</dt><dd>{}</dd></div>\
          <div><dt>generated by</dt><dd>{}</dd></div></dl>\n</div></header>\n",
         escape(&meta.tier),
-        sections.len(),
+        tables,
         fmt_seconds(meta.total_seconds),
         meta.threads,
         escape(&meta.generated_by),
     );
 }
 
-fn contents(h: &mut String, sections: &[Section]) {
+fn contents(h: &mut String, entries: &[Entry]) {
     h.push_str("<nav>\n<h2>Contents</h2>\n<ol>\n<li><a href=\"#summary\">Summary</a></li>\n");
-    for s in sections {
-        let _ = writeln!(
-            h,
-            "<li><a href=\"#{}\">Table {} ({})</a> — {}</li>",
-            anchor(&s.run.table),
-            escape(&s.run.table),
-            escape(&s.run.section),
-            escape(&s.run.title)
-        );
+    for entry in entries {
+        let _ = match entry {
+            Entry::Done(s) => writeln!(
+                h,
+                "<li><a href=\"#{}\">Table {} ({})</a> — {}</li>",
+                anchor(&s.run.table),
+                escape(&s.run.table),
+                escape(&s.run.section),
+                escape(&s.run.title)
+            ),
+            Entry::Failed(f) => writeln!(
+                h,
+                "<li><a href=\"#{}\">Table {}</a> — {} <b>({})</b></li>",
+                anchor(&f.table),
+                escape(&f.table),
+                escape(f.title.as_deref().unwrap_or("")),
+                f.kind.name()
+            ),
+        };
     }
     h.push_str("</ol>\n</nav>\n");
 }
@@ -244,18 +291,27 @@ fn opt_cell(v: Option<String>) -> String {
     }
 }
 
-fn summary(h: &mut String, sections: &[Section]) {
+fn summary(h: &mut String, entries: &[Entry]) {
     h.push_str(
         "<section id=\"summary\">\n<h2>Summary</h2>\n\
-         <p class=\"legend\">Geometric mean of the estimate ratio over the cycles that have one \
-         (the mean reduction per cycle). Largest relative difference to the thesis over the \
+         <p class=\"legend\">Status: ok, error (the run stopped with an error), panic (a bug in \
+         tribo, caught) or not loaded (the experiment file was rejected); a failed table's \
+         section has the message. Geometric mean of the estimate ratio over the cycles that have \
+         one (the mean reduction per cycle). Largest relative difference to the thesis over the \
          computed cycles; <span class=\"swatch\"></span> beyond 3 % (dofs) or 5 % (estimate).</p>\n\
          <div class=\"scroll\"><table>\n<thead><tr><th class=\"text\">table</th><th class=\"text\">section</th>\
-         <th class=\"text\">title</th><th>rows (tribo / thesis)</th><th>last dofs</th>\
-         <th>last estimate</th><th>geo-mean ratio</th><th>max Δ dofs</th><th>max Δ estimate</th>\
-         <th>seconds</th></tr></thead>\n<tbody>\n",
+         <th class=\"text\">title</th><th class=\"text\">status</th><th>rows (tribo / thesis)</th>\
+         <th>last dofs</th><th>last estimate</th><th>geo-mean ratio</th><th>max Δ dofs</th>\
+         <th>max Δ estimate</th><th>seconds</th></tr></thead>\n<tbody>\n",
     );
-    for s in sections {
+    for entry in entries {
+        let s = match entry {
+            Entry::Done(s) => s,
+            Entry::Failed(f) => {
+                failed_summary_row(h, f);
+                continue;
+            }
+        };
         let sm = Summary::of(s);
         let dup = if s.thesis.duplicate_of.is_some() {
             " <span title=\"the printed table is a copy of another table\">⚠</span>"
@@ -265,11 +321,12 @@ fn summary(h: &mut String, sections: &[Section]) {
         let _ = writeln!(
             h,
             "<tr><td class=\"text\"><a href=\"#{}\">{}</a>{dup}</td><td class=\"text\">{}</td>\
-             <td class=\"text\">{}</td><td>{} / {}</td>{}{}{}{}{}<td>{}</td></tr>",
+             <td class=\"text\">{}</td>{}<td>{} / {}</td>{}{}{}{}{}<td>{}</td></tr>",
             anchor(&s.run.table),
             escape(&s.run.table),
             escape(&s.run.section),
             escape(&s.run.title),
+            status_cell(s),
             sm.rows,
             s.thesis.len(),
             opt_cell(sm.last_dofs.map(|d| d.to_string())),
@@ -281,6 +338,90 @@ fn summary(h: &mut String, sections: &[Section]) {
         );
     }
     h.push_str("</tbody></table></div>\n</section>\n");
+}
+
+/// The status cell of a table that ran: `ok`, or how its first failed alternative reading failed.
+fn status_cell(s: &Section) -> String {
+    match s.alternatives.iter().find_map(|a| a.outcome.as_ref().err()) {
+        None => "<td class=\"status ok\">ok</td>".into(),
+        Some(f) => format!(
+            "<td class=\"status failed\" title=\"the table ran; an alternative reading failed\">\
+             {} (alternative reading)</td>",
+            f.kind.name()
+        ),
+    }
+}
+
+/// The summary row of a table that failed: what is known of it, its status, and no numbers.
+fn failed_summary_row(h: &mut String, f: &Failure) {
+    let why = match f.kind {
+        FailureKind::NotLoaded => "no data: the experiment file did not load".to_string(),
+        _ => match f.cycle {
+            Some(cycle) => format!("no data: the run failed in cycle {cycle}"),
+            None => "no data: the run failed".to_string(),
+        },
+    };
+    let _ = writeln!(
+        h,
+        "<tr><td class=\"text\"><a href=\"#{}\">{}</a></td><td class=\"text\">{}</td>\
+         <td class=\"text\">{}</td><td class=\"status failed\">{}</td>\
+         <td class=\"text na\" colspan=\"7\">{}</td></tr>",
+        anchor(&f.table),
+        escape(&f.table),
+        escape(f.section.as_deref().unwrap_or("—")),
+        escape(f.title.as_deref().unwrap_or("—")),
+        f.kind.name(),
+        why
+    );
+}
+
+/// The section of a table that failed: table, status, cycle (when known) and the message.
+fn failed_section(h: &mut String, f: &Failure) {
+    let title = f
+        .title
+        .as_deref()
+        .map_or_else(String::new, |t| format!(" — {}", escape(t)));
+    let _ = write!(
+        h,
+        "<section id=\"{}\" class=\"failed\">\n<h2>Table {}{title}</h2>\n<p class=\"meta\">",
+        anchor(&f.table),
+        escape(&f.table),
+    );
+    if let Some(section) = &f.section {
+        let _ = write!(h, "Section {} · ", escape(section));
+    }
+    let _ = writeln!(h, "status {}</p>", f.kind.name());
+    failure_box(h, "", f);
+    h.push_str(match f.kind {
+        FailureKind::NotLoaded => {
+            "<p>no data: the experiment file did not load; earlier output of this table was \
+             removed.</p>\n"
+        }
+        _ => "<p>no data: the run failed; earlier output of this table was removed.</p>\n",
+    });
+    h.push_str("</section>\n");
+}
+
+/// A highlighted box saying what failed (`what` names an alternative reading, or is empty for
+/// the table itself), where, and the message.
+fn failure_box(h: &mut String, what: &str, f: &Failure) {
+    let headline = match (f.kind, f.cycle) {
+        (FailureKind::NotLoaded, _) => "The experiment file did not load.".to_string(),
+        (FailureKind::Error, Some(c)) => format!("The run{what} failed in cycle {c}."),
+        (FailureKind::Error, None) => format!("The run{what} failed."),
+        (FailureKind::Panic, Some(c)) => {
+            format!("The run{what} panicked in cycle {c} (a bug in tribo).")
+        }
+        (FailureKind::Panic, None) => format!("The run{what} panicked (a bug in tribo)."),
+    };
+    let _ = writeln!(
+        h,
+        "<div class=\"failure\"><b>{}</b> Table {}, status {}.<pre>{}</pre></div>",
+        escape(&headline),
+        escape(&f.table),
+        f.kind.name(),
+        escape(&f.message)
+    );
 }
 
 /// Names of tribo's columns the thesis does not print, in first-appearance order.
@@ -323,7 +464,14 @@ fn table_section(h: &mut String, s: &Section, figs: &SectionFigures) {
     }
     comparison_table(h, s);
     for alt in s.alternatives {
-        alternative_table(h, run, thesis, alt);
+        match &alt.outcome {
+            Ok(alt_run) => alternative_table(h, run, thesis, &alt.label, alt_run),
+            Err(failure) => {
+                let _ = writeln!(h, "<h3>Alternative reading: {}</h3>", escape(&alt.label));
+                failure_box(h, " of this reading", failure);
+                h.push_str("<p>no data: the run failed.</p>\n");
+            }
+        }
     }
 
     if !run.notes.is_empty() {
@@ -334,6 +482,14 @@ fn table_section(h: &mut String, s: &Section, figs: &SectionFigures) {
         h.push_str("</ul>\n");
     }
 
+    if let Some(error) = &figs.error {
+        let _ = writeln!(
+            h,
+            "<h3>Figures</h3>\n<div class=\"failure\"><b>The figures could not be drawn.</b>\
+             <pre>{}</pre></div>",
+            escape(error)
+        );
+    }
     if !figs.figures.is_empty() {
         h.push_str("<h3>Figures</h3>\n<div class=\"figures\">\n");
         for f in &figs.figures {
@@ -375,11 +531,17 @@ fn table_section(h: &mut String, s: &Section, figs: &SectionFigures) {
 
 /// How much an alternative reading changes the table: dofs and estimate of both runs per cycle
 /// and the relative change, plus the range of the change in the heading.
-fn alternative_table(h: &mut String, run: &RunResult, thesis: &ThesisTable, alt: &Alternative) {
+fn alternative_table(
+    h: &mut String,
+    run: &RunResult,
+    thesis: &ThesisTable,
+    label: &str,
+    alt: &RunResult,
+) {
     let pairs: Vec<(&Row, &Row)> = run
         .rows
         .iter()
-        .filter_map(|r| Some((r, alt.run.rows.iter().find(|a| a.cycle == r.cycle)?)))
+        .filter_map(|r| Some((r, alt.rows.iter().find(|a| a.cycle == r.cycle)?)))
         .collect();
     let range = |f: &dyn Fn(&Row) -> f64| {
         pairs.iter().filter_map(|(r, a)| rel_diff(f(a), f(r))).fold(
@@ -400,7 +562,7 @@ fn alternative_table(h: &mut String, run: &RunResult, thesis: &ThesisTable, alt:
          <th>cycle</th><th>dofs</th><th>dofs (alt.)</th><th>Δ</th><th>estimate</th>\
          <th>estimate (alt.)</th><th>Δ</th><th>tribo/thesis</th><th>alt./thesis</th>\
          </tr></thead><tbody>\n",
-        escape(&alt.label),
+        escape(label),
         span(range(&|r| r.estimate().unwrap_or(f64::NAN))),
         span(range(&|r| r.value("dofs").unwrap_or(f64::NAN))),
     );
@@ -427,7 +589,7 @@ fn alternative_table(h: &mut String, run: &RunResult, thesis: &ThesisTable, alt:
                 rel_diff(nan_or(a.estimate()), nan_or(r.estimate()))
             ),
             opt_cell(to_thesis(&run.rows, r.cycle)),
-            opt_cell(to_thesis(&alt.run.rows, r.cycle)),
+            opt_cell(to_thesis(&alt.rows, r.cycle)),
         );
     }
     h.push_str("</tbody></table></div>\n");
@@ -445,7 +607,11 @@ fn opt_count(v: Option<usize>) -> String {
 
 /// tribo beside the thesis: for each printed column tribo | thesis | Δ, then the estimate ratio,
 /// tribo-only columns and seconds per phase. Rows are the union of computed and printed cycles,
-/// so a quick tier that stops early still shows what the thesis printed further on.
+/// so a quick tier that stops early still shows what the thesis printed further on; of the
+/// printed rows, the first [`MAX_SHOWN_THESIS_ROWS`] are shown and the legend counts the rest.
+///
+/// The time is linear in the rows shown: each cycle's row of tribo is found through a map built
+/// once, and each printed value directly by its cycle ([`ThesisTable::value`]).
 fn comparison_table(h: &mut String, s: &Section) {
     let run = s.run;
     let thesis = s.thesis;
@@ -475,17 +641,33 @@ fn comparison_table(h: &mut String, s: &Section) {
             thesis
                 .rows
                 .iter()
+                .take(MAX_SHOWN_THESIS_ROWS)
                 .filter_map(|r| r.first().copied())
                 .filter(|c| c.is_finite() && *c >= 0.0)
                 .map(|c| c as usize),
         )
         .collect();
+    // The first row of each cycle, as a search from the front would find it.
+    let mut row_of_cycle: HashMap<usize, usize> = HashMap::with_capacity(run.rows.len());
+    for (i, r) in run.rows.iter().enumerate() {
+        row_of_cycle.entry(r.cycle).or_insert(i);
+    }
 
     h.push_str(
         "<p class=\"legend\">Each printed column as tribo | thesis | Δ = tribo/thesis − 1; \
          <span class=\"swatch\"></span> |Δ| beyond 3 % (cells, dofs) or 5 % (other columns). \
          — : not computed in this tier or not printed.</p>\n",
     );
+    if thesis.len() > MAX_SHOWN_THESIS_ROWS {
+        let _ = writeln!(
+            h,
+            "<p class=\"legend\">The thesis table has {} printed rows: the first {} are shown \
+             here and in the figures, {} are left out.</p>",
+            thesis.len(),
+            MAX_SHOWN_THESIS_ROWS,
+            thesis.len() - MAX_SHOWN_THESIS_ROWS
+        );
+    }
     if shifted {
         h.push_str(
             "<p class=\"legend\">The thesis prints each row's mesh after refinement next to the \
@@ -560,7 +742,7 @@ fn comparison_table(h: &mut String, s: &Section) {
         None => "<td class=\"first na\">—</td>".into(),
     };
     for cycle in cycles {
-        let index = run.rows.iter().position(|r| r.cycle == cycle);
+        let index = row_of_cycle.get(&cycle).copied();
         let row = index.map(|i| &run.rows[i]);
         let compared_at = |c: &str| index.and_then(|i| compared_value(&run.rows, i, c));
         let _ = write!(h, "<tr><td>{cycle}</td>");
@@ -652,5 +834,17 @@ mod tests {
     #[test]
     fn escapes_markup() {
         assert_eq!(escape("a<b & \"c\""), "a&lt;b &amp; &quot;c&quot;");
+    }
+
+    #[test]
+    fn control_characters_become_visible() {
+        assert_eq!(escape("a\u{0}b\u{7}c"), "a\\u{0}b\\u{7}c");
+        assert_eq!(
+            escape("\u{1b}[31m\u{7f}\u{85}"),
+            "\\u{1b}[31m\\u{7f}\\u{85}"
+        );
+        assert_eq!(escape("x\u{202e}y"), "x\\u{202e}y");
+        // Newlines and tabs are text, and so is everything printable.
+        assert_eq!(escape("a\nb\tc μ ≈ √"), "a\nb\tc μ ≈ √");
     }
 }

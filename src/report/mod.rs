@@ -2,7 +2,10 @@
 //!
 //! [`write_report`] writes `index.html` and one SVG per figure into `figures/`. The page is
 //! self-contained (inline CSS, no scripts, no external resources) so it can be opened from disk
-//! or archived with the golden snapshots.
+//! or archived with the golden snapshots. Every table has an [`Entry`] on the page, in table
+//! order, also one that did not load or whose run failed ([`Failure`]); [`prepare_output`] and
+//! [`remove_outputs`] keep the output folder honest: writable before anything is solved, and no
+//! stale files of a table that failed today.
 //!
 //! The module is split by job: this file decides *what* is compared and which figures a section
 //! gets, `plots` draws the figures, `html` lays out the page.
@@ -11,13 +14,23 @@ pub mod data;
 mod html;
 mod plots;
 
+use std::any::Any;
 use std::fs;
 use std::io;
+use std::panic::{self, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 
 use crate::results::columns::PREVIOUS_ESTIMATE;
 use crate::results::{Row, RunResult};
 use crate::thesis::ThesisTable;
+
+/// One table of the report, in table order: a table that ran, or one that did not.
+pub enum Entry<'a> {
+    /// The table ran: what it computed, beside the printed table.
+    Done(Section<'a>),
+    /// The file did not load, or the run failed or panicked: shown with its message, no data.
+    Failed(&'a Failure),
+}
 
 /// One table of the report: what tribo computed, and the printed thesis table beside it.
 pub struct Section<'a> {
@@ -28,10 +41,48 @@ pub struct Section<'a> {
     pub alternatives: &'a [Alternative],
 }
 
-/// A run of an alternative reading, with what it changes.
+/// A run of an alternative reading, with what it changes; or why it has no run.
 pub struct Alternative {
     pub label: String,
-    pub run: RunResult,
+    pub outcome: Result<RunResult, Failure>,
+}
+
+/// A table (or an alternative reading of one) that has no result, and why.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Failure {
+    /// Table id; the file stem when the file did not load.
+    pub table: String,
+    /// The table's title, when its file loaded.
+    pub title: Option<String>,
+    /// The thesis section, when the file loaded.
+    pub section: Option<String>,
+    pub kind: FailureKind,
+    /// The cycle the run stopped in, when known.
+    pub cycle: Option<usize>,
+    /// What went wrong: the loader's or the solver's message, or the panic's.
+    pub message: String,
+}
+
+/// How a table failed, as the summary's status column shows it (a table that ran is `ok`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FailureKind {
+    /// The run returned an error (no convergence, a singular system, a non-finite value…).
+    Error,
+    /// The run panicked: a bug in tribo, caught so that the other tables are still reported.
+    Panic,
+    /// The experiment file did not load.
+    NotLoaded,
+}
+
+impl FailureKind {
+    /// The word shown in the summary's status column.
+    pub fn name(self) -> &'static str {
+        match self {
+            FailureKind::Error => "error",
+            FailureKind::Panic => "panic",
+            FailureKind::NotLoaded => "not loaded",
+        }
+    }
 }
 
 /// Facts about the whole report run, shown in the page header.
@@ -46,30 +97,154 @@ pub struct ReportMeta {
     pub threads: usize,
 }
 
-/// Write `out_dir/index.html` and `out_dir/figures/<table>-<kind>.svg`; return the list of files
-/// written (figures first, `index.html` last).
+/// Printed thesis rows beyond this many are left out of a section's table and figures (the page
+/// says how many): the shipped tables have at most a few dozen rows, and a file with millions
+/// would otherwise make a page no browser opens.
+pub const MAX_SHOWN_THESIS_ROWS: usize = 1000;
+
+/// What [`write_report`] wrote, and which sections' figures could not be drawn.
+pub struct Written {
+    /// Every file written: figures first, `index.html` last.
+    pub files: Vec<PathBuf>,
+    /// One message per section whose figures failed (an I/O error or a panic while drawing);
+    /// the page shows it in that section instead of the figures.
+    pub figure_failures: Vec<String>,
+}
+
+/// Write `out_dir/index.html` and `out_dir/figures/<table>-<kind>.svg`.
 ///
 /// A section gets only the figures it has data for: no mesh picture, no mesh figure. Figures of
 /// degenerate data (no rows, non-positive estimates on a log axis) are still written, showing
 /// whatever points are valid, so a broken run is visible in the report instead of aborting it.
-pub fn write_report(
-    out_dir: &Path,
-    sections: &[Section],
-    meta: &ReportMeta,
-) -> io::Result<Vec<PathBuf>> {
+/// The figures of each section are drawn in isolation: an error or a panic while drawing one
+/// section is reported in that section and in [`Written::figure_failures`], and the page is
+/// still written. A failed entry gets a section with its status and message and no figures.
+pub fn write_report(out_dir: &Path, entries: &[Entry], meta: &ReportMeta) -> io::Result<Written> {
     let fig_dir = out_dir.join("figures");
     fs::create_dir_all(&fig_dir)?;
-    let mut written = Vec::new();
-    let mut rendered = Vec::with_capacity(sections.len());
-    for section in sections {
-        let figures = write_figures(&fig_dir, section)?;
-        written.extend(figures.iter().map(|f| fig_dir.join(&f.file)));
-        rendered.push(html::SectionFigures { figures });
+    let mut files = Vec::new();
+    let mut figure_failures = Vec::new();
+    let mut rendered = Vec::with_capacity(entries.len());
+    for entry in entries {
+        let Entry::Done(section) = entry else {
+            rendered.push(html::SectionFigures::default());
+            continue;
+        };
+        let drawn = panic::catch_unwind(AssertUnwindSafe(|| write_figures(&fig_dir, section)));
+        let figures = match drawn {
+            Ok(Ok(figures)) => html::SectionFigures {
+                figures,
+                error: None,
+            },
+            Ok(Err(e)) => html::SectionFigures {
+                figures: Vec::new(),
+                error: Some(format!(
+                    "cannot write the figures into {}: {e}",
+                    fig_dir.display()
+                )),
+            },
+            Err(payload) => html::SectionFigures {
+                figures: Vec::new(),
+                error: Some(format!(
+                    "drawing the figures panicked: {}",
+                    panic_message(payload.as_ref())
+                )),
+            },
+        };
+        if let Some(error) = &figures.error {
+            figure_failures.push(format!("{}: {error}", section.run.table));
+        }
+        files.extend(figures.figures.iter().map(|f| fig_dir.join(&f.file)));
+        rendered.push(figures);
     }
     let index = out_dir.join("index.html");
-    fs::write(&index, html::page(sections, &rendered, meta))?;
-    written.push(index);
-    Ok(written)
+    fs::write(&index, html::page(entries, &rendered, meta))?;
+    files.push(index);
+    Ok(Written {
+        files,
+        figure_failures,
+    })
+}
+
+/// The message of a caught panic: its `&str` or `String` payload, as `panic!` makes them.
+pub fn panic_message(payload: &(dyn Any + Send)) -> String {
+    payload
+        .downcast_ref::<&str>()
+        .map(|s| s.to_string())
+        .or_else(|| payload.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "a panic without a message".into())
+}
+
+/// Create the output folder with its `data/` and `figures/` and check that files can be written
+/// into each (a probe file is written and removed), so that a folder that cannot take the
+/// report is found before any table is solved rather than after.
+pub fn prepare_output(out_dir: &Path) -> io::Result<()> {
+    for dir in [
+        out_dir.to_path_buf(),
+        out_dir.join("data"),
+        out_dir.join("figures"),
+    ] {
+        fs::create_dir_all(&dir).map_err(|e| with_path(e, &dir))?;
+        let probe = dir.join(format!(".tribo-write-probe-{}", std::process::id()));
+        fs::write(&probe, b"probe").map_err(|e| with_path(e, &dir))?;
+        fs::remove_file(&probe).map_err(|e| with_path(e, &probe))?;
+    }
+    Ok(())
+}
+
+/// An I/O error with the path it is about in its message.
+fn with_path(e: io::Error, path: &Path) -> io::Error {
+    io::Error::new(e.kind(), format!("{}: {e}", path.display()))
+}
+
+/// Remove the output a table left in `out_dir` from an earlier run: `data/<table>.csv`,
+/// `data/<table>.<word>….csv` (its probes and alternative readings) and
+/// `figures/<table>-<word>….svg`; return the files removed.
+///
+/// Called before a table runs, so that a table that fails leaves no data or figures that look
+/// like today's. The part after the table id must start with a letter: table ids end in a
+/// number, so `IV.1` never matches the files of `IV.10` (`IV.10.csv`, `IV.10-mesh.svg`), and a
+/// stray stem such as `IV` never matches `IV.1.csv`.
+pub fn remove_outputs(out_dir: &Path, table: &str) -> io::Result<Vec<PathBuf>> {
+    let mut removed = Vec::new();
+    let data_stem = data::csv_stem(table);
+    let figure_stem = file_stem(table);
+    for (dir, stem, separator, extension) in [
+        (out_dir.join("data"), data_stem.as_str(), '.', ".csv"),
+        (out_dir.join("figures"), figure_stem.as_str(), '-', ".svg"),
+    ] {
+        let entries = match fs::read_dir(&dir) {
+            Ok(entries) => entries,
+            Err(e) if e.kind() == io::ErrorKind::NotFound => continue,
+            Err(e) => return Err(with_path(e, &dir)),
+        };
+        for entry in entries {
+            let entry = entry.map_err(|e| with_path(e, &dir))?;
+            let name = entry.file_name();
+            let Some(name) = name.to_str() else { continue };
+            if is_output_of(name, stem, separator, extension) {
+                let path = entry.path();
+                fs::remove_file(&path).map_err(|e| with_path(e, &path))?;
+                removed.push(path);
+            }
+        }
+    }
+    Ok(removed)
+}
+
+/// Whether the file `name` is `<stem><extension>` or `<stem><separator><word>…<extension>` with
+/// a word that starts with an ASCII letter (see [`remove_outputs`]).
+fn is_output_of(name: &str, stem: &str, separator: char, extension: &str) -> bool {
+    let Some(rest) = name
+        .strip_prefix(stem)
+        .and_then(|r| r.strip_suffix(extension))
+    else {
+        return false;
+    };
+    match rest.strip_prefix(separator) {
+        Some(word) => word.starts_with(|c: char| c.is_ascii_alphabetic()),
+        None => rest.is_empty() && separator == '.',
+    }
 }
 
 /// A figure written for a section, as the page refers to it.
@@ -303,6 +478,24 @@ mod tests {
         assert_eq!(file_stem("IV.1"), "IV.1");
         assert_eq!(file_stem("../x y"), "_.._x_y");
         assert_eq!(file_stem(""), "_");
+    }
+
+    #[test]
+    fn outputs_of_a_table_match_exactly() {
+        let data = |name| is_output_of(name, "IV.1", '.', ".csv");
+        assert!(data("IV.1.csv"));
+        assert!(data("IV.1.probes.csv"));
+        assert!(data("IV.1.self-consistent.probes.csv"));
+        assert!(!data("IV.10.csv"));
+        assert!(!data("IV.10.probes.csv"));
+        assert!(!data("IV.1.csv.bak"));
+        assert!(!is_output_of("IV.1.csv", "IV", '.', ".csv"));
+        let figure = |name| is_output_of(name, "IV.1", '-', ".svg");
+        assert!(figure("IV.1-convergence.svg"));
+        assert!(figure("IV.1-field-psi-0.svg"));
+        assert!(!figure("IV.10-convergence.svg"));
+        assert!(!figure("IV.1.svg"));
+        assert!(!figure("IV.1-.svg"));
     }
 
     #[test]

@@ -20,6 +20,7 @@ use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 
 use super::html::{escape, fmt_short};
+use super::MAX_SHOWN_THESIS_ROWS;
 use crate::results::{CellBox, DeformedPicture, FieldPicture, MeshPicture, RunResult};
 use crate::thesis::ThesisTable;
 
@@ -180,7 +181,8 @@ struct Curve {
     points: Vec<(f64, f64)>,
 }
 
-/// (x, y) pairs of two thesis columns, in printed order, skipping rows without both.
+/// (x, y) pairs of two thesis columns, in printed order, skipping rows without both; only the
+/// first [`MAX_SHOWN_THESIS_ROWS`] rows, as in the section's table.
 fn thesis_pairs(thesis: &ThesisTable, x: &str, y: &str) -> Vec<(f64, f64)> {
     let (Some(cx), Some(cy)) = (
         thesis.columns.iter().position(|c| c == x),
@@ -191,6 +193,7 @@ fn thesis_pairs(thesis: &ThesisTable, x: &str, y: &str) -> Vec<(f64, f64)> {
     thesis
         .rows
         .iter()
+        .take(MAX_SHOWN_THESIS_ROWS)
         .filter_map(|r| Some((*r.get(cx)?, *r.get(cy)?)))
         .filter(loggable)
         .collect()

@@ -1,0 +1,493 @@
+//! The `report` binary when tables fail: every table is still on the page with its status, a
+//! failed table leaves no stale output, odd experiment files (FIFOs, devices, huge files) are
+//! named instead of blocking or filling memory, an unwritable `--out` stops before any solve,
+//! data text reaches the page escaped, and a page of many printed rows renders in linear time.
+
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+use crate::cli::{report, temp_dir};
+use crate::common::experiments_dir;
+
+/// A shipped experiment file, as text.
+fn shipped(table: &str) -> String {
+    fs::read_to_string(experiments_dir().join(format!("{table}.toml"))).unwrap()
+}
+
+/// IV.1's scene renamed to `table` with no Dirichlet side: the loader accepts it, but the
+/// elasticity system is singular (rigid motions), so the solver fails in cycle 0.
+fn singular_elasticity(table: &str) -> String {
+    let text = shipped("IV.1").replace("table = \"IV.1\"", &format!("table = \"{table}\""));
+    let singular = text.replace("dirichlet = [\"left\", \"right\"]", "dirichlet = []");
+    assert_ne!(
+        text, singular,
+        "the fixture must remove the Dirichlet sides"
+    );
+    singular
+}
+
+/// Run the report on `experiments` into `out` (quick tier, no progress bar), with extra
+/// arguments and environment, and give up after a minute (a blocked read must fail the test,
+/// not hang it).
+fn run_report(experiments: &Path, out: &Path, args: &[&str], env: &[(&str, &str)]) -> Output {
+    let mut cmd = report();
+    cmd.args(["--quick", "--no-progress", "--experiments"])
+        .arg(experiments)
+        .arg("--out")
+        .arg(out)
+        .args(args)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped());
+    for (k, v) in env {
+        cmd.env(k, v);
+    }
+    let mut child = cmd.spawn().unwrap();
+    let deadline = Instant::now() + Duration::from_secs(60);
+    while child.try_wait().unwrap().is_none() {
+        if Instant::now() > deadline {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("the report did not finish within 60 s (blocked on an experiment file?)");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    child.wait_with_output().unwrap()
+}
+
+/// The rows of the summary table of a page, one string per `<tr>`.
+fn summary_rows(html: &str) -> Vec<&str> {
+    let start = html.find("id=\"summary\"").expect("a summary section");
+    let body = &html[start..];
+    let end = body.find("</tbody>").expect("the summary table ends");
+    body[..end].split("<tr").skip(2).collect()
+}
+
+/// The summary row of `table` (it links to the section `#t-<table>`).
+fn summary_row<'a>(html: &'a str, table: &str) -> &'a str {
+    let link = format!("href=\"#t-{table}\"");
+    summary_rows(html)
+        .into_iter()
+        .find(|r| r.contains(&link))
+        .unwrap_or_else(|| panic!("no summary row for {table} in:\n{html}"))
+}
+
+/// The status cell of a summary row.
+fn status_of(row: &str) -> &str {
+    let start = row.find("class=\"status").expect("a status cell");
+    let rest = &row[start..];
+    let text = &rest[rest.find('>').unwrap() + 1..];
+    &text[..text.find('<').unwrap()]
+}
+
+/// The section of `table` on the page.
+fn section_of<'a>(html: &'a str, table: &str) -> &'a str {
+    let id = format!("<section id=\"t-{table}\"");
+    let start = html
+        .find(&id)
+        .unwrap_or_else(|| panic!("no section for {table}"));
+    let rest = &html[start..];
+    &rest[..rest.find("</section>").unwrap()]
+}
+
+#[test]
+fn mixed_folder_reports_every_table_with_its_status() {
+    let dir = temp_dir("mixed");
+    let exp = dir.join("experiments");
+    fs::create_dir_all(&exp).unwrap();
+    fs::write(exp.join("IV.1.toml"), shipped("IV.1")).unwrap();
+    fs::write(exp.join("IV.2.toml"), singular_elasticity("IV.2")).unwrap();
+    fs::write(exp.join("IV.3.toml"), shipped("IV.3")).unwrap();
+    fs::write(exp.join("IV.4.toml"), shipped("IV.4")).unwrap();
+    let out = dir.join("out");
+    let result = run_report(&exp, &out, &[], &[("TRIBO_TEST_PANIC", "IV.3")]);
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert_eq!(result.status.code(), Some(1), "{stderr}");
+
+    let html = fs::read_to_string(out.join("index.html")).expect("the page is written");
+    let rows = summary_rows(&html);
+    assert_eq!(rows.len(), 4, "one summary row per table:\n{rows:#?}");
+    for (row, table) in rows.iter().zip(["IV.1", "IV.2", "IV.3", "IV.4"]) {
+        assert!(row.contains(&format!("href=\"#t-{table}\"")), "table order");
+    }
+    assert_eq!(status_of(summary_row(&html, "IV.1")), "ok");
+    assert_eq!(status_of(summary_row(&html, "IV.2")), "error");
+    assert_eq!(status_of(summary_row(&html, "IV.3")), "panic");
+    assert_eq!(status_of(summary_row(&html, "IV.4")), "ok");
+
+    // The failed tables have their own sections with the cycle and the message.
+    let solver = section_of(&html, "IV.2");
+    assert!(solver.contains("cycle 0"), "{solver}");
+    assert!(
+        solver.contains("not symmetric positive definite"),
+        "{solver}"
+    );
+    assert!(solver.contains("no data: the run failed"), "{solver}");
+    let panic = section_of(&html, "IV.3");
+    assert!(panic.contains("TRIBO_TEST_PANIC"), "{panic}");
+    // The good tables are reported in full.
+    for table in ["IV.1", "IV.4"] {
+        assert!(out.join(format!("data/{table}.csv")).exists(), "{table}");
+        assert!(section_of(&html, table).contains("figures/"), "{table}");
+    }
+    for table in ["IV.2", "IV.3"] {
+        assert!(!out.join(format!("data/{table}.csv")).exists(), "{table}");
+    }
+    let _ = fs::remove_dir_all(&dir);
+}
+
+/// A broken file is a failed entry with the loader's message; the other tables still run.
+#[test]
+fn a_file_that_does_not_load_is_a_failed_entry() {
+    let dir = temp_dir("not-loaded");
+    let exp = dir.join("experiments");
+    fs::create_dir_all(&exp).unwrap();
+    fs::write(
+        exp.join("IV.1.toml"),
+        shipped("IV.1").replace("rows = 6", "rows = \"six\""),
+    )
+    .unwrap();
+    fs::write(exp.join("IV.3.toml"), shipped("IV.3")).unwrap();
+    let out = dir.join("out");
+    let result = run_report(&exp, &out, &[], &[]);
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert_eq!(result.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("IV.1.toml") && stderr.contains("study.rows"),
+        "{stderr}"
+    );
+    let html = fs::read_to_string(out.join("index.html")).unwrap();
+    assert_eq!(status_of(summary_row(&html, "IV.1")), "not loaded");
+    assert_eq!(status_of(summary_row(&html, "IV.3")), "ok");
+    assert!(section_of(&html, "IV.1").contains("study.rows"));
+    let _ = fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_failed_table_leaves_no_stale_output() {
+    let dir = temp_dir("stale");
+    let exp = dir.join("experiments");
+    fs::create_dir_all(&exp).unwrap();
+    let out = dir.join("out");
+    fs::write(exp.join("IV.1.toml"), shipped("IV.1")).unwrap();
+    let first = run_report(&exp, &out, &[], &[]);
+    assert!(
+        first.status.success(),
+        "{}",
+        String::from_utf8_lossy(&first.stderr)
+    );
+    let figure = out.join("figures/IV.1-convergence.svg");
+    assert!(out.join("data/IV.1.csv").exists() && figure.exists());
+    // Files of other tables whose names start alike must survive.
+    let others = [
+        out.join("data/IV.10.csv"),
+        out.join("data/IV.10.probes.csv"),
+        out.join("figures/IV.10-convergence.svg"),
+    ];
+    for f in &others {
+        fs::write(f, "another table").unwrap();
+    }
+    // An alternative reading of an earlier run, too.
+    fs::write(out.join("data/IV.1.reynolds.csv"), "old").unwrap();
+
+    fs::write(exp.join("IV.1.toml"), singular_elasticity("IV.1")).unwrap();
+    let second = run_report(&exp, &out, &[], &[]);
+    assert_eq!(second.status.code(), Some(1));
+    for stale in [
+        "data/IV.1.csv",
+        "data/IV.1.probes.csv",
+        "data/IV.1.reynolds.csv",
+        "figures/IV.1-convergence.svg",
+        "figures/IV.1-cost.svg",
+        "figures/IV.1-mesh.svg",
+        "figures/IV.1-deformed.svg",
+    ] {
+        assert!(
+            !out.join(stale).exists(),
+            "{stale} is stale and must be removed"
+        );
+    }
+    for f in &others {
+        assert!(f.exists(), "{} belongs to another table", f.display());
+    }
+    let html = fs::read_to_string(out.join("index.html")).unwrap();
+    let section = section_of(&html, "IV.1");
+    assert!(section.contains("no data: the run failed"), "{section}");
+    assert!(!section.contains("figures/"), "{section}");
+    let _ = fs::remove_dir_all(&dir);
+}
+
+/// A path named `*.toml` that is not a regular file: reported as such, never opened.
+fn assert_named_not_regular(dir: &Path, exp: &Path) {
+    let out = dir.join("out");
+    let only = run_report(exp, &out, &["--only", "IV.1"], &[]);
+    let stderr = String::from_utf8_lossy(&only.stderr);
+    assert_eq!(only.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("IV.1.toml") && stderr.contains("not a regular file"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("available tables: \n"), "{stderr}");
+    let html = fs::read_to_string(out.join("index.html")).unwrap();
+    assert_eq!(status_of(summary_row(&html, "IV.1")), "not loaded");
+    assert!(section_of(&html, "IV.1").contains("not a regular file"));
+
+    // In a whole folder it is one failed entry among the others.
+    let all = run_report(exp, &out, &[], &[]);
+    assert_eq!(all.status.code(), Some(1));
+    let html = fs::read_to_string(out.join("index.html")).unwrap();
+    assert_eq!(status_of(summary_row(&html, "IV.1")), "not loaded");
+    assert_eq!(status_of(summary_row(&html, "IV.3")), "ok");
+}
+
+#[test]
+fn a_symlink_to_dev_zero_is_named_not_read() {
+    let dir = temp_dir("dev-zero");
+    let exp = dir.join("experiments");
+    fs::create_dir_all(&exp).unwrap();
+    fs::write(exp.join("IV.3.toml"), shipped("IV.3")).unwrap();
+    std::os::unix::fs::symlink("/dev/zero", exp.join("IV.1.toml")).unwrap();
+    assert_named_not_regular(&dir, &exp);
+    let _ = fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_fifo_is_named_not_opened() {
+    let dir = temp_dir("fifo");
+    let exp = dir.join("experiments");
+    fs::create_dir_all(&exp).unwrap();
+    fs::write(exp.join("IV.3.toml"), shipped("IV.3")).unwrap();
+    let fifo = exp.join("IV.1.toml");
+    match Command::new("mkfifo").arg(&fifo).status() {
+        Ok(s) if s.success() => {}
+        other => {
+            eprintln!("skipped: mkfifo is not available ({other:?})");
+            return;
+        }
+    }
+    assert_named_not_regular(&dir, &exp);
+    let _ = fs::remove_dir_all(&dir);
+}
+
+/// A file beyond the size limit is not read (here a sparse file, so the test writes nothing),
+/// and a directory named like an experiment file is not skipped: both are failed entries.
+#[test]
+fn a_huge_file_and_a_directory_are_failed_entries() {
+    let dir = temp_dir("huge");
+    let exp = dir.join("experiments");
+    fs::create_dir_all(exp.join("IV.2.toml")).unwrap();
+    fs::write(exp.join("IV.3.toml"), shipped("IV.3")).unwrap();
+    let huge = fs::File::create(exp.join("IV.1.toml")).unwrap();
+    huge.set_len(tribo::experiment::MAX_FILE_BYTES + 1).unwrap();
+    let out = dir.join("out");
+    let result = run_report(&exp, &out, &[], &[]);
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert_eq!(result.status.code(), Some(1), "{stderr}");
+    let limit = tribo::experiment::MAX_FILE_BYTES.to_string();
+    assert!(
+        stderr.contains("IV.1.toml") && stderr.contains(&limit),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("IV.2.toml") && stderr.contains("not a regular file (a directory)"),
+        "{stderr}"
+    );
+    let html = fs::read_to_string(out.join("index.html")).unwrap();
+    assert_eq!(status_of(summary_row(&html, "IV.1")), "not loaded");
+    assert_eq!(status_of(summary_row(&html, "IV.2")), "not loaded");
+    assert_eq!(status_of(summary_row(&html, "IV.3")), "ok");
+    let _ = fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn an_unwritable_out_folder_stops_before_any_solve() {
+    let dir = temp_dir("unwritable");
+    let exp = dir.join("experiments");
+    fs::create_dir_all(&exp).unwrap();
+    // A failing solve would print its error: none may appear, since nothing is solved.
+    fs::write(exp.join("IV.1.toml"), singular_elasticity("IV.1")).unwrap();
+    let file = dir.join("a-file");
+    fs::write(&file, "not a folder").unwrap();
+    let out: PathBuf = file.join("sub");
+    let result = run_report(&exp, &out, &[], &[]);
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert_eq!(result.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains(&out.display().to_string()), "{stderr}");
+    assert!(
+        !stderr.contains("cycle"),
+        "a table was solved first: {stderr}"
+    );
+    let _ = fs::remove_dir_all(&dir);
+}
+
+/// User text that the loader lets through reaches the page escaped: here a file name with BEL
+/// and ESC, shown as the id of a table that did not load.
+#[test]
+fn control_characters_in_a_file_name_are_escaped_on_the_page() {
+    let dir = temp_dir("control");
+    let exp = dir.join("experiments");
+    fs::create_dir_all(&exp).unwrap();
+    fs::write(exp.join("IV.3.toml"), shipped("IV.3")).unwrap();
+    fs::write(exp.join("IV.9\u{7}\u{1b}.toml"), shipped("IV.3")).unwrap();
+    let out = dir.join("out");
+    let result = run_report(&exp, &out, &[], &[]);
+    assert_eq!(result.status.code(), Some(1));
+    let html = fs::read_to_string(out.join("index.html")).unwrap();
+    assert!(
+        !html.contains('\u{7}') && !html.contains('\u{1b}'),
+        "raw control characters on the page"
+    );
+    assert!(html.contains("IV.9\\u{7}\\u{1b}"), "visible escapes");
+    let _ = fs::remove_dir_all(&dir);
+}
+
+/// A run of `rows` cycles of tribo with the given title and notes.
+fn run_result(title: &str, notes: &[&str], rows: usize) -> tribo::results::RunResult {
+    use tribo::results::{Row, RunResult};
+    RunResult {
+        table: "IV.1".into(),
+        section: "IV.1.1".into(),
+        title: title.into(),
+        tier: "quick".into(),
+        rows: (0..rows)
+            .map(|c| {
+                Row::new(c)
+                    .count("active_cells", 10 * (c + 1))
+                    .count("dofs", 100 * (c + 1))
+                    .real("estimate", Some(1.0 / (c as f64 + 1.0)))
+                    .real("ratio", None)
+            })
+            .collect(),
+        probes: vec![],
+        meshes: vec![],
+        deformed: vec![],
+        fields: vec![],
+        domain: [0.0, 1.0, 0.0, 1.0],
+        notes: notes.iter().map(|n| n.to_string()).collect(),
+    }
+}
+
+fn meta() -> tribo::report::ReportMeta {
+    tribo::report::ReportMeta {
+        tier: "quick".into(),
+        generated_by: "test".into(),
+        total_seconds: 0.0,
+        threads: 1,
+    }
+}
+
+/// Titles, notes, column names and failure messages reach the page with control characters as
+/// visible escapes, whatever the loader lets through.
+#[test]
+fn control_characters_in_titles_notes_columns_and_messages_are_escaped() {
+    use tribo::report::{self, Entry, Failure, FailureKind, Section};
+    use tribo::thesis::ThesisTable;
+
+    let run = run_result("title\u{7}", &["note\u{0} with NUL"], 2);
+    let thesis = ThesisTable {
+        table: "IV.1".into(),
+        section: "IV.1.1".into(),
+        columns: ["cycle", "dofs", "col\u{1b}umn"].map(String::from).to_vec(),
+        rows: vec![vec![0.0, 100.0, 1.0]],
+        duplicate_of: None,
+        additive_part: None,
+    };
+    let failure = Failure {
+        table: "IV.2".into(),
+        title: Some("failed\u{8} title".into()),
+        section: None,
+        kind: FailureKind::Error,
+        cycle: Some(3),
+        message: "message\u{7f} end".into(),
+    };
+    let entries = [
+        Entry::Done(Section {
+            run: &run,
+            thesis: &thesis,
+            alternatives: &[],
+        }),
+        Entry::Failed(&failure),
+    ];
+    let dir = temp_dir("control-api");
+    report::write_report(&dir, &entries, &meta()).unwrap();
+    let html = fs::read_to_string(dir.join("index.html")).unwrap();
+    let raw: Vec<char> = html
+        .chars()
+        .filter(|c| c.is_control() && !matches!(c, '\n' | '\t'))
+        .collect();
+    assert!(
+        raw.is_empty(),
+        "raw control characters on the page: {raw:?}"
+    );
+    for visible in [
+        "title\\u{7}",
+        "note\\u{0} with NUL",
+        "col\\u{1b}umn",
+        "failed\\u{8} title",
+        "message\\u{7f} end",
+    ] {
+        assert!(html.contains(visible), "{visible} is not on the page");
+    }
+    let _ = fs::remove_dir_all(&dir);
+}
+
+/// Rendering is linear in the printed rows: a section with 200 000 thesis rows (a quadratic
+/// lookup would take minutes) renders in seconds, and the page shows only the first rows.
+#[test]
+fn many_thesis_rows_render_in_linear_time_and_are_bounded() {
+    use tribo::report::{self, Entry, Section};
+    use tribo::thesis::ThesisTable;
+
+    const PRINTED: usize = 200_000;
+    let thesis = ThesisTable {
+        table: "IV.1".into(),
+        section: "IV.1.1".into(),
+        columns: ["cycle", "active_cells", "dofs", "estimate", "ratio"]
+            .map(String::from)
+            .to_vec(),
+        rows: (0..PRINTED)
+            .map(|c| {
+                let dofs = 100.0 * (c + 1) as f64;
+                vec![c as f64, dofs / 3.0, dofs, 1.0 / dofs.sqrt(), 0.71]
+            })
+            .collect(),
+        duplicate_of: None,
+        additive_part: None,
+    };
+    let run = run_result("many printed rows", &[], 4);
+    let dir = temp_dir("many-rows");
+    let meta = meta();
+    let entries = [Entry::Done(Section {
+        run: &run,
+        thesis: &thesis,
+        alternatives: &[],
+    })];
+    let started = Instant::now();
+    let written = report::write_report(&dir, &entries, &meta).unwrap();
+    let seconds = started.elapsed().as_secs_f64();
+    assert!(seconds < 30.0, "rendering took {seconds:.1} s");
+    assert!(
+        written.figure_failures.is_empty(),
+        "{:?}",
+        written.figure_failures
+    );
+
+    let html = fs::read_to_string(dir.join("index.html")).unwrap();
+    let section = section_of(&html, "IV.1");
+    let rows = section.matches("<tr>").count();
+    assert!(
+        rows <= report::MAX_SHOWN_THESIS_ROWS + 10,
+        "{rows} rows on the page"
+    );
+    assert!(
+        section.contains(&format!(
+            "{} are left out",
+            PRINTED - report::MAX_SHOWN_THESIS_ROWS
+        )),
+        "the page says how many rows are left out"
+    );
+    let figure = fs::read_to_string(dir.join("figures/IV.1-convergence.svg")).unwrap();
+    assert!(figure.len() < 2_000_000, "{} bytes of SVG", figure.len());
+    let _ = fs::remove_dir_all(&dir);
+}
