@@ -51,6 +51,11 @@ struct Cli {
     /// otherwise run three times: printed, self-consistent and `reynolds` source R₃c).
     #[arg(long)]
     no_alternatives: bool,
+
+    /// Memory a table may use, e.g. `4G` or `1500M` (default: the machine's memory). A table
+    /// predicted to need more is refused before its first solve, naming the cycle.
+    #[arg(long, value_name = "SIZE", value_parser = study::Budget::parse)]
+    memory_budget: Option<study::Budget>,
 }
 
 /// Testing hook: when this environment variable holds a table id, the run of that table panics
@@ -106,6 +111,7 @@ fn run(cli: &Cli) -> Result<bool, String> {
         .map_err(|e| format!("cannot write the report into {}: {e}", cli.out.display()))?;
 
     let tier = if cli.quick { Tier::Quick } else { Tier::Full };
+    let budget = cli.memory_budget.unwrap_or_else(study::Budget::machine);
     let readings_of = |s: &Experiment| {
         if cli.no_alternatives {
             Vec::new()
@@ -170,7 +176,7 @@ fn run(cli: &Cli) -> Result<bool, String> {
         let readings = readings_of(&spec);
         let runs_of_spec = 1 + readings.len() as u64;
         let progress = |_: &str, done: usize, _: usize| bar.set_position(base + done as u64);
-        let outcome = match run_isolated(&spec, tier, &progress)
+        let outcome = match run_isolated(&spec, tier, budget, &progress)
             .and_then(|run| write_data(&cli.out, &spec, run))
         {
             Ok(run) => {
@@ -180,11 +186,12 @@ fn run(cli: &Cli) -> Result<bool, String> {
                     let base = bar.position();
                     let progress =
                         |_: &str, done: usize, _: usize| bar.set_position(base + done as u64);
-                    let outcome =
-                        run_isolated(&alt.experiment, tier, &progress).and_then(|mut run| {
+                    let outcome = run_isolated(&alt.experiment, tier, budget, &progress).and_then(
+                        |mut run| {
                             run.table = format!("{}.{}", spec.table, alt.suffix);
                             write_data(&cli.out, &alt.experiment, run)
-                        });
+                        },
+                    );
                     if let Err(f) = &outcome {
                         report_failure(f);
                         failed += 1;
@@ -259,6 +266,7 @@ fn run(cli: &Cli) -> Result<bool, String> {
 fn run_isolated(
     spec: &Experiment,
     tier: Tier,
+    budget: study::Budget,
     progress: study::Progress,
 ) -> Result<RunResult, Failure> {
     let failure = |kind, cycle, message| Failure {
@@ -279,7 +287,7 @@ fn run_isolated(
                 spec.table
             );
         }
-        study::run(spec, tier, progress)
+        study::run_within(spec, tier, budget, progress)
     }));
     match caught {
         Ok(Ok(run)) => Ok(run),

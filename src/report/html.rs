@@ -56,16 +56,11 @@ fn is_bidi_control(c: char) -> bool {
 }
 
 /// A number with 4 significant digits, the precision the thesis prints (`0.2860`, `1.234e-5`).
+/// A value that is not finite (the thesis prints its first ratios as `inf`) is undefined and
+/// shown as `—`, like tribo's own undefined values (report/README.md).
 pub(crate) fn fmt_sig(v: f64) -> String {
-    if v.is_nan() {
-        return "NaN".into();
-    }
-    if v.is_infinite() {
-        return if v > 0.0 {
-            "inf".into()
-        } else {
-            "−inf".into()
-        };
+    if !v.is_finite() {
+        return "—".into();
     }
     if v == 0.0 {
         return "0".into();
@@ -828,7 +823,8 @@ mod tests {
         assert_eq!(fmt_sig(0.286), "0.2860");
         assert_eq!(fmt_sig(1000.0), "1000");
         assert_eq!(fmt_sig(1.5e-5), "1.500e-5");
-        assert_eq!(fmt_sig(f64::INFINITY), "inf");
+        assert_eq!(fmt_sig(f64::INFINITY), "—");
+        assert_eq!(fmt_sig(f64::NAN), "—");
     }
 
     #[test]
