@@ -76,6 +76,15 @@ impl Value {
         Value::Real(v.filter(|x| x.is_finite()))
     }
 
+    /// The value with a non-finite real made undefined (counts unchanged): what a row stores,
+    /// whoever made the value.
+    pub fn defined(self) -> Value {
+        match self {
+            Value::Real(v) => Value::real(v),
+            count => count,
+        }
+    }
+
     /// The value as a real number (counts converted).
     pub fn as_f64(&self) -> Option<f64> {
         match *self {
@@ -121,10 +130,7 @@ impl Row {
 
     /// Set a column's value (appended if the row does not have it yet).
     pub fn set(&mut self, name: &str, value: Value) {
-        let value = match value {
-            Value::Real(v) => Value::real(v),
-            count => count,
-        };
+        let value = value.defined();
         match self.columns.iter_mut().find(|(n, _)| n == name) {
             Some((_, v)) => *v = value,
             None => self.columns.push((name.to_string(), value)),

@@ -535,21 +535,21 @@ impl Check<'_> {
             "a non-empty title",
             "an empty string",
         )?;
-        self.printable("section", &spec.section)?;
-        self.printable("title", &spec.title)?;
+        self.printable("section", &spec.section, false)?;
+        self.printable("title", &spec.title, false)?;
         for (i, note) in spec.notes.iter().enumerate() {
-            self.printable(&format!("notes[{i}]"), note)?;
+            self.printable(&format!("notes[{i}]"), note, true)?;
         }
         Ok(())
     }
 
     /// Text shown on the page and in file names: no control characters (a NUL or BEL would be
-    /// copied into `index.html`). Line breaks are allowed in notes only, which is where they
-    /// can be written in TOML anyway.
-    fn printable(&self, field: &str, text: &str) -> Checked {
+    /// copied into `index.html`), except line breaks and tabs where `multiline` (notes, the
+    /// only text that can hold them).
+    fn printable(&self, field: &str, text: &str, multiline: bool) -> Checked {
         let bad = text
             .chars()
-            .find(|&c| c.is_control() && !(field.starts_with("notes") && (c == '\n' || c == '\t')));
+            .find(|&c| c.is_control() && !(multiline && (c == '\n' || c == '\t')));
         self.ensure(
             bad.is_none(),
             field,
@@ -565,7 +565,7 @@ impl Check<'_> {
             "a non-empty descriptive name",
             "an empty string",
         )?;
-        self.printable("scene.name", &scene.name)?;
+        self.printable("scene.name", &scene.name, false)?;
         for (name, [lo, hi]) in [("x", scene.domain.x), ("y", scene.domain.y)] {
             self.domain_extent(&format!("scene.domain.{name}"), lo, hi)?;
         }
@@ -1045,7 +1045,7 @@ impl Check<'_> {
             format!("{} rows", thesis.rows.len()),
         )?;
         for (i, column) in columns.iter().enumerate() {
-            self.printable(&format!("thesis.columns[{i}]"), column)?;
+            self.printable(&format!("thesis.columns[{i}]"), column, false)?;
         }
         for (i, row) in thesis.rows.iter().enumerate() {
             let field = format!("thesis.rows[{i}]");

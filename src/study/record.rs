@@ -68,7 +68,7 @@ impl<'a> Recorder<'a> {
             .count(columns::ACTIVE_CELLS, disc.mesh.n_active())
             .count(columns::DOFS, dofs.n_dofs());
         for (name, value) in &estimate.columns {
-            row.set(name, *value);
+            row.columns.push((name.clone(), value.defined()));
             if name == columns::ESTIMATE {
                 let before = self.result.rows.last().and_then(|r| r.estimate());
                 let ratio = match (value, before) {
