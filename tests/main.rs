@@ -7,4 +7,5 @@ mod contact;
 mod elasticity;
 mod full_tier;
 mod mesh;
+mod mesh_limits;
 mod reynolds;

@@ -3,7 +3,7 @@
 use crate::common::refine_around;
 use tribo::adaptivity::{apply_noise_floor, mark_fixed_number, rounded_measure, PLATEAU_CELLS};
 use tribo::fe::{Constraints, DofMap};
-use tribo::mesh::{BoundaryFace, Mesh, Neighbor, Side, FACES};
+use tribo::mesh::{BoundaryFace, Mesh, MeshError, Neighbor, Side, FACES};
 
 #[test]
 fn twelve_levels_of_local_refinement_keep_two_to_one_and_valid_constraints() {
@@ -37,6 +37,51 @@ fn twelve_levels_of_local_refinement_keep_two_to_one_and_valid_constraints() {
     for (i, p) in v.coords.iter().enumerate() {
         assert!((u[i] - lin(*p)).abs() < 1e-12);
     }
+}
+
+/// Issue 15.1: coarse grids more than 128 cells wide (integer positions past 2³¹, whose vertex
+/// midpoints overflowed 32 bits: "hanging vertex exists") or 256 wide (past 2³²: an assert in
+/// `Mesh::new`). Hanging vertices at the far end of the strip, in x₁ and turned in x₂, are the
+/// midpoints of their parents.
+#[test]
+fn grids_wider_than_128_coarse_cells_number_their_hanging_vertices() {
+    for n in [129, 255, 256, 300] {
+        let far = n as f64 - 0.3;
+        for (nx, ny, p) in [(n, 2, [far, 0.7]), (2, n, [0.7, far])] {
+            let mut mesh = Mesh::new([0.0, nx as f64], [0.0, ny as f64], nx, ny);
+            refine_around(&mut mesh, p, 3);
+            assert!(mesh.is_balanced());
+            let dofs = DofMap::new(&mesh, 1);
+            assert_hanging_vertices_are_midpoints(&dofs, 1e-12);
+            let v = &dofs.vertices;
+            let far_hanging = v
+                .hanging
+                .iter()
+                .filter(|h| v.coords[h.vertex as usize][if nx > ny { 0 } else { 1 }] > 128.0)
+                .count();
+            assert!(far_hanging > 0, "{nx} × {ny}: no hanging vertex past 128");
+            // The right and top sides are found at the grid's extent.
+            let right = v.side_vertices(Side::Right);
+            let top = v.side_vertices(Side::Top);
+            assert!(right.len() > ny && top.len() > nx);
+            assert!(right.iter().all(|&r| v.coords[r as usize][0] == nx as f64));
+            assert!(top.iter().all(|&t| v.coords[t as usize][1] == ny as f64));
+        }
+    }
+}
+
+/// A coarse grid the mesh cannot number is an error, not a panic or an allocation failure.
+#[test]
+fn coarse_grids_without_cells_or_beyond_the_cell_ids_are_errors() {
+    let grid = |nx, ny| Mesh::try_new([0.0, 1.0], [0.0, 1.0], nx, ny).map(|m| m.n_active());
+    assert_eq!(grid(3, 2), Ok(6));
+    for (nx, ny) in [(0, 2), (2, 0), (1 << 20, 1 << 12), (usize::MAX, 2)] {
+        assert_eq!(grid(nx, ny), Err(MeshError::CoarseGrid { nx, ny }));
+    }
+    assert!(grid(1 << 20, 1 << 12)
+        .unwrap_err()
+        .to_string()
+        .contains("at most 4294967295 cells"));
 }
 
 #[test]

@@ -7,7 +7,7 @@
 
 use rayon::prelude::*;
 
-use crate::mesh::{Mesh, Neighbor, Side, FACES};
+use crate::mesh::{Mesh, Neighbor, Side, VertexKey, FACES};
 
 /// A vertex in the middle of a coarse cell's edge: value = ½(parent₀ + parent₁).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -19,8 +19,8 @@ pub struct Hanging {
 /// Vertices of the active cells of a mesh.
 #[derive(Clone, Debug)]
 pub struct Vertices {
-    /// Integer positions, sorted.
-    pub keys: Vec<(u32, u32)>,
+    /// Integer positions, sorted (x first, then y).
+    pub keys: Vec<VertexKey>,
     /// Physical positions.
     pub coords: Vec<[f64; 2]>,
     /// Four vertex numbers per active cell (lexicographic corners), indexed like `mesh.active()`.
@@ -35,20 +35,23 @@ pub struct Vertices {
 impl Vertices {
     pub fn new(mesh: &Mesh) -> Vertices {
         let active = mesh.active();
-        let mut keys: Vec<u64> = active
+        let mut keys: Vec<VertexKey> = active
             .par_iter()
-            .flat_map_iter(|&c| mesh.corner_keys(c).into_iter().map(pack))
+            .flat_map_iter(|&c| mesh.corner_keys(c))
             .collect();
         keys.par_sort_unstable();
         keys.dedup();
+        // Four corners per cell collapse to about one vertex per cell: give back the rest of
+        // the buffer (the vertices live as long as the dofs).
+        keys.shrink_to_fit();
         let cell_vertices: Vec<[u32; 4]> = active
             .par_iter()
             .map(|&c| {
                 mesh.corner_keys(c)
-                    .map(|k| keys.binary_search(&pack(k)).expect("corner is a vertex") as u32)
+                    .map(|k| keys.binary_search(&k).expect("corner is a vertex") as u32)
             })
             .collect();
-        let lookup = |k: (u32, u32)| keys.binary_search(&pack(k)).ok().map(|v| v as u32);
+        let lookup = |k: VertexKey| keys.binary_search(&k).ok().map(|v| v as u32);
         let mut hanging: Vec<Hanging> = active
             .par_iter()
             .enumerate()
@@ -79,9 +82,9 @@ impl Vertices {
         for h in &hanging {
             is_hanging[h.vertex as usize] = true;
         }
-        let coords = keys.par_iter().map(|&k| mesh.point(unpack(k))).collect();
+        let coords = keys.par_iter().map(|&k| mesh.point(k)).collect();
         Vertices {
-            keys: keys.into_iter().map(unpack).collect(),
+            keys,
             coords,
             cell_vertices,
             hanging,
@@ -103,9 +106,9 @@ impl Vertices {
         let (x, y) = self.keys[v as usize];
         match side {
             Side::Left => x == 0,
-            Side::Right => x as u64 == self.extent.0,
+            Side::Right => x == self.extent.0,
             Side::Bottom => y == 0,
-            Side::Top => y as u64 == self.extent.1,
+            Side::Top => y == self.extent.1,
         }
     }
 
@@ -127,14 +130,6 @@ impl Vertices {
         }
         v
     }
-}
-
-fn pack(k: (u32, u32)) -> u64 {
-    ((k.0 as u64) << 32) | k.1 as u64
-}
-
-fn unpack(k: u64) -> (u32, u32) {
-    ((k >> 32) as u32, k as u32)
 }
 
 /// Degrees of freedom: `n_components` per vertex.
