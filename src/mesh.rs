@@ -22,7 +22,9 @@
 
 use serde::Deserialize;
 
-/// Deepest refinement level a cell can reach.
+/// Deepest refinement level a cell can reach: the mesh supports `MAX_LEVEL` refinement levels
+/// below its coarse grid. Refining a cell of this level is an error
+/// ([`MeshError::PastDeepestLevel`]).
 pub const MAX_LEVEL: u8 = 24;
 
 /// Index of a cell in [`Mesh`] storage (active or not).
@@ -37,7 +39,8 @@ pub const MAX_CELLS: u64 = NONE as u64;
 /// Integer position `(x, y)` of a vertex (a cell corner), in the units of the module docs.
 pub type VertexKey = (u64, u64);
 
-/// What the mesh cannot do: a coarse grid it cannot number.
+/// What the mesh cannot do: a coarse grid it cannot number, a refinement past its deepest level
+/// or beyond [`MAX_CELLS`]. The mesh is left unchanged.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum MeshError {
     #[error(
@@ -45,6 +48,15 @@ pub enum MeshError {
          direction and at most {MAX_CELLS} cells in all"
     )]
     CoarseGrid { nx: usize, ny: usize },
+    #[error(
+        "the cell centred at ({}, {}) is marked for refinement but already has the deepest \
+         level: the mesh supports {MAX_LEVEL} refinement levels",
+        centre[0],
+        centre[1]
+    )]
+    PastDeepestLevel { centre: [f64; 2] },
+    #[error("refinement would make {cells} cells, more than the mesh can number ({MAX_CELLS})")]
+    TooManyCells { cells: u64 },
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -834,7 +846,16 @@ impl Mesh {
     /// where a refinement would create a level difference of two, and coarsening flags are
     /// dropped where coarsening would. Level-0 cells are never coarsened. Returns the number of
     /// cells refined and the number of sibling groups coarsened.
-    pub fn refine_and_coarsen(&mut self, refine: &[bool], coarsen: &[bool]) -> (usize, usize) {
+    ///
+    /// Fails, leaving the mesh unchanged, where a cell of level [`MAX_LEVEL`] would be refined
+    /// ([`MeshError::PastDeepestLevel`]: its children would have no integer position) or the
+    /// mesh would outgrow [`MAX_CELLS`]. The 2:1 closure only adds coarser cells, so the first
+    /// error names a cell the caller flagged.
+    pub fn refine_and_coarsen(
+        &mut self,
+        refine: &[bool],
+        coarsen: &[bool],
+    ) -> Result<(usize, usize), MeshError> {
         assert_eq!(refine.len(), self.active.len());
         assert_eq!(coarsen.len(), self.active.len());
         let n = self.cells.len();
@@ -889,13 +910,19 @@ impl Mesh {
             coarsen_parent[p as usize] = true;
             n_coarsened += 1;
         }
-        let n_refined = self
-            .active
-            .iter()
-            .filter(|&&c| ref_flag[c as usize])
-            .count();
+        let refined = || self.active.iter().filter(|&&c| ref_flag[c as usize]);
+        if let Some(&c) = refined().find(|&&c| self.cells[c as usize].level == MAX_LEVEL) {
+            let centre = self.cell_shape(c).point(0.5, 0.5);
+            return Err(MeshError::PastDeepestLevel { centre });
+        }
+        let n_refined = refined().count();
+        // Each refinement adds four cells, each coarsening removes four.
+        let cells = self.cells.len() as u64 + 4 * n_refined as u64 - 4 * n_coarsened as u64;
+        if cells > MAX_CELLS {
+            return Err(MeshError::TooManyCells { cells });
+        }
         self.rebuild(&ref_flag, &coarsen_parent);
-        (n_refined, n_coarsened)
+        Ok((n_refined, n_coarsened))
     }
 
     /// Whether removing the children of `p` keeps the 2:1 rule, given the refinement flags.
@@ -975,11 +1002,11 @@ impl Mesh {
         }
     }
 
-    /// Refine every active cell once.
-    pub fn refine_global(&mut self) {
+    /// Refine every active cell once (fails like [`Mesh::refine_and_coarsen`]).
+    pub fn refine_global(&mut self) -> Result<(), MeshError> {
         let r = vec![true; self.active.len()];
         let c = vec![false; self.active.len()];
-        self.refine_and_coarsen(&r, &c);
+        self.refine_and_coarsen(&r, &c).map(|_| ())
     }
 
     /// Check the 2:1 rule across every face of every active cell (for tests).

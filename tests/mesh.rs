@@ -3,7 +3,7 @@
 use crate::common::refine_around;
 use tribo::adaptivity::{apply_noise_floor, mark_fixed_number, rounded_measure, PLATEAU_CELLS};
 use tribo::fe::{Constraints, DofMap};
-use tribo::mesh::{BoundaryFace, Mesh, MeshError, Neighbor, Side, FACES};
+use tribo::mesh::{BoundaryFace, Mesh, MeshError, Neighbor, Side, FACES, MAX_LEVEL};
 
 #[test]
 fn twelve_levels_of_local_refinement_keep_two_to_one_and_valid_constraints() {
@@ -70,6 +70,48 @@ fn grids_wider_than_128_coarse_cells_number_their_hanging_vertices() {
     }
 }
 
+/// Issue 15.7: a cell of the deepest level cannot be refined (its children would have no integer
+/// position); the refinement fails, names the cell and the mesh's levels, and leaves the mesh as
+/// it was.
+#[test]
+fn refining_a_cell_of_the_deepest_level_fails_and_keeps_the_mesh() {
+    let mut mesh = Mesh::new([-16.0, 16.0], [0.0, 1.0], 64, 2);
+    let p = [0.3, 0.7];
+    refine_around(&mut mesh, p, MAX_LEVEL as usize);
+    assert!(mesh.is_balanced());
+    let deepest = mesh.locate(p).unwrap();
+    assert_eq!(mesh.level(deepest), MAX_LEVEL);
+    let before = mesh.active().to_vec();
+    let flags: Vec<bool> = before.iter().map(|&c| c == deepest).collect();
+    let none = vec![false; flags.len()];
+    let err = mesh.refine_and_coarsen(&flags, &none).unwrap_err();
+    let MeshError::PastDeepestLevel { centre } = err else {
+        panic!("{err}");
+    };
+    let b = mesh.cell_box(deepest);
+    assert!(
+        (centre[0] - (b[0] + b[2]) / 2.0).abs() < 1e-12,
+        "{centre:?} not in {b:?}"
+    );
+    assert!(
+        (centre[1] - (b[1] + b[3]) / 2.0).abs() < 1e-12,
+        "{centre:?} not in {b:?}"
+    );
+    assert!(
+        err.to_string()
+            .contains("the mesh supports 24 refinement levels"),
+        "{err}"
+    );
+    assert_eq!(mesh.active(), &before[..], "the mesh changed");
+    // A cell one level coarser still refines.
+    let coarser: Vec<bool> = before
+        .iter()
+        .map(|&c| mesh.level(c) == MAX_LEVEL - 1)
+        .collect();
+    assert!(coarser.iter().any(|&f| f));
+    assert!(mesh.refine_and_coarsen(&coarser, &none).is_ok());
+}
+
 /// A coarse grid the mesh cannot number is an error, not a panic or an allocation failure.
 #[test]
 fn coarse_grids_without_cells_or_beyond_the_cell_ids_are_errors() {
@@ -92,13 +134,13 @@ fn refinement_and_coarsening_round_trip() {
     // Coarsen everything: only complete groups of the finest level, never level 0.
     let all = vec![true; n];
     let none = vec![false; n];
-    mesh.refine_and_coarsen(&none, &all);
+    mesh.refine_and_coarsen(&none, &all).unwrap();
     assert!(mesh.is_balanced());
     assert!(mesh.n_active() < n);
     for _ in 0..5 {
         let all = vec![true; mesh.n_active()];
         let none = vec![false; mesh.n_active()];
-        mesh.refine_and_coarsen(&none, &all);
+        mesh.refine_and_coarsen(&none, &all).unwrap();
     }
     assert_eq!(mesh.n_active(), 16, "level-0 cells are never coarsened");
 }
@@ -124,7 +166,7 @@ fn coarsening_is_refused_where_it_would_break_two_to_one() {
         .map(|&c| mesh.cell_box(c)[0] >= 0.5)
         .collect();
     let none = vec![false; flags.len()];
-    mesh.refine_and_coarsen(&none, &flags);
+    mesh.refine_and_coarsen(&none, &flags).unwrap();
     assert!(mesh.is_balanced());
     let right = mesh.locate([0.9, 0.9]).unwrap();
     assert_eq!(mesh.level(right), 1);
@@ -260,7 +302,7 @@ fn rounded_measures_differ_by_position_only_in_the_last_bits() {
     // rounds differently by position, which is what splits a plateau (IV.64).
     let mut mesh = Mesh::new([0.0, 1.0], [0.0, 1.0], 1, 1);
     for _ in 0..6 {
-        mesh.refine_global();
+        mesh.refine_global().unwrap();
     }
     let m: Vec<f64> = mesh
         .active()

@@ -1,7 +1,12 @@
 //! The mesh at its limits, through the study: coarse grids of any shape (the integer positions of
-//! a 300 × 2 strip pass 2³² units).
+//! a 300 × 2 strip pass 2³² units) and refinement down to the deepest level
+//! ([`tribo::mesh::MAX_LEVEL`]), which ends a run with an error naming table and cycle — never a
+//! panic and never a wrong mesh.
 
-use tribo::experiment::{Experiment, Problem, Rectangle};
+use std::fs;
+use std::path::PathBuf;
+
+use tribo::experiment::{self, Experiment, Problem, Rectangle};
 use tribo::mesh::Side;
 use tribo::results::RunResult;
 use tribo::study::{self, Tier};
@@ -122,4 +127,79 @@ fn coarse_grids_past_128_cells_in_one_direction_run() {
             "{coarse:?}"
         );
     }
+}
+
+/// A fresh, empty directory under the system temp dir for one test.
+fn scratch_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("tribo-mesh-limits-{}-{name}", std::process::id()));
+    let _ = fs::remove_dir_all(&dir);
+    fs::create_dir_all(&dir).expect("create a scratch directory");
+    dir
+}
+
+/// Issue 15.7: a jump obstacle raises the obstacle 0.01 into the body right of x₁ = 0.1, and
+/// both ends are clamped. At the lower right corner the clamp holds s = 0 while the obstacle
+/// lifts the next boundary vertex by 0.01: a jump of the boundary values that no mesh resolves,
+/// so the indicator of the corner cell does not decrease and every cycle refines it once more
+/// (four cells of 32 are marked, 4 %, so the run stays small: ~200 cells at cycle 24). The
+/// adaptation after cycle 24 would refine a cell of level 24; it must end the run with an error
+/// naming the table, the cycle and the mesh's 24 levels, not go on with wrapped integer
+/// positions and fail later with "vertex … lies outside the previous mesh".
+#[test]
+fn refining_past_the_deepest_level_is_a_study_error_naming_table_and_cycle() {
+    const SHARP_JUMP: &str = r#"table = "IV.9"
+section = "IV.2.1.4"
+title = "A jump obstacle pressed into a clamped box"
+
+[scene]
+name = "jump-obstacle-pressed-into-clamped-box"
+domain = { x = [-1.0, 1.0], y = [0.0, 1.0] }
+coarse_cells = [8, 4]
+effects = ["elasticity", "contact"]
+
+[scene.elasticity]
+mu = 1.0
+lambda = 1.0
+dirichlet = ["left", "right"]
+volume_load = { direction = [0.0, 1.0], profile = { kind = "constant", amplitude = -0.1 } }
+
+[scene.contact]
+model = "z"
+estimator = "z-code"
+obstacles = [
+  { side = "bottom", shape = { kind = "jump", base = 0.0, height = 0.01, at = 0.1, s = 1e-12 } },
+]
+
+[study]
+kind = "grid-adaptive"
+rows = 30
+quick_rows = 30
+refine_fraction = 0.04
+coarsen_fraction = 0.0
+convergence_window = [1, 2]
+
+[thesis]
+columns = ["cycle", "dofs"]
+rows = [[0, 90]]
+"#;
+    let dir = scratch_dir("sharp-jump");
+    let path = dir.join("IV.9.toml");
+    fs::write(&path, SHARP_JUMP).unwrap();
+    let e = experiment::load(&path).unwrap_or_else(|err| panic!("{err}"));
+    let err = match study::run(&e, Tier::Quick, &|_, _, _| {}) {
+        Ok(r) => panic!("the run ended without an error: {:?}", r.rows.last()),
+        Err(err) => err,
+    };
+    fs::remove_dir_all(&dir).ok();
+    let message = err.to_string();
+    assert_eq!((err.table.as_str(), err.cycle), ("IV.9", 24), "{message}");
+    assert!(
+        message.starts_with("table IV.9, cycle 24: cannot refine the mesh after this cycle: "),
+        "{message}"
+    );
+    assert!(
+        message.ends_with("the mesh supports 24 refinement levels"),
+        "{message}"
+    );
+    assert!(!message.contains("outside the previous mesh"), "{message}");
 }

@@ -20,12 +20,13 @@ pub struct Discretisation {
 
 impl Discretisation {
     /// The scene's coarse grid of its domain, refined globally `global_refinements` times, or
-    /// the reason the mesh cannot be built (a grid too large to number).
+    /// the reason the mesh cannot be built (a grid too large to number, more global
+    /// refinements than [`crate::mesh::MAX_LEVEL`]).
     pub fn initial(scene: &Scene) -> Result<Discretisation, MeshError> {
         let d = &scene.domain;
         let mut mesh = Mesh::try_new(d.x, d.y, scene.coarse_cells[0], scene.coarse_cells[1])?;
         for _ in 0..scene.global_refinements {
-            mesh.refine_global();
+            mesh.refine_global()?;
         }
         Ok(Discretisation { mesh })
     }
