@@ -921,7 +921,7 @@ impl Mesh {
         if cells > MAX_CELLS {
             return Err(MeshError::TooManyCells { cells });
         }
-        self.rebuild(&ref_flag, &coarsen_parent);
+        self.rebuild(&ref_flag, &coarsen_parent, cells as usize);
         Ok((n_refined, n_coarsened))
     }
 
@@ -950,9 +950,13 @@ impl Mesh {
     }
 
     /// Rebuild the storage depth-first with the given refinements and coarsenings applied.
-    fn rebuild(&mut self, ref_flag: &[bool], coarsen_parent: &[bool]) {
+    /// `n_cells` is the number of cells afterwards: the new storage is allocated once, at its
+    /// size (grown by doubling, it could hold up to twice as many cells as the mesh has, next to
+    /// the old storage).
+    fn rebuild(&mut self, ref_flag: &[bool], coarsen_parent: &[bool], n_cells: usize) {
         let roots = self.nx * self.ny;
-        let mut cells: Vec<Cell> = self.cells[..roots].to_vec();
+        let mut cells: Vec<Cell> = Vec::with_capacity(n_cells);
+        cells.extend_from_slice(&self.cells[..roots]);
         for c in cells.iter_mut() {
             c.children = NONE;
         }
@@ -985,6 +989,7 @@ impl Mesh {
                 }
             }
         }
+        assert_eq!(cells.len(), n_cells, "cells counted before the rebuild");
         self.cells = cells;
         self.active.clear();
         let mut stack: Vec<u32> = (0..roots as u32).rev().collect();

@@ -70,6 +70,38 @@ fn grids_wider_than_128_coarse_cells_number_their_hanging_vertices() {
     }
 }
 
+/// The vertex list (built from one entry per vertex: lower-left corners, hanging midpoints of
+/// left and bottom faces, corners on the right and top sides) is exactly the set of corners of
+/// the active cells, sorted by integer position.
+#[test]
+fn vertices_are_the_corners_of_the_active_cells_each_once() {
+    let mut meshes = Vec::new();
+    let mut mesh = Mesh::new([-16.0, 16.0], [0.0, 1.0], 64, 2);
+    refine_around(&mut mesh, [0.3, 0.7], 8);
+    refine_around(&mut mesh, [16.0, 1.0], 5);
+    refine_around(&mut mesh, [-16.0, 0.25], 4);
+    meshes.push(mesh);
+    let mut mesh = Mesh::new([0.0, 1.0], [0.0, 3.0], 1, 3);
+    refine_around(&mut mesh, [0.5, 1.5], 6);
+    meshes.push(mesh);
+    let mut mesh = Mesh::new([0.0, 2.0], [0.0, 300.0], 2, 300);
+    refine_around(&mut mesh, [2.0, 300.0], 3);
+    refine_around(&mut mesh, [0.0, 150.0], 3);
+    meshes.push(mesh);
+    meshes.push(Mesh::new([0.0, 1.0], [0.0, 1.0], 1, 1));
+    for mesh in &meshes {
+        let mut corners: Vec<_> = mesh
+            .active()
+            .iter()
+            .flat_map(|&c| mesh.corner_keys(c))
+            .collect();
+        corners.sort_unstable();
+        corners.dedup();
+        let dofs = DofMap::new(mesh, 1);
+        assert_eq!(dofs.vertices.keys, corners, "{:?}", mesh.coarse_cells());
+    }
+}
+
 /// Issue 15.7: a cell of the deepest level cannot be refined (its children would have no integer
 /// position); the refinement fails, names the cell and the mesh's levels, and leaves the mesh as
 /// it was.

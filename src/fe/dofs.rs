@@ -7,7 +7,7 @@
 
 use rayon::prelude::*;
 
-use crate::mesh::{Mesh, Neighbor, Side, VertexKey, FACES};
+use crate::mesh::{Face, Mesh, Neighbor, Side, VertexKey, FACES};
 
 /// A vertex in the middle of a coarse cell's edge: value = ½(parent₀ + parent₁).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -35,15 +35,12 @@ pub struct Vertices {
 impl Vertices {
     pub fn new(mesh: &Mesh) -> Vertices {
         let active = mesh.active();
-        let mut keys: Vec<VertexKey> = active
-            .par_iter()
-            .flat_map_iter(|&c| mesh.corner_keys(c))
-            .collect();
+        let mut keys = vertex_keys(mesh);
         keys.par_sort_unstable();
-        keys.dedup();
-        // Four corners per cell collapse to about one vertex per cell: give back the rest of
-        // the buffer (the vertices live as long as the dofs).
-        keys.shrink_to_fit();
+        assert!(
+            keys.windows(2).all(|w| w[0] < w[1]),
+            "a vertex listed twice"
+        );
         let cell_vertices: Vec<[u32; 4]> = active
             .par_iter()
             .map(|&c| {
@@ -130,6 +127,40 @@ impl Vertices {
         }
         v
     }
+}
+
+/// The vertices of the active cells, each once, unsorted. Listing the four corners of every cell
+/// and removing the duplicates would sort four entries per vertex; instead each cell lists
+/// - its lower-left corner;
+/// - the midpoints of its left and bottom faces where the neighbour is finer (hanging vertices:
+///   the finer cells there have other lower-left corners);
+/// - its corners on the right and top sides of the domain (no cell lies beyond them).
+///
+/// Every other corner is the lower-left corner of the active cell that holds it (cells are
+/// half-open, `[x, x + w) × [y, y + w)`, and tile the domain): a corner on the interior of that
+/// cell's bottom or left edge would make that face's neighbour finer, and is then its midpoint
+/// (2:1 rule). Each vertex therefore appears exactly once.
+fn vertex_keys(mesh: &Mesh) -> Vec<VertexKey> {
+    let (right, top) = mesh.extent();
+    mesh.active()
+        .par_iter()
+        .flat_map_iter(|&c| {
+            let [ll, lr, ul, ur] = mesh.corner_keys(c);
+            let finer = |f: Face| matches!(mesh.neighbor(c, f), Neighbor::Finer(_));
+            let midpoint = |a: VertexKey, b: VertexKey| ((a.0 + b.0) / 2, (a.1 + b.1) / 2);
+            let (at_right, at_top) = (lr.0 == right, ul.1 == top);
+            [
+                Some(ll),
+                finer(Face::Left).then(|| midpoint(ll, ul)),
+                finer(Face::Bottom).then(|| midpoint(ll, lr)),
+                at_right.then_some(lr),
+                at_top.then_some(ul),
+                (at_right && at_top).then_some(ur),
+            ]
+            .into_iter()
+            .flatten()
+        })
+        .collect()
 }
 
 /// Degrees of freedom: `n_components` per vertex.
