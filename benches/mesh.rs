@@ -26,7 +26,8 @@ fn main() {
             .collect();
         let none = vec![false; flags.len()];
         let t = Instant::now();
-        mesh.refine_and_coarsen(&flags, &none);
+        mesh.refine_and_coarsen(&flags, &none)
+            .expect("above the deepest level");
         println!(
             "refine step {step:>2}: {:>9} active cells  {:>7.3} s",
             mesh.n_active(),
@@ -53,7 +54,7 @@ fn main() {
     let t = Instant::now();
     let all = vec![true; mesh.n_active()];
     let none = vec![false; mesh.n_active()];
-    mesh.refine_and_coarsen(&none, &all);
+    mesh.refine_and_coarsen(&none, &all).expect("coarsening");
     println!(
         "coarsen everything once: {} active cells  {:.3} s",
         mesh.n_active(),

@@ -3,11 +3,15 @@
 //! the cells.
 //!
 //! Positions are integers: a coarse cell is `2^MAX_LEVEL` units wide, a cell of level `l` is
-//! `2^(MAX_LEVEL − l)` units wide. Neighbour and vertex lookup is therefore exact, and every
-//! numbering is derived from the (deterministic) depth-first order of the trees — never from the
-//! iteration order of a hash map. The integer position of a cell ([`CellKey`]) and of a boundary
-//! face ([`BoundaryFace`]) never changes under refinement of other cells, so they identify cells
-//! and faces from cycle to cycle.
+//! `2^(MAX_LEVEL − l)` units wide. They are `u64`: a coarse grid has at most [`MAX_CELLS`] < 2³²
+//! cells (the most a [`CellId`] can number), so it spans less than 2³² · 2²⁴ = 2⁵⁶ units in
+//! either direction, and positions, their sums and midpoints never overflow, whatever the shape
+//! of the grid (a 300 × 2 strip as well as a square). Positions below 2⁵³ (grids of fewer than
+//! 2²⁹ cells in a row) are exact in `f64` too. Neighbour and vertex lookup is therefore exact,
+//! and every numbering is derived from the (deterministic) depth-first order of the trees —
+//! never from the iteration order of a hash map. The integer position of a cell ([`CellKey`])
+//! and of a boundary face ([`BoundaryFace`]) never changes under refinement of other cells, so
+//! they identify cells and faces from cycle to cycle.
 //!
 //! **Geometry.** The coarse grid covers a rectangle ([`Mesh::new`]), or its vertices are moved
 //! ([`Mesh::with_coarse_vertices`], the moved body of a forming step): every coarse cell is then
@@ -18,19 +22,49 @@
 
 use serde::Deserialize;
 
-/// Deepest refinement level a cell can reach.
+/// Deepest refinement level a cell can reach: the mesh supports `MAX_LEVEL` refinement levels
+/// below its coarse grid. Refining a cell of this level is an error
+/// ([`MeshError::PastDeepestLevel`]).
 pub const MAX_LEVEL: u8 = 24;
 
 /// Index of a cell in [`Mesh`] storage (active or not).
 pub type CellId = u32;
 const NONE: u32 = u32::MAX;
 
+/// Most cells a mesh can hold, active and refined together: every [`CellId`] but the one that
+/// marks "none". Also the largest coarse grid (`nx · ny`), far more than fits in memory with the
+/// dofs and matrices of a solve.
+pub const MAX_CELLS: u64 = NONE as u64;
+
+/// Integer position `(x, y)` of a vertex (a cell corner), in the units of the module docs.
+pub type VertexKey = (u64, u64);
+
+/// What the mesh cannot do: a coarse grid it cannot number, a refinement past its deepest level
+/// or beyond [`MAX_CELLS`]. The mesh is left unchanged.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum MeshError {
+    #[error(
+        "a coarse grid of {nx} × {ny} cells is not supported: it needs at least one cell in each \
+         direction and at most {MAX_CELLS} cells in all"
+    )]
+    CoarseGrid { nx: usize, ny: usize },
+    #[error(
+        "the cell centred at ({}, {}) is marked for refinement but already has the deepest \
+         level: the mesh supports {MAX_LEVEL} refinement levels",
+        centre[0],
+        centre[1]
+    )]
+    PastDeepestLevel { centre: [f64; 2] },
+    #[error("refinement would make {cells} cells, more than the mesh can number ({MAX_CELLS})")]
+    TooManyCells { cells: u64 },
+}
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 struct Cell {
     level: u8,
     /// Lower-left corner in integer units.
-    x: u32,
-    y: u32,
+    x: u64,
+    y: u64,
     parent: u32,
     /// First of four consecutive children (order: lower-left, lower-right, upper-left,
     /// upper-right), or `NONE` for an active cell.
@@ -131,8 +165,8 @@ impl BoundaryFace {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub struct CellKey {
     pub level: u8,
-    pub x: u32,
-    pub y: u32,
+    pub x: u64,
+    pub y: u64,
 }
 
 /// The physical shape of a cell: the image of the reference square \[0,1\]² under the bilinear
@@ -428,20 +462,32 @@ pub struct Mesh {
 
 impl Mesh {
     /// Coarse `nx × ny` grid of the rectangle `[x0, x1] × [y0, y1]`.
+    ///
+    /// # Panics
+    ///
+    /// If [`Mesh::try_new`] fails (an empty grid or more than [`MAX_CELLS`] cells): for grids
+    /// known to be valid, as in tests. A grid from user input goes through `try_new`.
     pub fn new(x: [f64; 2], y: [f64; 2], nx: usize, ny: usize) -> Mesh {
-        assert!(nx >= 1 && ny >= 1, "coarse grid needs at least one cell");
-        let size = 1u64 << MAX_LEVEL;
-        assert!(
-            (nx as u64) * size < u32::MAX as u64 && (ny as u64) * size < u32::MAX as u64,
-            "coarse grid too large for integer coordinates"
-        );
+        Mesh::try_new(x, y, nx, ny).unwrap_or_else(|e| panic!("{e}"))
+    }
+
+    /// Coarse `nx × ny` grid of the rectangle `[x0, x1] × [y0, y1]`, or
+    /// [`MeshError::CoarseGrid`] when it is empty or has more than [`MAX_CELLS`] cells (its
+    /// cells could not all be numbered by a [`CellId`]). Any grid that fits in memory is
+    /// supported, however long and thin.
+    pub fn try_new(x: [f64; 2], y: [f64; 2], nx: usize, ny: usize) -> Result<Mesh, MeshError> {
+        let n_coarse = (nx as u64).checked_mul(ny as u64);
+        if nx == 0 || ny == 0 || n_coarse.is_none_or(|n| n > MAX_CELLS) {
+            return Err(MeshError::CoarseGrid { nx, ny });
+        }
+        let size = Self::width(0);
         let mut cells = Vec::with_capacity(nx * ny);
         for j in 0..ny {
             for i in 0..nx {
                 cells.push(Cell {
                     level: 0,
-                    x: (i as u64 * size) as u32,
-                    y: (j as u64 * size) as u32,
+                    x: i as u64 * size,
+                    y: j as u64 * size,
                     parent: NONE,
                     children: NONE,
                 });
@@ -449,7 +495,7 @@ impl Mesh {
         }
         let active: Vec<CellId> = (0..cells.len() as u32).collect();
         let active_index = active.clone();
-        Mesh {
+        Ok(Mesh {
             x0: x[0],
             y0: y[0],
             unit_x: (x[1] - x[0]) / (nx as f64 * size as f64),
@@ -460,7 +506,7 @@ impl Mesh {
             cells,
             active,
             active_index,
-        }
+        })
     }
 
     /// A coarse `nx × ny` grid whose `(nx + 1) × (ny + 1)` vertices (row by row, x fastest) lie
@@ -489,7 +535,8 @@ impl Mesh {
                 vertices[i]
             ));
         }
-        let mut mesh = Mesh::new([0.0, nx as f64], [0.0, ny as f64], nx, ny);
+        let mut mesh =
+            Mesh::try_new([0.0, nx as f64], [0.0, ny as f64], nx, ny).map_err(|e| e.to_string())?;
         mesh.moved = Some(vertices);
         for c in 0..(nx * ny) as CellId {
             let shape = mesh.cell_shape(c);
@@ -553,12 +600,13 @@ impl Mesh {
         (f != NONE).then_some([f, f + 1, f + 2, f + 3])
     }
 
-    fn width(level: u8) -> u32 {
-        1u32 << (MAX_LEVEL - level)
+    /// Width of a cell of `level` in integer units.
+    fn width(level: u8) -> u64 {
+        1u64 << (MAX_LEVEL - level)
     }
 
     /// Integer corner positions `(x, y)` of a cell, lexicographic order.
-    pub fn corner_keys(&self, c: CellId) -> [(u32, u32); 4] {
+    pub fn corner_keys(&self, c: CellId) -> [VertexKey; 4] {
         let cell = self.cells[c as usize];
         let w = Self::width(cell.level);
         [
@@ -572,18 +620,19 @@ impl Mesh {
     /// Physical position of an integer point. On a moved grid: the bilinear map of the coarse
     /// cell that holds it (always the same one for a given point: the lowest-numbered one, so
     /// that every cell sharing a vertex sees the same bits).
-    pub fn point(&self, key: (u32, u32)) -> [f64; 2] {
+    pub fn point(&self, key: VertexKey) -> [f64; 2] {
         match &self.moved {
             None => [
                 self.x0 + key.0 as f64 * self.unit_x,
                 self.y0 + key.1 as f64 * self.unit_y,
             ],
             Some(v) => {
-                let size = 1u32 << MAX_LEVEL;
+                let size = Self::width(0);
                 let i = ((key.0 / size) as usize).min(self.nx - 1);
                 let j = ((key.1 / size) as usize).min(self.ny - 1);
-                let xi = (key.0 as f64 - (i as u64 * size as u64) as f64) / size as f64;
-                let eta = (key.1 as f64 - (j as u64 * size as u64) as f64) / size as f64;
+                // Offsets within the coarse cell are at most 2^MAX_LEVEL: exact in f64.
+                let xi = (key.0 - i as u64 * size) as f64 / size as f64;
+                let eta = (key.1 - j as u64 * size) as f64 / size as f64;
                 let row = self.nx + 1;
                 let corners = [
                     v[j * row + i],
@@ -645,23 +694,23 @@ impl Mesh {
         };
         let [a, b] = face.vertices().map(|i| self.corner_keys(c)[i]);
         let (start, end) = if side.is_horizontal() {
-            (a.0 as u64, b.0 as u64)
+            (a.0, b.0)
         } else {
-            (a.1 as u64, b.1 as u64)
+            (a.1, b.1)
         };
         Some(BoundaryFace::spanning(side, start, end))
     }
 
     /// Extent of the domain in integer units.
     pub fn extent(&self) -> (u64, u64) {
-        let size = 1u64 << MAX_LEVEL;
+        let size = Self::width(0);
         (self.nx as u64 * size, self.ny as u64 * size)
     }
 
     /// Deepest existing cell of level ≤ `max_level` containing the integer point `(x, y)`
     /// (points on a cell's lower/left edges belong to it).
-    fn descend(&self, x: u32, y: u32, max_level: u8) -> CellId {
-        let size = 1u32 << MAX_LEVEL;
+    fn descend(&self, x: u64, y: u64, max_level: u8) -> CellId {
+        let size = Self::width(0);
         let (i, j) = ((x / size) as usize, (y / size) as usize);
         let mut c = (j * self.nx + i) as u32;
         loop {
@@ -688,7 +737,7 @@ impl Mesh {
             return None;
         }
         let n = self.across_inside(c, face);
-        debug_assert_eq!(n, self.descend(nx as u32, ny as u32, cell.level));
+        debug_assert_eq!(n, self.descend(nx as u64, ny as u64, cell.level));
         Some(n)
     }
 
@@ -758,17 +807,17 @@ impl Mesh {
         if !(fx > -tol && fy > -tol && fx < ex as f64 + tol && fy < ey as f64 + tol) {
             return None;
         }
-        let x = (fx.round().clamp(0.0, (ex - 1) as f64)) as u32;
-        let y = (fy.round().clamp(0.0, (ey - 1) as f64)) as u32;
+        let x = (fx.round().clamp(0.0, (ex - 1) as f64)) as u64;
+        let y = (fy.round().clamp(0.0, (ey - 1) as f64)) as u64;
         let x = if (fx - fx.round()).abs() < 1e-6 {
             x
         } else {
-            fx.floor().clamp(0.0, (ex - 1) as f64) as u32
+            fx.floor().clamp(0.0, (ex - 1) as f64) as u64
         };
         let y = if (fy - fy.round()).abs() < 1e-6 {
             y
         } else {
-            fy.floor().clamp(0.0, (ey - 1) as f64) as u32
+            fy.floor().clamp(0.0, (ey - 1) as f64) as u64
         };
         Some(self.descend(x, y, MAX_LEVEL))
     }
@@ -776,7 +825,7 @@ impl Mesh {
     /// [`Mesh::locate`] on a moved grid: the coarse cell whose reference coordinates of `p` lie
     /// in \[0,1\]² (up to 1e-9), then down the tree by integer position.
     fn locate_moved(&self, p: [f64; 2]) -> Option<CellId> {
-        let size = 1u64 << MAX_LEVEL;
+        let size = Self::width(0);
         let tol = 1e-9;
         (0..(self.nx * self.ny) as CellId).find_map(|c| {
             let (xi, eta) = self.cell_shape(c).reference(p);
@@ -786,9 +835,7 @@ impl Mesh {
             }
             let cell = self.cells[c as usize];
             let offset = |t: f64| ((t.clamp(0.0, 1.0) * size as f64).round() as u64).min(size - 1);
-            let x = cell.x as u64 + offset(xi);
-            let y = cell.y as u64 + offset(eta);
-            Some(self.descend(x as u32, y as u32, MAX_LEVEL))
+            Some(self.descend(cell.x + offset(xi), cell.y + offset(eta), MAX_LEVEL))
         })
     }
 
@@ -799,7 +846,16 @@ impl Mesh {
     /// where a refinement would create a level difference of two, and coarsening flags are
     /// dropped where coarsening would. Level-0 cells are never coarsened. Returns the number of
     /// cells refined and the number of sibling groups coarsened.
-    pub fn refine_and_coarsen(&mut self, refine: &[bool], coarsen: &[bool]) -> (usize, usize) {
+    ///
+    /// Fails, leaving the mesh unchanged, where a cell of level [`MAX_LEVEL`] would be refined
+    /// ([`MeshError::PastDeepestLevel`]: its children would have no integer position) or the
+    /// mesh would outgrow [`MAX_CELLS`]. The 2:1 closure only adds coarser cells, so the first
+    /// error names a cell the caller flagged.
+    pub fn refine_and_coarsen(
+        &mut self,
+        refine: &[bool],
+        coarsen: &[bool],
+    ) -> Result<(usize, usize), MeshError> {
         assert_eq!(refine.len(), self.active.len());
         assert_eq!(coarsen.len(), self.active.len());
         let n = self.cells.len();
@@ -854,13 +910,19 @@ impl Mesh {
             coarsen_parent[p as usize] = true;
             n_coarsened += 1;
         }
-        let n_refined = self
-            .active
-            .iter()
-            .filter(|&&c| ref_flag[c as usize])
-            .count();
-        self.rebuild(&ref_flag, &coarsen_parent);
-        (n_refined, n_coarsened)
+        let refined = || self.active.iter().filter(|&&c| ref_flag[c as usize]);
+        if let Some(&c) = refined().find(|&&c| self.cells[c as usize].level == MAX_LEVEL) {
+            let centre = self.cell_shape(c).point(0.5, 0.5);
+            return Err(MeshError::PastDeepestLevel { centre });
+        }
+        let n_refined = refined().count();
+        // Each refinement adds four cells, each coarsening removes four.
+        let cells = self.cells.len() as u64 + 4 * n_refined as u64 - 4 * n_coarsened as u64;
+        if cells > MAX_CELLS {
+            return Err(MeshError::TooManyCells { cells });
+        }
+        self.rebuild(&ref_flag, &coarsen_parent, cells as usize);
+        Ok((n_refined, n_coarsened))
     }
 
     /// Whether removing the children of `p` keeps the 2:1 rule, given the refinement flags.
@@ -888,9 +950,13 @@ impl Mesh {
     }
 
     /// Rebuild the storage depth-first with the given refinements and coarsenings applied.
-    fn rebuild(&mut self, ref_flag: &[bool], coarsen_parent: &[bool]) {
+    /// `n_cells` is the number of cells afterwards: the new storage is allocated once, at its
+    /// size (grown by doubling, it could hold up to twice as many cells as the mesh has, next to
+    /// the old storage).
+    fn rebuild(&mut self, ref_flag: &[bool], coarsen_parent: &[bool], n_cells: usize) {
         let roots = self.nx * self.ny;
-        let mut cells: Vec<Cell> = self.cells[..roots].to_vec();
+        let mut cells: Vec<Cell> = Vec::with_capacity(n_cells);
+        cells.extend_from_slice(&self.cells[..roots]);
         for c in cells.iter_mut() {
             c.children = NONE;
         }
@@ -913,8 +979,8 @@ impl Mesh {
             for ci in 0..4u32 {
                 cells.push(Cell {
                     level: oc.level + 1,
-                    x: oc.x + half * (ci & 1),
-                    y: oc.y + half * (ci >> 1),
+                    x: oc.x + half * u64::from(ci & 1),
+                    y: oc.y + half * u64::from(ci >> 1),
                     parent: new,
                     children: NONE,
                 });
@@ -923,6 +989,7 @@ impl Mesh {
                 }
             }
         }
+        assert_eq!(cells.len(), n_cells, "cells counted before the rebuild");
         self.cells = cells;
         self.active.clear();
         let mut stack: Vec<u32> = (0..roots as u32).rev().collect();
@@ -940,11 +1007,11 @@ impl Mesh {
         }
     }
 
-    /// Refine every active cell once.
-    pub fn refine_global(&mut self) {
+    /// Refine every active cell once (fails like [`Mesh::refine_and_coarsen`]).
+    pub fn refine_global(&mut self) -> Result<(), MeshError> {
         let r = vec![true; self.active.len()];
         let c = vec![false; self.active.len()];
-        self.refine_and_coarsen(&r, &c);
+        self.refine_and_coarsen(&r, &c).map(|_| ())
     }
 
     /// Check the 2:1 rule across every face of every active cell (for tests).

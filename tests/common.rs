@@ -155,7 +155,7 @@ pub fn refine_around(mesh: &mut Mesh, p: [f64; 2], levels: usize) {
             })
             .collect();
         let none = vec![false; flags.len()];
-        mesh.refine_and_coarsen(&flags, &none);
+        mesh.refine_and_coarsen(&flags, &none).unwrap();
     }
 }
 

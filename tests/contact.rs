@@ -277,7 +277,7 @@ fn refine_at(mesh: &mut Mesh, points: &[[f64; 2]], levels: usize) {
             }
         }
         let none = vec![false; mesh.n_active()];
-        mesh.refine_and_coarsen(&flags, &none);
+        mesh.refine_and_coarsen(&flags, &none).unwrap();
     }
 }
 

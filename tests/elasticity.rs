@@ -332,7 +332,7 @@ fn manufactured_convergence(mut mesh: Mesh) -> (f64, Vec<f64>) {
             0.3,
             0.03,
         );
-        mesh.refine_and_coarsen(&m.refine, &m.coarsen);
+        mesh.refine_and_coarsen(&m.refine, &m.coarsen).unwrap();
     }
     let k = n.len() - 5;
     let (xs, ys): (Vec<f64>, Vec<f64>) = (

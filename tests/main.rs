@@ -7,6 +7,7 @@ mod contact;
 mod elasticity;
 mod full_tier;
 mod mesh;
+mod mesh_limits;
 mod outputs;
 mod properties;
 mod report_failures;

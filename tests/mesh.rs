@@ -3,7 +3,7 @@
 use crate::common::refine_around;
 use tribo::adaptivity::{apply_noise_floor, mark_fixed_number, rounded_measure, PLATEAU_CELLS};
 use tribo::fe::{Constraints, DofMap};
-use tribo::mesh::{BoundaryFace, Mesh, Neighbor, Side, FACES};
+use tribo::mesh::{BoundaryFace, Mesh, MeshError, Neighbor, Side, FACES, MAX_LEVEL};
 
 #[test]
 fn twelve_levels_of_local_refinement_keep_two_to_one_and_valid_constraints() {
@@ -39,6 +39,125 @@ fn twelve_levels_of_local_refinement_keep_two_to_one_and_valid_constraints() {
     }
 }
 
+/// Issue 15.1: coarse grids more than 128 cells wide (integer positions past 2³¹, whose vertex
+/// midpoints overflowed 32 bits: "hanging vertex exists") or 256 wide (past 2³²: an assert in
+/// `Mesh::new`). Hanging vertices at the far end of the strip, in x₁ and turned in x₂, are the
+/// midpoints of their parents.
+#[test]
+fn grids_wider_than_128_coarse_cells_number_their_hanging_vertices() {
+    for n in [129, 255, 256, 300] {
+        let far = n as f64 - 0.3;
+        for (nx, ny, p) in [(n, 2, [far, 0.7]), (2, n, [0.7, far])] {
+            let mut mesh = Mesh::new([0.0, nx as f64], [0.0, ny as f64], nx, ny);
+            refine_around(&mut mesh, p, 3);
+            assert!(mesh.is_balanced());
+            let dofs = DofMap::new(&mesh, 1);
+            assert_hanging_vertices_are_midpoints(&dofs, 1e-12);
+            let v = &dofs.vertices;
+            let far_hanging = v
+                .hanging
+                .iter()
+                .filter(|h| v.coords[h.vertex as usize][if nx > ny { 0 } else { 1 }] > 128.0)
+                .count();
+            assert!(far_hanging > 0, "{nx} × {ny}: no hanging vertex past 128");
+            // The right and top sides are found at the grid's extent.
+            let right = v.side_vertices(Side::Right);
+            let top = v.side_vertices(Side::Top);
+            assert!(right.len() > ny && top.len() > nx);
+            assert!(right.iter().all(|&r| v.coords[r as usize][0] == nx as f64));
+            assert!(top.iter().all(|&t| v.coords[t as usize][1] == ny as f64));
+        }
+    }
+}
+
+/// The vertex list (built from one entry per vertex: lower-left corners, hanging midpoints of
+/// left and bottom faces, corners on the right and top sides) is exactly the set of corners of
+/// the active cells, sorted by integer position.
+#[test]
+fn vertices_are_the_corners_of_the_active_cells_each_once() {
+    let mut meshes = Vec::new();
+    let mut mesh = Mesh::new([-16.0, 16.0], [0.0, 1.0], 64, 2);
+    refine_around(&mut mesh, [0.3, 0.7], 8);
+    refine_around(&mut mesh, [16.0, 1.0], 5);
+    refine_around(&mut mesh, [-16.0, 0.25], 4);
+    meshes.push(mesh);
+    let mut mesh = Mesh::new([0.0, 1.0], [0.0, 3.0], 1, 3);
+    refine_around(&mut mesh, [0.5, 1.5], 6);
+    meshes.push(mesh);
+    let mut mesh = Mesh::new([0.0, 2.0], [0.0, 300.0], 2, 300);
+    refine_around(&mut mesh, [2.0, 300.0], 3);
+    refine_around(&mut mesh, [0.0, 150.0], 3);
+    meshes.push(mesh);
+    meshes.push(Mesh::new([0.0, 1.0], [0.0, 1.0], 1, 1));
+    for mesh in &meshes {
+        let mut corners: Vec<_> = mesh
+            .active()
+            .iter()
+            .flat_map(|&c| mesh.corner_keys(c))
+            .collect();
+        corners.sort_unstable();
+        corners.dedup();
+        let dofs = DofMap::new(mesh, 1);
+        assert_eq!(dofs.vertices.keys, corners, "{:?}", mesh.coarse_cells());
+    }
+}
+
+/// Issue 15.7: a cell of the deepest level cannot be refined (its children would have no integer
+/// position); the refinement fails, names the cell and the mesh's levels, and leaves the mesh as
+/// it was.
+#[test]
+fn refining_a_cell_of_the_deepest_level_fails_and_keeps_the_mesh() {
+    let mut mesh = Mesh::new([-16.0, 16.0], [0.0, 1.0], 64, 2);
+    let p = [0.3, 0.7];
+    refine_around(&mut mesh, p, MAX_LEVEL as usize);
+    assert!(mesh.is_balanced());
+    let deepest = mesh.locate(p).unwrap();
+    assert_eq!(mesh.level(deepest), MAX_LEVEL);
+    let before = mesh.active().to_vec();
+    let flags: Vec<bool> = before.iter().map(|&c| c == deepest).collect();
+    let none = vec![false; flags.len()];
+    let err = mesh.refine_and_coarsen(&flags, &none).unwrap_err();
+    let MeshError::PastDeepestLevel { centre } = err else {
+        panic!("{err}");
+    };
+    let b = mesh.cell_box(deepest);
+    assert!(
+        (centre[0] - (b[0] + b[2]) / 2.0).abs() < 1e-12,
+        "{centre:?} not in {b:?}"
+    );
+    assert!(
+        (centre[1] - (b[1] + b[3]) / 2.0).abs() < 1e-12,
+        "{centre:?} not in {b:?}"
+    );
+    assert!(
+        err.to_string()
+            .contains("the mesh supports 24 refinement levels"),
+        "{err}"
+    );
+    assert_eq!(mesh.active(), &before[..], "the mesh changed");
+    // A cell one level coarser still refines.
+    let coarser: Vec<bool> = before
+        .iter()
+        .map(|&c| mesh.level(c) == MAX_LEVEL - 1)
+        .collect();
+    assert!(coarser.iter().any(|&f| f));
+    assert!(mesh.refine_and_coarsen(&coarser, &none).is_ok());
+}
+
+/// A coarse grid the mesh cannot number is an error, not a panic or an allocation failure.
+#[test]
+fn coarse_grids_without_cells_or_beyond_the_cell_ids_are_errors() {
+    let grid = |nx, ny| Mesh::try_new([0.0, 1.0], [0.0, 1.0], nx, ny).map(|m| m.n_active());
+    assert_eq!(grid(3, 2), Ok(6));
+    for (nx, ny) in [(0, 2), (2, 0), (1 << 20, 1 << 12), (usize::MAX, 2)] {
+        assert_eq!(grid(nx, ny), Err(MeshError::CoarseGrid { nx, ny }));
+    }
+    assert!(grid(1 << 20, 1 << 12)
+        .unwrap_err()
+        .to_string()
+        .contains("at most 4294967295 cells"));
+}
+
 #[test]
 fn refinement_and_coarsening_round_trip() {
     let mut mesh = Mesh::new([0.0, 1.0], [0.0, 1.0], 4, 4);
@@ -47,13 +166,13 @@ fn refinement_and_coarsening_round_trip() {
     // Coarsen everything: only complete groups of the finest level, never level 0.
     let all = vec![true; n];
     let none = vec![false; n];
-    mesh.refine_and_coarsen(&none, &all);
+    mesh.refine_and_coarsen(&none, &all).unwrap();
     assert!(mesh.is_balanced());
     assert!(mesh.n_active() < n);
     for _ in 0..5 {
         let all = vec![true; mesh.n_active()];
         let none = vec![false; mesh.n_active()];
-        mesh.refine_and_coarsen(&none, &all);
+        mesh.refine_and_coarsen(&none, &all).unwrap();
     }
     assert_eq!(mesh.n_active(), 16, "level-0 cells are never coarsened");
 }
@@ -79,7 +198,7 @@ fn coarsening_is_refused_where_it_would_break_two_to_one() {
         .map(|&c| mesh.cell_box(c)[0] >= 0.5)
         .collect();
     let none = vec![false; flags.len()];
-    mesh.refine_and_coarsen(&none, &flags);
+    mesh.refine_and_coarsen(&none, &flags).unwrap();
     assert!(mesh.is_balanced());
     let right = mesh.locate([0.9, 0.9]).unwrap();
     assert_eq!(mesh.level(right), 1);
@@ -215,7 +334,7 @@ fn rounded_measures_differ_by_position_only_in_the_last_bits() {
     // rounds differently by position, which is what splits a plateau (IV.64).
     let mut mesh = Mesh::new([0.0, 1.0], [0.0, 1.0], 1, 1);
     for _ in 0..6 {
-        mesh.refine_global();
+        mesh.refine_global().unwrap();
     }
     let m: Vec<f64> = mesh
         .active()

@@ -433,7 +433,7 @@ fn cell_data_are_bitwise_the_pointwise_evaluation() {
             .map(|&c| mesh.cell_box(c)[2] <= 0.375 && mesh.cell_box(c)[3] <= 0.5)
             .collect();
         let none = vec![false; flags.len()];
-        mesh.refine_and_coarsen(&flags, &none);
+        mesh.refine_and_coarsen(&flags, &none).unwrap();
         let data = p.cell_data_reusing(&mesh, load, Some(&first)).data;
         for (k, &c) in mesh.active().iter().enumerate() {
             let shape = mesh.cell_shape(c);

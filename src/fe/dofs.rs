@@ -7,7 +7,7 @@
 
 use rayon::prelude::*;
 
-use crate::mesh::{Mesh, Neighbor, Side, FACES};
+use crate::mesh::{Face, Mesh, Neighbor, Side, VertexKey, FACES};
 
 /// A vertex in the middle of a coarse cell's edge: value = ½(parent₀ + parent₁).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -19,8 +19,8 @@ pub struct Hanging {
 /// Vertices of the active cells of a mesh.
 #[derive(Clone, Debug)]
 pub struct Vertices {
-    /// Integer positions, sorted.
-    pub keys: Vec<(u32, u32)>,
+    /// Integer positions, sorted (x first, then y).
+    pub keys: Vec<VertexKey>,
     /// Physical positions.
     pub coords: Vec<[f64; 2]>,
     /// Four vertex numbers per active cell (lexicographic corners), indexed like `mesh.active()`.
@@ -35,20 +35,20 @@ pub struct Vertices {
 impl Vertices {
     pub fn new(mesh: &Mesh) -> Vertices {
         let active = mesh.active();
-        let mut keys: Vec<u64> = active
-            .par_iter()
-            .flat_map_iter(|&c| mesh.corner_keys(c).into_iter().map(pack))
-            .collect();
+        let mut keys = vertex_keys(mesh);
         keys.par_sort_unstable();
-        keys.dedup();
+        assert!(
+            keys.windows(2).all(|w| w[0] < w[1]),
+            "a vertex listed twice"
+        );
         let cell_vertices: Vec<[u32; 4]> = active
             .par_iter()
             .map(|&c| {
                 mesh.corner_keys(c)
-                    .map(|k| keys.binary_search(&pack(k)).expect("corner is a vertex") as u32)
+                    .map(|k| keys.binary_search(&k).expect("corner is a vertex") as u32)
             })
             .collect();
-        let lookup = |k: (u32, u32)| keys.binary_search(&pack(k)).ok().map(|v| v as u32);
+        let lookup = |k: VertexKey| keys.binary_search(&k).ok().map(|v| v as u32);
         let mut hanging: Vec<Hanging> = active
             .par_iter()
             .enumerate()
@@ -79,9 +79,9 @@ impl Vertices {
         for h in &hanging {
             is_hanging[h.vertex as usize] = true;
         }
-        let coords = keys.par_iter().map(|&k| mesh.point(unpack(k))).collect();
+        let coords = keys.par_iter().map(|&k| mesh.point(k)).collect();
         Vertices {
-            keys: keys.into_iter().map(unpack).collect(),
+            keys,
             coords,
             cell_vertices,
             hanging,
@@ -103,9 +103,9 @@ impl Vertices {
         let (x, y) = self.keys[v as usize];
         match side {
             Side::Left => x == 0,
-            Side::Right => x as u64 == self.extent.0,
+            Side::Right => x == self.extent.0,
             Side::Bottom => y == 0,
-            Side::Top => y as u64 == self.extent.1,
+            Side::Top => y == self.extent.1,
         }
     }
 
@@ -129,12 +129,38 @@ impl Vertices {
     }
 }
 
-fn pack(k: (u32, u32)) -> u64 {
-    ((k.0 as u64) << 32) | k.1 as u64
-}
-
-fn unpack(k: u64) -> (u32, u32) {
-    ((k >> 32) as u32, k as u32)
+/// The vertices of the active cells, each once, unsorted. Listing the four corners of every cell
+/// and removing the duplicates would sort four entries per vertex; instead each cell lists
+/// - its lower-left corner;
+/// - the midpoints of its left and bottom faces where the neighbour is finer (hanging vertices:
+///   the finer cells there have other lower-left corners);
+/// - its corners on the right and top sides of the domain (no cell lies beyond them).
+///
+/// Every other corner is the lower-left corner of the active cell that holds it (cells are
+/// half-open, `[x, x + w) × [y, y + w)`, and tile the domain): a corner on the interior of that
+/// cell's bottom or left edge would make that face's neighbour finer, and is then its midpoint
+/// (2:1 rule). Each vertex therefore appears exactly once.
+fn vertex_keys(mesh: &Mesh) -> Vec<VertexKey> {
+    let (right, top) = mesh.extent();
+    mesh.active()
+        .par_iter()
+        .flat_map_iter(|&c| {
+            let [ll, lr, ul, ur] = mesh.corner_keys(c);
+            let finer = |f: Face| matches!(mesh.neighbor(c, f), Neighbor::Finer(_));
+            let midpoint = |a: VertexKey, b: VertexKey| ((a.0 + b.0) / 2, (a.1 + b.1) / 2);
+            let (at_right, at_top) = (lr.0 == right, ul.1 == top);
+            [
+                Some(ll),
+                finer(Face::Left).then(|| midpoint(ll, ul)),
+                finer(Face::Bottom).then(|| midpoint(ll, lr)),
+                at_right.then_some(lr),
+                at_top.then_some(ul),
+                (at_right && at_top).then_some(ur),
+            ]
+            .into_iter()
+            .flatten()
+        })
+        .collect()
 }
 
 /// Degrees of freedom: `n_components` per vertex.

@@ -1,6 +1,8 @@
 //! Fill-reducing ordering for the sparse factorisations: geometric nested dissection on the
 //! integer vertex positions of the quadtree mesh.
 
+use crate::mesh::VertexKey;
+
 /// A symmetric permutation of the dofs: `fwd[new] = old`, `inv[old] = new`.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Ordering {
@@ -20,7 +22,7 @@ impl Ordering {
     /// Nested dissection of the vertices (see the function below) with the `nc` dofs of each
     /// vertex kept together (dof = vertex · nc + component).
     pub fn nested_dissection(
-        keys: &[(u32, u32)],
+        keys: &[VertexKey],
         col_ptr: &[usize],
         row_idx: &[usize],
         nc: usize,
@@ -60,7 +62,7 @@ const ND_PARALLEL: usize = 4096;
 /// its time. The result depends only on the mesh (the halves are concatenated in a fixed order),
 /// not on the thread count. Returns the vertices in elimination order.
 fn nested_dissection(
-    keys: &[(u32, u32)],
+    keys: &[VertexKey],
     col_ptr: &[usize],
     row_idx: &[usize],
     nc: usize,
@@ -69,7 +71,7 @@ fn nested_dissection(
     let removed: Vec<AtomicBool> = (0..keys.len()).map(|_| AtomicBool::new(false)).collect();
 
     struct Ctx<'a> {
-        keys: &'a [(u32, u32)],
+        keys: &'a [VertexKey],
         col_ptr: &'a [usize],
         row_idx: &'a [usize],
         nc: usize,
@@ -77,7 +79,7 @@ fn nested_dissection(
         leaf: usize,
     }
 
-    fn coord(k: (u32, u32), axis: usize) -> u32 {
+    fn coord(k: VertexKey, axis: usize) -> u64 {
         if axis == 0 {
             k.0
         } else {
@@ -90,7 +92,7 @@ fn nested_dissection(
             verts.sort_unstable();
             return verts;
         }
-        let (mut lo, mut hi) = ([u32::MAX; 2], [0u32; 2]);
+        let (mut lo, mut hi) = ([u64::MAX; 2], [0u64; 2]);
         for &v in &verts {
             let k = ctx.keys[v as usize];
             for (a, c) in [k.0, k.1].into_iter().enumerate() {

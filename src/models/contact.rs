@@ -130,9 +130,9 @@ impl ConstraintBuilder<'_> {
             let along = |vert: u32| {
                 let key = v.keys[vert as usize];
                 if cb.side.is_horizontal() {
-                    key.0 as u64
+                    key.0
                 } else {
-                    key.1 as u64
+                    key.1
                 }
             };
             let face_models: Vec<ContactModel> = verts

@@ -36,7 +36,8 @@ impl Adaptation for FixedNumber {
             self.coarsen,
         );
         disc.mesh
-            .refine_and_coarsen(&marking.refine, &marking.coarsen);
+            .refine_and_coarsen(&marking.refine, &marking.coarsen)
+            .map_err(|e| format!("cannot refine the mesh after this cycle: {e}"))?;
         Ok(())
     }
 }

@@ -209,7 +209,11 @@ pub fn run_study(
     adaptation: &mut dyn Adaptation,
 ) -> Result<RunResult, RunError> {
     let schedule = Schedule::of(experiment, tier);
-    let mut disc = Discretisation::initial(&experiment.scene);
+    let mut disc = Discretisation::initial(&experiment.scene).map_err(|e| RunError {
+        table: experiment.table.clone(),
+        cycle: 0,
+        message: format!("the initial mesh cannot be built: {e}"),
+    })?;
     let mut record = Recorder::new(experiment, tier, schedule.printed);
     for solve in schedule.solves() {
         let fail = |message| solve.error(&experiment.table, message);

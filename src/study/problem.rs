@@ -6,7 +6,7 @@ use crate::estimators::FaceIndicators;
 use crate::experiment::Scene;
 use crate::fe::{DofMap, System};
 use crate::linalg::DirectSolver;
-use crate::mesh::Mesh;
+use crate::mesh::{Mesh, MeshError};
 use crate::results::{columns, DeformedPicture, FieldPicture, Value};
 
 use super::clock::PhaseClock;
@@ -19,14 +19,16 @@ pub struct Discretisation {
 }
 
 impl Discretisation {
-    /// The scene's coarse grid of its domain, refined globally `global_refinements` times.
-    pub fn initial(scene: &Scene) -> Discretisation {
+    /// The scene's coarse grid of its domain, refined globally `global_refinements` times, or
+    /// the reason the mesh cannot be built (a grid too large to number, more global
+    /// refinements than [`crate::mesh::MAX_LEVEL`]).
+    pub fn initial(scene: &Scene) -> Result<Discretisation, MeshError> {
         let d = &scene.domain;
-        let mut mesh = Mesh::new(d.x, d.y, scene.coarse_cells[0], scene.coarse_cells[1]);
+        let mut mesh = Mesh::try_new(d.x, d.y, scene.coarse_cells[0], scene.coarse_cells[1])?;
         for _ in 0..scene.global_refinements {
-            mesh.refine_global();
+            mesh.refine_global()?;
         }
-        Discretisation { mesh }
+        Ok(Discretisation { mesh })
     }
 }
 
