@@ -56,6 +56,8 @@ pub mod columns {
     /// The estimate of Theorem III.16 / III.17 as stated, recorded when the marking uses another
     /// term set (`estimator = "thesis-code"`).
     pub const THEOREM_ESTIMATE: &str = "estimate_theorem";
+    /// Vertices of the contact boundary where the obstacle constraint is active (a count).
+    pub const CONTACT_VERTICES: &str = "contact_vertices";
 }
 
 /// The value of one column in one row.
@@ -264,6 +266,9 @@ pub struct RunResult {
     pub domain: [f64; 4],
     /// Readings of the thesis and known differences that apply to this table (shown in the report).
     pub notes: Vec<String>,
+    /// What is legal but suspicious in the experiment or the run (`field: message`, shown in
+    /// the report and on stderr).
+    pub warnings: Vec<String>,
 }
 
 impl RunResult {

@@ -12,3 +12,4 @@ mod outputs;
 mod properties;
 mod report_failures;
 mod reynolds;
+mod warnings;

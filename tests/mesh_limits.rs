@@ -137,19 +137,22 @@ fn scratch_dir(name: &str) -> PathBuf {
     dir
 }
 
-/// Issue 15.7: a jump obstacle raises the obstacle 0.01 into the body right of x₁ = 0.1, and
-/// both ends are clamped. At the lower right corner the clamp holds s = 0 while the obstacle
-/// lifts the next boundary vertex by 0.01: a jump of the boundary values that no mesh resolves,
-/// so the indicator of the corner cell does not decrease and every cycle refines it once more
-/// (four cells of 32 are marked, 4 %, so the run stays small: ~200 cells at cycle 24). The
-/// adaptation after cycle 24 would refine a cell of level 24; it must end the run with an error
-/// naming the table, the cycle and the mesh's 24 levels, not go on with wrapped integer
-/// positions and fail later with "vertex … lies outside the previous mesh".
+/// Issue 15.7: a feature finer than the deepest level. The bottom obstacle lifts the body by
+/// 0.01 everywhere but in the last 1e-9 before the clamped corner x₁ = 1, where it drops to 0 —
+/// feasible (the obstacle is 0 where the clamp holds s = 0), but 1e-9 is below the 2⁻²⁶ ≈ 1.5e-8
+/// of a level-24 cell of this 8 × 4 grid. On every mesh the corner vertex is held at 0 while the
+/// next one is pushed to 0.01, a jump across one cell, so the indicator of the corner cell does not
+/// decrease and every cycle refines it once more (four cells of 32 are marked, 4 %, so the run
+/// stays small: ~200 cells at cycle 24). The adaptation after cycle 24 would refine a cell of level
+/// 24; it must end the run with an error naming the table, the cycle and the mesh's 24 levels, not
+/// go on with wrapped integer positions and fail later with "vertex … lies outside the previous
+/// mesh". (The earlier form of this scene clamped both ends and raised the obstacle at the corner;
+/// that contact problem has no solution and is now refused before the first solve.)
 #[test]
 fn refining_past_the_deepest_level_is_a_study_error_naming_table_and_cycle() {
     const SHARP_JUMP: &str = r#"table = "IV.9"
 section = "IV.2.1.4"
-title = "A jump obstacle pressed into a clamped box"
+title = "A body lifted by an obstacle that drops 1e-9 before the clamped corner"
 
 [scene]
 name = "jump-obstacle-pressed-into-clamped-box"
@@ -160,14 +163,14 @@ effects = ["elasticity", "contact"]
 [scene.elasticity]
 mu = 1.0
 lambda = 1.0
-dirichlet = ["left", "right"]
+dirichlet = ["right"]
 volume_load = { direction = [0.0, 1.0], profile = { kind = "constant", amplitude = -0.1 } }
 
 [scene.contact]
 model = "z"
 estimator = "z-code"
 obstacles = [
-  { side = "bottom", shape = { kind = "jump", base = 0.0, height = 0.01, at = 0.1, s = 1e-12 } },
+  { side = "bottom", shape = { kind = "jump", base = 0.01, height = -0.01, at = 0.999999999, s = 1e-12 } },
 ]
 
 [study]

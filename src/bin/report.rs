@@ -180,6 +180,9 @@ fn run(cli: &Cli) -> Result<bool, String> {
             .and_then(|run| write_data(&cli.out, &spec, run))
         {
             Ok(run) => {
+                for w in &run.warnings {
+                    bar.suspend(|| eprintln!("warning: table {}: {w}", spec.table));
+                }
                 let mut alternatives = Vec::new();
                 for alt in readings {
                     bar.set_message(format!("{} {} ({})", spec.table, spec.title, alt.suffix));
@@ -245,8 +248,12 @@ fn run(cli: &Cli) -> Result<bool, String> {
         eprintln!("error (figures): {message}");
     }
     let failures = failed + written.figure_failures.len();
+    let warned = outcomes
+        .iter()
+        .filter(|o| matches!(o, Outcome::Done { run, .. } if !run.warnings.is_empty()))
+        .count();
     eprintln!(
-        "wrote {} ({} tables, {} tier, {:.1} s){}",
+        "wrote {} ({} tables, {} tier, {:.1} s){}{}",
         cli.out.join("index.html").display(),
         entries.len(),
         tier.name(),
@@ -255,6 +262,11 @@ fn run(cli: &Cli) -> Result<bool, String> {
             String::new()
         } else {
             format!("; {failures} failed")
+        },
+        if warned == 0 {
+            String::new()
+        } else {
+            format!("; {warned} with warnings (see their sections)")
         }
     );
     Ok(failures == 0)

@@ -11,10 +11,12 @@ pub mod spec;
 
 mod error;
 mod load;
+mod warnings;
 
 pub use error::ExperimentError;
 pub use load::{load, load_dir, load_each, Loaded, MAX_FILE_BYTES};
 pub use spec::*;
+pub use warnings::Warning;
 
 /// One experiment, loaded and checked: the scene's geometry, the typed problem, how to iterate,
 /// probes, notes and the printed thesis rows.

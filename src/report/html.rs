@@ -168,6 +168,7 @@ tbody tr:hover td { background: #eef3fb; }
 .failure pre { white-space: pre-wrap; margin: 6px 0 0; font-size: 13px; }
 td.status { text-align: left; }
 td.status.ok { color: var(--ok); }
+td.status.warned { background: #fff8e1; color: #7a5a00; }
 td.status.failed { background: var(--off); color: var(--offink); font-weight: 600; }
 ul.notes { margin: 4px 0; padding-left: 22px; }
 ul.notes li { margin: 2px 0; }
@@ -337,7 +338,13 @@ fn summary(h: &mut String, entries: &[Entry]) {
 
 /// The status cell of a table that ran: `ok`, or how its first failed alternative reading failed.
 fn status_cell(s: &Section) -> String {
+    let warnings = s.run.warnings.len();
     match s.alternatives.iter().find_map(|a| a.outcome.as_ref().err()) {
+        None if warnings > 0 => format!(
+            "<td class=\"status warned\" title=\"the table ran; its section says what is \
+             suspicious\">ok, {warnings} warning{}</td>",
+            if warnings == 1 { "" } else { "s" }
+        ),
         None => "<td class=\"status ok\">ok</td>".into(),
         Some(f) => format!(
             "<td class=\"status failed\" title=\"the table ran; an alternative reading failed\">\
@@ -456,6 +463,16 @@ fn table_section(h: &mut String, s: &Section, figs: &SectionFigures) {
              as a copy of {}; tribo computes the scene itself.</div>",
             escape(orig)
         );
+    }
+    if !run.warnings.is_empty() {
+        h.push_str(
+            "<div class=\"warning\"><b>Suspicious scene.</b> The table ran, but not as its \
+             experiment file probably meant:\n<ul class=\"notes\">\n",
+        );
+        for w in &run.warnings {
+            let _ = writeln!(h, "<li>{}</li>", escape(w));
+        }
+        h.push_str("</ul></div>\n");
     }
     comparison_table(h, s);
     for alt in s.alternatives {

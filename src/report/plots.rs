@@ -1299,6 +1299,7 @@ mod tests {
                 fields: vec![],
                 domain: [0.0, 1.0, 0.0, 1.0],
                 notes: vec![],
+                warnings: vec![],
             };
             convergence(&dir.join("c.svg"), &run, &thesis).unwrap();
             cost(&dir.join("k.svg"), &run).unwrap();

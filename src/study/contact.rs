@@ -20,7 +20,7 @@ use crate::models::contact::{
     ContactConstraint, ContactModel, ContactSolution,
 };
 use crate::models::elasticity::Elasticity;
-use crate::results::DeformedPicture;
+use crate::results::{columns, DeformedPicture};
 
 /// Boundary points per face at which the true penetration is sampled.
 pub const PENETRATION_SAMPLES: usize = 8;
@@ -266,7 +266,7 @@ impl Problem for ContactProblem {
                 solution.iterations as i64,
             ),
             (
-                "contact_vertices".to_string(),
+                columns::CONTACT_VERTICES.to_string(),
                 solution.active.iter().filter(|&&a| a).count() as i64,
             ),
         ];

@@ -18,6 +18,7 @@ pub mod record;
 pub mod reynolds;
 pub mod thin_film;
 pub mod transfer;
+pub mod warnings;
 
 pub use adapt::{Adaptation, FixedNumber};
 pub use budget::Budget;

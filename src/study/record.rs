@@ -35,6 +35,7 @@ impl<'a> Recorder<'a> {
                 fields: Vec::new(),
                 domain: [d.x[0], d.x[1], d.y[0], d.y[1]],
                 notes: experiment.notes.clone(),
+                warnings: Vec::new(),
             },
             printed,
         }
@@ -93,9 +94,13 @@ impl<'a> Recorder<'a> {
         }
     }
 
-    /// The result, with the problem's notes.
+    /// The result, with the problem's notes and the warnings of the file and the run.
     pub fn finish(mut self, problem: &dyn Problem) -> RunResult {
         self.result.notes.extend(problem.notes());
+        self.result.warnings = super::warnings::of_run(self.experiment, &self.result.rows)
+            .iter()
+            .map(ToString::to_string)
+            .collect();
         self.result
     }
 
