@@ -883,3 +883,115 @@ fn a_singular_system_names_the_boundary_conditions() {
         "{error}"
     );
 }
+
+/// Data too large (or too small) for double precision loads — each number is finite — but
+/// overflows in the run: the error names the table and cycle 0 and says that the data are too
+/// large, instead of blaming the boundary conditions.
+#[test]
+fn overflowing_data_is_an_error_naming_the_cause() {
+    let plain_reynolds = |from: &str, to: &str| {
+        let text = reynolds_scene("{ kind = \"plain\", g0 = 0.1 }", "components = [\"psi\"]");
+        assert!(text.contains(from), "test setup: `{from}`");
+        text.replacen(from, to, 1)
+    };
+    let load = "profile = { kind = \"constant\", amplitude = 0.0004 }";
+    let cases: Vec<(&str, String)> = vec![
+        ("amplitude-1e300", edit("amplitude = 0.0004", "amplitude = 1e300")),
+        (
+            "quadratic-scale-1e-300",
+            edit(load, "profile = { kind = \"quadratic\", amplitude = 0.0004, scale = 1e-300 }"),
+        ),
+        ("direction-1e300", edit("direction = [0.0, 1.0]", "direction = [1e300, 1e300]")),
+        (
+            "traction-1e308",
+            edit(
+                "dirichlet = [\"left\", \"right\"]",
+                "dirichlet = [\"left\", \"right\"]\ntractions = [{ side = \"top\", value = [0.0, 1e308] }]",
+            ),
+        ),
+        ("gap-1e-300", plain_reynolds("g0 = 0.1", "g0 = 1e-300")),
+        (
+            "squeeze-1e308",
+            plain_reynolds("[0.0, 0.0, -10.0]", "[0.0, 0.0, -1e308]"),
+        ),
+        (
+            "boundary-pressure-1e308",
+            plain_reynolds("boundary_pressure = 200.0", "boundary_pressure = 1e308"),
+        ),
+    ];
+    for (case, text) in &cases {
+        let error = run_error(case, text, "64G");
+        assert_eq!(
+            (error.table.as_str(), error.cycle),
+            ("IV.1", 0),
+            "{case}: {error}"
+        );
+        assert!(
+            error.message.contains("too large"),
+            "{case}: the message names the cause: {error}"
+        );
+        assert!(
+            !error.message.contains("boundary conditions"),
+            "{case}: {error}"
+        );
+    }
+}
+
+/// An obstacle far away (beyond the Signorini search radius of 1000, up to −1e308) is never
+/// touched: the run succeeds and warns, for both contact models (the Signorini linearisation
+/// stopped with "does not meet the obstacle curve within distance 1000").
+#[test]
+fn a_far_obstacle_is_never_touched() {
+    for model in ["z", "signorini"] {
+        for level in ["-1e4", "-1e308"] {
+            let scene = contact_scene(
+                &format!(
+                    "[{{ side = \"bottom\", shape = {{ kind = \"constant\", level = {level} }} }}]"
+                ),
+                "[\"left\", \"right\"]",
+            )
+            .replace(
+                "model = \"z\"\nestimator = \"z-code\"",
+                &format!(
+                    "model = \"{model}\"\nestimator = \"{}\"",
+                    if model == "z" {
+                        "z-code"
+                    } else {
+                        "signorini-code"
+                    }
+                ),
+            );
+            let dir = scratch_dir(&format!("far-{model}{level}"));
+            let experiment = load(&write(&dir, "IV.1.toml", &scene)).expect("loads");
+            let _ = fs::remove_dir_all(&dir);
+            let run = tribo::study::run(&experiment, tribo::study::Tier::Quick, &|_, _, _| {})
+                .unwrap_or_else(|e| panic!("{model} {level}: {e}"));
+            assert!(
+                run.rows
+                    .iter()
+                    .all(|r| r.count_of("contact_vertices") == Some(0)),
+                "{model} {level}"
+            );
+            assert_eq!(run.warnings.len(), 1, "{model} {level}: {:?}", run.warnings);
+        }
+    }
+}
+
+/// Huge numbers in messages are written with an exponent, not as hundreds of digits.
+#[test]
+fn huge_numbers_in_messages_are_short() {
+    let error = expect_error(
+        "domain-1e300",
+        &edit("x = [-16.0, 16.0]", "x = [-1e300, 1e300]"),
+        "scene.domain.x",
+        "[-1e300, 1e300]",
+    );
+    assert!(error.to_string().len() < 400, "{error}");
+    let scene = contact_scene(
+        "[{ side = \"bottom\", shape = { kind = \"constant\", level = 1e300 } }]",
+        "[\"left\", \"right\"]",
+    );
+    let error = run_error("obstacle-1e300", &scene, "64G");
+    assert!(error.message.contains("b = 1e300 > 0"), "{error}");
+    assert!(error.message.len() < 400, "{error}");
+}

@@ -59,7 +59,7 @@ fn no_shipped_quick_run_warns() {
 /// Each suspicious field gives exactly one warning, naming the field.
 #[test]
 fn suspicious_fields_warn_naming_the_field() {
-    let cases: [(&str, &str, &[(&str, &str)], &str, &str); 7] = [
+    let cases: [(&str, &str, &[(&str, &str)], &str, &str); 10] = [
         (
             "locking",
             "IV.1",
@@ -111,6 +111,28 @@ fn suspicious_fields_warn_naming_the_field() {
             )],
             "scene.reynolds.upper_wall_velocity",
             "ψ ≡ boundary_pressure = 200",
+        ),
+        (
+            // Cells of 0.5 refined at most 5 times: 0.015625.
+            "sine-unresolved",
+            "IV.5",
+            &[("half_period = 16.0", "half_period = 1e-300")],
+            "scene.elasticity.volume_load.profile.half_period",
+            "half period 1e-300 is below the finest cell this run can reach (1.562e-2 wide",
+        ),
+        (
+            "periodic-unresolved",
+            "IV.7",
+            &[("periods = 2.0", "periods = 1e6")],
+            "scene.contact.obstacles[0].shape.periods",
+            "half period 1.6e-5 is below the finest cell",
+        ),
+        (
+            "gap-unresolved",
+            "IV.44",
+            &[("frequency = 2.0", "frequency = 1e9")],
+            "scene.reynolds.gap.frequency",
+            "half period 5e-10 is below the finest cell",
         ),
     ];
     for (case, table, edits, field, needle) in cases {

@@ -413,11 +413,11 @@ struct Check<'p> {
 }
 
 impl Check<'_> {
-    fn fail(&self, field: &str, expected: &str, found: impl ToString) -> ExperimentError {
-        ExperimentError::invalid(self.path, field, expected, found.to_string())
+    fn fail(&self, field: &str, expected: &str, found: impl Found) -> ExperimentError {
+        ExperimentError::invalid(self.path, field, expected, found.text())
     }
 
-    fn ensure(&self, ok: bool, field: &str, expected: &str, found: impl ToString) -> Checked {
+    fn ensure(&self, ok: bool, field: &str, expected: &str, found: impl Found) -> Checked {
         if ok {
             Ok(())
         } else {
@@ -463,7 +463,7 @@ impl Check<'_> {
             lo < hi,
             field,
             "[lo, hi] with lo < hi",
-            format!("[{lo}, {hi}]"),
+            format!("[{lo:?}, {hi:?}]"),
         )?;
         let width = hi - lo;
         let scale = lo.abs().max(hi.abs());
@@ -474,7 +474,7 @@ impl Check<'_> {
                 "an interval of length between {MIN_LENGTH:e} and {MAX_LENGTH:e}, \
                  and at least 1e-9 of its largest coordinate"
             ),
-            format!("[{lo}, {hi}] of length {width:e}"),
+            format!("[{lo:?}, {hi:?}] of length {width:e}"),
         )
     }
 
@@ -849,7 +849,7 @@ impl Check<'_> {
                         width > 0.0,
                         &gap,
                         "a positive gap g0 + slope·x₁ at both ends of scene.domain.x",
-                        format!("g = {width} at x₁ = {x}"),
+                        format!("g = {width:?} at x₁ = {x:?}"),
                     )?;
                 }
             }
@@ -871,7 +871,7 @@ impl Check<'_> {
                     min > 0.0,
                     &gap,
                     "a positive gap everywhere, g0 − |amplitude| > 0",
-                    format!("g0 − |amplitude| = {min}"),
+                    format!("g0 − |amplitude| = {min:?}"),
                 )?;
             }
         }
@@ -938,7 +938,7 @@ impl Check<'_> {
             "study.refine_fraction",
             "refine_fraction + coarsen_fraction ≤ 1",
             format!(
-                "{} + {} = {total}",
+                "{:?} + {:?} = {total:?}",
                 study.refine_fraction, study.coarsen_fraction
             ),
         )?;
@@ -1094,7 +1094,7 @@ impl Check<'_> {
                     v.is_finite() && *v >= 0.0,
                     &format!("thesis.additive_part.estimate[{i}]"),
                     "a finite value ≥ 0",
-                    v,
+                    *v,
                 )?;
             }
         }
@@ -1112,6 +1112,37 @@ impl Check<'_> {
             )?;
         }
         Ok(())
+    }
+}
+
+/// What a check found, as the error message shows it.
+trait Found {
+    fn text(self) -> String;
+}
+
+/// Numbers as Rust's `Debug` writes them: the shortest text that reads back to the same value,
+/// with an exponent for very large or small magnitudes (`1e300`, not 301 digits).
+impl Found for f64 {
+    fn text(self) -> String {
+        format!("{self:?}")
+    }
+}
+
+impl Found for usize {
+    fn text(self) -> String {
+        self.to_string()
+    }
+}
+
+impl Found for String {
+    fn text(self) -> String {
+        self
+    }
+}
+
+impl Found for &str {
+    fn text(self) -> String {
+        self.to_owned()
     }
 }
 

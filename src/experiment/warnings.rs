@@ -62,6 +62,7 @@ impl Experiment {
             }
             Problem::Reynolds(r) => reynolds(r, &mut out),
         }
+        unresolved_oscillations(self, &mut out);
         out
     }
 }
@@ -158,6 +159,65 @@ fn reynolds(r: &ReynoldsData, out: &mut Vec<Warning>) {
                 r.boundary_pressure
             ),
         ));
+    }
+}
+
+/// Oscillating data whose half period lies below the finest cell the run can reach (each cycle
+/// refines a cell at most once): no mesh of the run resolves it, and the quadrature samples it
+/// at arbitrary phases (aliasing) — a sine of half period 1e-300 is a pseudo-random load.
+fn unresolved_oscillations(e: &Experiment, out: &mut Vec<Warning>) {
+    let [nx, _] = e.scene.coarse_cells;
+    let first = (e.scene.domain.x[1] - e.scene.domain.x[0])
+        / nx as f64
+        / 2f64.powi(e.scene.global_refinements as i32);
+    let adaptations = e.study.unprinted_cycles + e.study.rows - 1;
+    let finest = first / 2f64.powi(adaptations.min(1000) as i32);
+    let mut check = |field: &str, half_period: f64| {
+        if half_period < finest {
+            out.push(Warning::new(
+                field,
+                format!(
+                    "an oscillation of half period {half_period:?} is below the finest cell \
+                     this run can reach ({finest:.3e} wide after {adaptations} refinements of \
+                     {first:?}): no mesh resolves it and the quadrature samples it at arbitrary \
+                     phases"
+                ),
+            ));
+        }
+    };
+    let load = match &e.problem {
+        Problem::Elasticity(el) | Problem::Contact { elasticity: el, .. } => {
+            el.volume_load.as_ref().map(|l| l.profile)
+        }
+        Problem::Reynolds(_) => None,
+    };
+    if let Some(Profile::Sine { half_period, .. }) = load {
+        check(
+            "scene.elasticity.volume_load.profile.half_period",
+            half_period,
+        );
+    }
+    if let Problem::Contact { contact, .. } = &e.problem {
+        for (i, o) in contact.obstacles.iter().enumerate() {
+            if let ObstacleShape::Periodic { periods, .. } = o.shape {
+                if periods != 0.0 {
+                    // sin(periods·2π(x₁+16)/32): half period 16/|periods|.
+                    check(
+                        &format!("scene.contact.obstacles[{i}].shape.periods"),
+                        16.0 / periods.abs(),
+                    );
+                }
+            }
+        }
+    }
+    if let Problem::Reynolds(r) = &e.problem {
+        let half_period = match r.gap {
+            GapShape::WaveHorizontal { frequency, .. } => 0.5 / frequency.abs(),
+            // sin²(2π f x) has period 1/(2f).
+            GapShape::Hill { frequency, .. } => 0.25 / frequency.abs(),
+            GapShape::Plain { .. } | GapShape::Linear { .. } => f64::INFINITY,
+        };
+        check("scene.reynolds.gap.frequency", half_period);
     }
 }
 

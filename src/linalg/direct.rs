@@ -60,9 +60,16 @@ pub enum SolveError {
     Singular { dof: usize },
     #[error("the symbolic factorisation failed: {0}")]
     Symbolic(String),
-    #[error("the solution contains a non-finite value at dof {0}")]
+    #[error(
+        "the solution contains a non-finite value at dof {0}: the solve overflowed — the data \
+         (loads, tractions, wall velocities, boundary values) are too large for double precision"
+    )]
     NonFinite(usize),
-    #[error("the right-hand side contains a non-finite value at dof {0}")]
+    #[error(
+        "the right-hand side contains a non-finite value at dof {0}: assembling the data \
+         overflowed — a load, traction, wall velocity or boundary value, or a profile's scale or \
+         a gap, is too large or too small for double precision"
+    )]
     NonFiniteData(usize),
     #[error("dof {0} has no diagonal sign for the LDLᵀ factorisation ({1} signs for {2} dofs)")]
     Signs(usize, usize, usize),

@@ -11,7 +11,9 @@
 //!   [`ContactSide::vertex_normal`]) and g the signed distance from x + s₀ to the obstacle along
 //!   that same n (III.13), [`ContactSide::signed_distance_along`]; the constraint is
 //!   (s − s₀)·n ≤ g ⇔ n·s ≤ g + n·s₀ (with b := g + n·(x + s₀) in the notation of Thm III.15).
-//!   With s₀ = 0 on a flat face this is exactly the z-constraint.
+//!   With s₀ = 0 on a flat face this is exactly the z-constraint. A vertex whose normal line
+//!   meets no obstacle within [`crate::models::obstacle::SEARCH_RADIUS`] on the body's side (an
+//!   obstacle far away) is left unconstrained.
 //!
 //! The contact boundary is split face by face into z-faces and Signorini-faces
 //! ([`ConstraintBuilder::face_model`]), so one solve can mix both models (§IV.2.3); a vertex
@@ -30,7 +32,7 @@ use crate::linalg::active_set::{
 };
 use crate::linalg::DirectSolver;
 use crate::mesh::{BoundaryFace, Side};
-use crate::models::obstacle::ContactSide;
+use crate::models::obstacle::{ContactSide, GeometryError};
 
 /// Which contact projection a face uses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -174,14 +176,28 @@ impl ConstraintBuilder<'_> {
                     here
                 };
                 let n = ContactSide::vertex_normal(prev, here, next, cb.obstacle.upper);
-                let g = cb.obstacle.signed_distance_along(here, n).map_err(|e| {
-                    format!(
-                        "Signorini linearisation at the contact vertex ({}, {}) deformed to \
-                         ({:.6}, {:.6}) with normal ({:.4}, {:.4}): {e}; the deformation s₀ is too \
-                         large for the normal line to meet the obstacle",
-                        xv[0], xv[1], here[0], here[1], n[0], n[1]
-                    )
-                })?;
+                let g = match cb.obstacle.signed_distance_along(here, n) {
+                    Ok(g) => g,
+                    // The normal line meets no obstacle within the search radius and the vertex
+                    // is on the body's side of it: no displacement below that radius (a
+                    // thousand times the size of any Chapter IV body) reaches the obstacle, so
+                    // the vertex is left unconstrained, as for an obstacle at infinity.
+                    Err(GeometryError::NoIntersection { .. })
+                        if cb.obstacle.vertical_clearance(here) > 0.0 =>
+                    {
+                        continue
+                    }
+                    Err(e) => {
+                        return Err(format!(
+                            "Signorini linearisation at the contact vertex ({}, {}) deformed to \
+                             ({:.6}, {:.6}) with normal ({:.4}, {:.4}): {e}, and the vertex lies \
+                             beyond the obstacle: the displacement s₀ of the previous cycle (or \
+                             the obstacle itself, in cycle 0) puts it deeper inside the obstacle \
+                             than the normal line can be followed",
+                            xv[0], xv[1], here[0], here[1], n[0], n[1]
+                        ))
+                    }
+                };
                 let s0n = n[0] * (here[0] - xv[0]) + n[1] * (here[1] - xv[1]);
                 out.push(ContactConstraint {
                     vertex: vert,

@@ -393,8 +393,8 @@ pub fn infeasible_obstacle(
             if (!upper && b > tolerance) || (upper && b < -tolerance) {
                 return Some(format!(
                     "scene.contact.obstacles[{i}]: the obstacle on the {} face reaches into the \
-                     body at the corner x₁ = {corner}, which the Dirichlet side `{}` clamps \
-                     (b = {b} {} 0 asks s₂ {} b there, but s = 0): the contact problem has no \
+                     body at the corner x₁ = {corner:?}, which the Dirichlet side `{}` clamps \
+                     (b = {b:?} {} 0 asks s₂ {} b there, but s = 0): the contact problem has no \
                      solution",
                     boundary.side.name(),
                     side.name(),

@@ -106,7 +106,12 @@ impl Estimate {
         if total.is_finite() {
             Ok(total)
         } else {
-            Err("the error estimate is not finite".into())
+            Err(
+                "the error estimate is not finite: its residuals overflowed — the data (loads, \
+                 tractions, wall velocities, boundary values) or the solution are too large for \
+                 double precision"
+                    .into(),
+            )
         }
     }
 }
