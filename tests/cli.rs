@@ -136,3 +136,60 @@ fn alternative_readings_run_unless_switched_off() {
         }
     }
 }
+
+/// `--out` naming a file: refused before any solve, saying what is wrong with it.
+#[test]
+fn out_that_is_a_file_is_named() {
+    let dir = temp_dir("out-is-file");
+    let file = dir.join("report.txt");
+    std::fs::write(&file, "not a folder").unwrap();
+    let out = report()
+        .args([
+            "--quick",
+            "--no-progress",
+            "--only",
+            "IV.1",
+            "--experiments",
+        ])
+        .arg(experiments())
+        .arg("--out")
+        .arg(&file)
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("exists and is not a directory"), "{err}");
+    assert!(!err.contains("table IV.1"), "no table ran: {err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A small budget is written in its own unit (it said "0 MiB" for 10K) and the predicted
+/// cells as an integer.
+#[test]
+fn a_small_memory_budget_is_written_in_its_unit() {
+    let dir = temp_dir("small-budget");
+    let out = report()
+        .args([
+            "--quick",
+            "--no-progress",
+            "--only",
+            "IV.1",
+            "--memory-budget",
+            "10K",
+        ])
+        .arg("--experiments")
+        .arg(experiments())
+        .arg("--out")
+        .arg(&dir)
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains(
+            "for about 128 active cells in this cycle, more than the memory budget of 10 KiB"
+        ),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

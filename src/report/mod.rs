@@ -184,6 +184,12 @@ pub fn prepare_output(out_dir: &Path) -> io::Result<()> {
         out_dir.join("data"),
         out_dir.join("figures"),
     ] {
+        if dir.exists() && !dir.is_dir() {
+            return Err(io::Error::new(
+                io::ErrorKind::AlreadyExists,
+                format!("{} exists and is not a directory", dir.display()),
+            ));
+        }
         fs::create_dir_all(&dir).map_err(|e| with_path(e, &dir))?;
         let probe = dir.join(format!(".tribo-write-probe-{}", std::process::id()));
         fs::write(&probe, b"probe").map_err(|e| with_path(e, &dir))?;

@@ -89,11 +89,12 @@ impl Budget {
                 return Err(solve.error(
                     &experiment.table,
                     format!(
-                        "the run is predicted to need {} for about {cells:.3e} active cells in \
+                        "the run is predicted to need {} for about {} active cells in \
                          this cycle, more than the memory budget of {} (from \
                          scene.coarse_cells, scene.global_refinements, study.refine_fraction \
                          and the number of cycles; set the budget with --memory-budget)",
                         human(memory(cells, c)),
+                        count(cells),
                         human(self.bytes)
                     ),
                 ));
@@ -139,12 +140,26 @@ fn memory(cells: f64, c: usize) -> f64 {
     BYTES_PER_CELL * (c * c) as f64 * cells
 }
 
-/// Bytes in GiB or MiB for a message.
+/// A predicted number of cells: an integer below ten million, with an exponent above.
+fn count(cells: f64) -> String {
+    if cells < 1e7 {
+        format!("{cells:.0}")
+    } else {
+        format!("{cells:.3e}")
+    }
+}
+
+/// Bytes in GiB, MiB, KiB or bytes for a message (a budget of 10K is "10 KiB", not "0 MiB").
 fn human(bytes: f64) -> String {
+    const MIB: f64 = 1024.0 * 1024.0;
     if bytes >= GIB {
         format!("{:.1} GiB", bytes / GIB)
+    } else if bytes >= MIB {
+        format!("{:.0} MiB", bytes / MIB)
+    } else if bytes >= 1024.0 {
+        format!("{:.0} KiB", bytes / 1024.0)
     } else {
-        format!("{:.0} MiB", bytes / (1024.0 * 1024.0))
+        format!("{bytes:.0} bytes")
     }
 }
 
