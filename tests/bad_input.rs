@@ -762,11 +762,18 @@ fn hostile_inputs_name_file_and_field() {
         ("thesis-rows-201", thesis_rows(201), "thesis.rows", "at most 200"),
         ("refine-fraction-huge", edit("refine_fraction = 0.3", "refine_fraction = 1e308"), "study.refine_fraction", "≤ 1"),
         ("coarsen-fraction-nan", edit("coarsen_fraction = 0.03", "coarsen_fraction = nan"), "study.coarsen_fraction", "finite"),
+        // sizes of what the page and the probe file hold
+        ("probes-grid-huge", edit("x = [-12.0, 0.0, 12.0]\ny = [0.5]", &format!("x = [{}]\ny = [{}]", vec!["0.0"; 200].join(", "), vec!["0.5"; 51].join(", "))), "probes", "at most 10000 probe points"),
+        ("thesis-columns-65", edit("columns = [\"cycle\", \"active_cells\", \"dofs\", \"estimate\", \"ratio\"]", &format!("columns = [\"cycle\", {}]", (1..65).map(|i| format!("\"c{i}\"")).collect::<Vec<_>>().join(", "))), "thesis.columns", "at most 64 columns"),
+        ("title-long", edit("title = \"Box under a constant volume load\"", &format!("title = \"{}\"", "x".repeat(1001))), "title", "at most 1000 characters"),
+        ("note-long", edit("table = \"IV.1\"", &format!("table = \"IV.1\"\nnotes = [\"{}\"]", "y".repeat(20_001))), "notes[0]", "at most 20000 characters"),
+        ("notes-many", edit("table = \"IV.1\"", &format!("table = \"IV.1\"\nnotes = [{}]", vec!["\"n\""; 101].join(", "))), "notes", "at most 100 notes"),
+        ("equation-control", reynolds().replace("equation = \"IV.7\"", "equation = \"IV.7\\u0007\""), "scene.reynolds.equation", "control character"),
     ];
     for (case, text, field, needle) in &cases {
         expect_error(case, text, field, needle);
     }
-    assert!(cases.len() >= 45, "{} cases", cases.len());
+    assert!(cases.len() >= 54, "{} cases", cases.len());
 }
 
 /// A 100 000-deep nested array made a 200 KB message; the message stays short and still names

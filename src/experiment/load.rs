@@ -39,6 +39,17 @@ const MAX_MATERIAL: f64 = 1e30;
 /// Largest λ/μ: beyond it (Poisson ratio within 5e-9 of ½) the Q₁ system is singular to
 /// working precision.
 const MAX_LAMBDA_OVER_MU: f64 = 1e8;
+/// Most columns of a printed thesis table (Chapter IV prints at most 12).
+const MAX_THESIS_COLUMNS: usize = 64;
+/// Longest one-line text (title, section, names, column names), in characters.
+const MAX_TEXT_CHARS: usize = 1_000;
+/// Longest note, in characters (the longest shipped note has about 2 700).
+const MAX_NOTE_CHARS: usize = 20_000;
+/// Most notes of one table.
+const MAX_NOTES: usize = 100;
+/// Most probe points (the grid `probes.x` × `probes.y`); Chapter IV probes at most 21. Each is
+/// located in the last mesh and written to `data/<table>.probes.csv`.
+const MAX_PROBE_POINTS: usize = 10_000;
 
 /// Parse and validate one experiment file.
 ///
@@ -537,6 +548,12 @@ impl Check<'_> {
         )?;
         self.printable("section", &spec.section, false)?;
         self.printable("title", &spec.title, false)?;
+        self.ensure(
+            spec.notes.len() <= MAX_NOTES,
+            "notes",
+            &format!("at most {MAX_NOTES} notes"),
+            format!("{} notes", spec.notes.len()),
+        )?;
         for (i, note) in spec.notes.iter().enumerate() {
             self.printable(&format!("notes[{i}]"), note, true)?;
         }
@@ -546,7 +563,21 @@ impl Check<'_> {
     /// Text shown on the page and in file names: no control characters (a NUL or BEL would be
     /// copied into `index.html`), except line breaks and tabs where `multiline` (notes, the
     /// only text that can hold them).
+    /// Text for the page: no control characters (line breaks and tabs only where `multiline`),
+    /// at most [`MAX_TEXT_CHARS`] characters on one line or [`MAX_NOTE_CHARS`] in a note.
     fn printable(&self, field: &str, text: &str, multiline: bool) -> Checked {
+        let max = if multiline {
+            MAX_NOTE_CHARS
+        } else {
+            MAX_TEXT_CHARS
+        };
+        let chars = text.chars().count();
+        self.ensure(
+            chars <= max,
+            field,
+            &format!("at most {max} characters"),
+            format!("{chars} characters"),
+        )?;
         let bad = text
             .chars()
             .find(|&c| c.is_control() && !(multiline && (c == '\n' || c == '\t')));
@@ -836,6 +867,7 @@ impl Check<'_> {
             "the thesis equation of the example, e.g. `IV.7`",
             "an empty string",
         )?;
+        self.printable(&format!("{F}.equation"), &data.equation, false)?;
         let gap = format!("{F}.gap");
         let g = |name: &str| format!("{gap}.{name}");
         match data.gap {
@@ -963,6 +995,13 @@ impl Check<'_> {
     /// Probe points inside the domain; components that the scene's effects compute.
     fn probes(&self, probes: &Probes, scene: &SceneFile) -> Checked {
         let Rectangle { x, y } = scene.domain;
+        let points = probes.x.len().saturating_mul(probes.y.len());
+        self.ensure(
+            points <= MAX_PROBE_POINTS,
+            "probes",
+            &format!("at most {MAX_PROBE_POINTS} probe points (probes.x × probes.y)"),
+            format!("{} × {} = {points} points", probes.x.len(), probes.y.len()),
+        )?;
         for (name, values, [lo, hi]) in [("x", &probes.x, x), ("y", &probes.y, y)] {
             for (i, &v) in values.iter().enumerate() {
                 self.ensure(
@@ -1022,6 +1061,12 @@ impl Check<'_> {
             columns
                 .first()
                 .map_or("an empty list".to_owned(), |c| format!("`{c}`")),
+        )?;
+        self.ensure(
+            columns.len() <= MAX_THESIS_COLUMNS,
+            "thesis.columns",
+            &format!("at most {MAX_THESIS_COLUMNS} columns"),
+            format!("{} columns", columns.len()),
         )?;
         let mut seen = BTreeSet::new();
         for (i, column) in columns.iter().enumerate() {
