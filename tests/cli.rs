@@ -1,7 +1,7 @@
 //! The `report` binary: flags, bad flags, malformed experiment files, and the files it writes.
 
-use std::path::PathBuf;
-use std::process::Command;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
 
 pub fn report() -> Command {
     Command::new(env!("CARGO_BIN_EXE_report"))
@@ -16,6 +16,19 @@ pub fn temp_dir(name: &str) -> PathBuf {
 
 fn experiments() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("experiments")
+}
+
+/// `report --quick --no-progress --only <table>` on the shipped experiments into `out`, with
+/// `extra` flags.
+fn quick_table(table: &str, out: &Path, extra: &[&str]) -> Output {
+    report()
+        .args(["--quick", "--no-progress", "--only", table, "--experiments"])
+        .arg(experiments())
+        .arg("--out")
+        .arg(out)
+        .args(extra)
+        .output()
+        .unwrap()
 }
 
 #[test]
@@ -68,19 +81,7 @@ fn malformed_experiment_file_names_file_and_field() {
 #[test]
 fn quick_run_of_one_table_writes_report_and_data() {
     let dir = temp_dir("quick");
-    let out = report()
-        .args([
-            "--quick",
-            "--no-progress",
-            "--only",
-            "IV.3",
-            "--experiments",
-        ])
-        .arg(experiments())
-        .arg("--out")
-        .arg(&dir)
-        .output()
-        .unwrap();
+    let out = quick_table("IV.3", &dir, &[]);
     assert!(
         out.status.success(),
         "{}",
@@ -106,21 +107,7 @@ fn quick_run_of_one_table_writes_report_and_data() {
 fn alternative_readings_run_unless_switched_off() {
     for (flag, expected) in [(None, true), (Some("--no-alternatives"), false)] {
         let dir = temp_dir(&format!("alternatives-{expected}"));
-        let mut cmd = report();
-        cmd.args([
-            "--quick",
-            "--no-progress",
-            "--only",
-            "IV.66",
-            "--experiments",
-        ])
-        .arg(experiments())
-        .arg("--out")
-        .arg(&dir);
-        if let Some(f) = flag {
-            cmd.arg(f);
-        }
-        let out = cmd.output().unwrap();
+        let out = quick_table("IV.66", &dir, flag.as_slice());
         assert!(
             out.status.success(),
             "{}",
@@ -143,19 +130,7 @@ fn out_that_is_a_file_is_named() {
     let dir = temp_dir("out-is-file");
     let file = dir.join("report.txt");
     std::fs::write(&file, "not a folder").unwrap();
-    let out = report()
-        .args([
-            "--quick",
-            "--no-progress",
-            "--only",
-            "IV.1",
-            "--experiments",
-        ])
-        .arg(experiments())
-        .arg("--out")
-        .arg(&file)
-        .output()
-        .unwrap();
+    let out = quick_table("IV.1", &file, &[]);
     assert!(!out.status.success());
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("exists and is not a directory"), "{err}");
@@ -168,21 +143,7 @@ fn out_that_is_a_file_is_named() {
 #[test]
 fn a_small_memory_budget_is_written_in_its_unit() {
     let dir = temp_dir("small-budget");
-    let out = report()
-        .args([
-            "--quick",
-            "--no-progress",
-            "--only",
-            "IV.1",
-            "--memory-budget",
-            "10K",
-        ])
-        .arg("--experiments")
-        .arg(experiments())
-        .arg("--out")
-        .arg(&dir)
-        .output()
-        .unwrap();
+    let out = quick_table("IV.1", &dir, &["--memory-budget", "10K"]);
     assert!(!out.status.success());
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(

@@ -4,13 +4,13 @@
 //! panic and never a wrong mesh.
 
 use std::fs;
-use std::path::PathBuf;
 
 use tribo::experiment::{self, Experiment, Problem, Rectangle};
 use tribo::mesh::Side;
 use tribo::results::RunResult;
 use tribo::study::{self, Tier};
 
+use crate::cli::temp_dir;
 use crate::common::spec;
 
 /// Table IV.1 (μ = λ = 1, a constant volume load across the strip [−16, 16] × [0, 1], both ends
@@ -129,14 +129,6 @@ fn coarse_grids_past_128_cells_in_one_direction_run() {
     }
 }
 
-/// A fresh, empty directory under the system temp dir for one test.
-fn scratch_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("tribo-mesh-limits-{}-{name}", std::process::id()));
-    let _ = fs::remove_dir_all(&dir);
-    fs::create_dir_all(&dir).expect("create a scratch directory");
-    dir
-}
-
 /// Issue 15.7: a feature finer than the deepest level. The bottom obstacle lifts the body by
 /// 0.01 everywhere but in the last 1e-9 before the clamped corner x₁ = 1, where it drops to 0 —
 /// feasible (the obstacle is 0 where the clamp holds s = 0), but 1e-9 is below the 2⁻²⁶ ≈ 1.5e-8
@@ -185,7 +177,7 @@ convergence_window = [1, 2]
 columns = ["cycle", "dofs"]
 rows = [[0, 90]]
 "#;
-    let dir = scratch_dir("sharp-jump");
+    let dir = temp_dir("deepest-level");
     let path = dir.join("IV.9.toml");
     fs::write(&path, SHARP_JUMP).unwrap();
     let e = experiment::load(&path).unwrap_or_else(|err| panic!("{err}"));
