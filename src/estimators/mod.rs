@@ -4,6 +4,7 @@
 //! indicator η_Q² per active cell; the printed estimate is √(Σ_Q η_Q²).
 
 pub mod contact;
+pub mod contact_model;
 pub mod elasticity;
 pub mod reynolds;
 
