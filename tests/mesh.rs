@@ -464,3 +464,41 @@ fn assert_hanging_vertices_are_midpoints(dofs: &DofMap, tol: f64) {
         assert!(!v.is_hanging[h.parents[0] as usize] && !v.is_hanging[h.parents[1] as usize]);
     }
 }
+
+/// The fixed meshes of the model-adaptive contact tables (§IV.2.3, issue 16): 64 × 2 cells on
+/// [−16, 16] × [0, 1] refined 3× at the contact side — the printed 1472 cells, 3980 dofs and
+/// 512 faces of IV.18–IV.25 and IV.28–IV.29; 2× at both sides — the 1280 cells, 3342 dofs and
+/// 256 + 256 faces that IV.26/IV.27 print; 3× at both sides — the 7442 dofs of the text.
+#[test]
+fn meshes_refined_at_the_contact_sides_have_the_printed_sizes() {
+    use tribo::mesh::Face;
+    let faces_on = |mesh: &Mesh, side: Side| {
+        mesh.active()
+            .iter()
+            .filter(|&&c| {
+                [Face::Bottom, Face::Top]
+                    .iter()
+                    .any(|&f| mesh.neighbor(c, f) == Neighbor::Boundary(side))
+            })
+            .count()
+    };
+    for (sides, times, cells, dofs, bottom, top) in [
+        (&[Side::Bottom][..], 3, 1472, 3980, 512, 64),
+        (&[Side::Bottom, Side::Top][..], 2, 1280, 3342, 256, 256),
+        (&[Side::Bottom, Side::Top][..], 3, 2816, 7442, 512, 512),
+    ] {
+        let mut mesh = Mesh::new([-16.0, 16.0], [0.0, 1.0], 64, 2);
+        mesh.refine_at_sides(sides, times).unwrap();
+        assert!(mesh.is_balanced());
+        assert_eq!(
+            (mesh.n_active(), DofMap::new(&mesh, 2).n_dofs()),
+            (cells, dofs),
+            "{sides:?} ×{times}"
+        );
+        assert_eq!(
+            (faces_on(&mesh, Side::Bottom), faces_on(&mesh, Side::Top)),
+            (bottom, top),
+            "{sides:?} ×{times}"
+        );
+    }
+}

@@ -63,12 +63,13 @@ fn quick_report(experiments: &Path, name: &str) -> PathBuf {
         .arg(experiments)
         .arg("--out")
         .arg(&out)
-        .status()
+        .output()
         .expect("report runs");
     assert!(
-        status.success(),
-        "report --quick on {} failed",
-        experiments.display()
+        status.status.success(),
+        "report --quick on {} failed: {}",
+        experiments.display(),
+        String::from_utf8_lossy(&status.stderr)
     );
     out
 }
