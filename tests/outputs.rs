@@ -53,7 +53,7 @@ fn out_dir(name: &str) -> PathBuf {
 /// Run the report on `experiments` at the quick tier into a fresh folder and return it.
 fn quick_report(experiments: &Path, name: &str) -> PathBuf {
     let out = out_dir(name);
-    let status = Command::new(env!("CARGO_BIN_EXE_report"))
+    let output = Command::new(env!("CARGO_BIN_EXE_report"))
         .args([
             "--quick",
             "--no-progress",
@@ -66,10 +66,10 @@ fn quick_report(experiments: &Path, name: &str) -> PathBuf {
         .output()
         .expect("report runs");
     assert!(
-        status.status.success(),
+        output.status.success(),
         "report --quick on {} failed: {}",
         experiments.display(),
-        String::from_utf8_lossy(&status.stderr)
+        String::from_utf8_lossy(&output.stderr)
     );
     out
 }
