@@ -281,14 +281,7 @@ fn run_isolated(
     budget: study::Budget,
     progress: study::Progress,
 ) -> Result<RunResult, Failure> {
-    let failure = |kind, cycle, message| Failure {
-        table: spec.table.clone(),
-        title: Some(spec.title.clone()),
-        section: Some(spec.section.clone()),
-        kind,
-        cycle,
-        message,
-    };
+    let failure = |kind, cycle, message| failure_of(spec, &spec.table, kind, cycle, message);
     if let Ok(mut place) = LAST_PANIC_PLACE.lock() {
         *place = None;
     }
@@ -342,17 +335,35 @@ fn write_data(out: &Path, spec: &Experiment, run: RunResult) -> Result<RunResult
     let dir = out.join("data");
     match data::write_csv(&dir, &run) {
         Ok(()) => Ok(run),
-        Err(e) => Err(Failure {
-            table: run.table.clone(),
-            title: Some(spec.title.clone()),
-            section: Some(spec.section.clone()),
-            kind: FailureKind::Error,
-            cycle: None,
-            message: format!(
+        Err(e) => Err(failure_of(
+            spec,
+            &run.table,
+            FailureKind::Error,
+            None,
+            format!(
                 "cannot write the data of {} into {}: {e}",
                 run.table,
                 dir.display()
             ),
-        }),
+        )),
+    }
+}
+
+/// The failed entry of `table` (the experiment's own, or one of its alternative readings),
+/// with the experiment's title and section.
+fn failure_of(
+    spec: &Experiment,
+    table: &str,
+    kind: FailureKind,
+    cycle: Option<usize>,
+    message: String,
+) -> Failure {
+    Failure {
+        table: table.to_owned(),
+        title: Some(spec.title.clone()),
+        section: Some(spec.section.clone()),
+        kind,
+        cycle,
+        message,
     }
 }

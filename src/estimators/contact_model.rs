@@ -18,7 +18,7 @@
 //! Between the vertices ε_P is linear, so ‖ε_P‖²_{L2(f)} = |f|/3·(a² + ab + b²) with the vertex
 //! values a, b and the length |f| of the undeformed face.
 
-use crate::models::obstacle::{ContactSide, GeometryError};
+use crate::models::obstacle::ContactSide;
 
 /// Relative tolerance of the tests (S) and (Z).
 pub const CONDITION_TOLERANCE: f64 = 1e-12;
@@ -67,20 +67,15 @@ pub fn vertex_differences(
             let s = displacement[i];
             let s_dot_nz = s[0] * n_z[0] + s[1] * n_z[1];
             let eta_z = side.eta_z(points[i][0]);
-            let eta_s = match side.signed_distance_along(here, n_s) {
-                Ok(eta) => eta,
-                Err(GeometryError::NoIntersection { .. })
-                    if side.vertical_clearance(here) > 0.0 =>
-                {
-                    f64::INFINITY
-                }
-                Err(e) => {
-                    return Err(format!(
+            let eta_s = side
+                .distance_within_reach(here, n_s)
+                .map_err(|e| {
+                    format!(
                         "model error at the contact vertex ({}, {}): {e}",
                         points[i][0], points[i][1]
-                    ))
-                }
-            };
+                    )
+                })?
+                .unwrap_or(f64::INFINITY);
             let eps = projection_difference(eta_z, eta_s, s_dot_nz);
             if eps.is_finite() {
                 Ok(eps)

@@ -562,9 +562,8 @@ impl Check<'_> {
 
     /// Text shown on the page and in file names: no control characters (a NUL or BEL would be
     /// copied into `index.html`), except line breaks and tabs where `multiline` (notes, the
-    /// only text that can hold them).
-    /// Text for the page: no control characters (line breaks and tabs only where `multiline`),
-    /// at most [`MAX_TEXT_CHARS`] characters on one line or [`MAX_NOTE_CHARS`] in a note.
+    /// only text that can hold them); at most [`MAX_TEXT_CHARS`] characters on one line or
+    /// [`MAX_NOTE_CHARS`] in a note.
     fn printable(&self, field: &str, text: &str, multiline: bool) -> Checked {
         let max = if multiline {
             MAX_NOTE_CHARS
@@ -608,10 +607,8 @@ impl Check<'_> {
                 n,
             )?;
         }
-        let [nx, ny] = scene.coarse_cells;
-        let hx = (scene.domain.x[1] - scene.domain.x[0]) / nx as f64;
-        let hy = (scene.domain.y[1] - scene.domain.y[0]) / ny as f64;
-        let aspect = (hx / hy).max(hy / hx);
+        let [hx, hy] = scene.domain.cell_sides(scene.coarse_cells);
+        let aspect = scene.domain.cell_aspect_ratio(scene.coarse_cells);
         self.ensure(
             aspect <= MAX_ASPECT_RATIO,
             "scene.coarse_cells",

@@ -79,6 +79,22 @@ pub struct Rectangle {
     pub y: [f64; 2],
 }
 
+impl Rectangle {
+    /// Width and height `[h_x, h_y]` of the cells of an `nx × ny` grid of the rectangle.
+    pub fn cell_sides(&self, [nx, ny]: [usize; 2]) -> [f64; 2] {
+        [
+            (self.x[1] - self.x[0]) / nx as f64,
+            (self.y[1] - self.y[0]) / ny as f64,
+        ]
+    }
+
+    /// Ratio of the longer to the shorter side of those cells.
+    pub fn cell_aspect_ratio(&self, cells: [usize; 2]) -> f64 {
+        let [hx, hy] = self.cell_sides(cells);
+        (hx / hy).max(hy / hx)
+    }
+}
+
 /// Material and loads of the elasticity problem (I.17) with a(s,r) = 2μ⟨ε,ε⟩ + 2λ⟨div,div⟩.
 #[derive(Clone, Debug, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]

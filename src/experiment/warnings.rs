@@ -50,29 +50,83 @@ impl Experiment {
     pub fn warnings(&self) -> Vec<Warning> {
         let mut out = Vec::new();
         flat_cells(self, &mut out);
-        let x = self.scene.domain.x;
+        let scope = Scope::of(self);
         match &self.problem {
-            Problem::Elasticity(e) => elasticity(e, x, &mut out),
+            Problem::Elasticity(e) => elasticity(e, &scope, &mut out),
             Problem::Contact {
                 elasticity: e,
                 contact,
             } => {
-                elasticity(e, x, &mut out);
-                contact_data(contact, x, &mut out);
+                elasticity(e, &scope, &mut out);
+                contact_data(contact, &scope, &mut out);
             }
-            Problem::Reynolds(r) => reynolds(r, &mut out),
+            Problem::Reynolds(r) => reynolds(r, &scope, &mut out),
         }
-        unresolved_oscillations(self, &mut out);
         out
     }
 }
 
+/// What the checks of the data need to know of the scene and the study: the domain's x-range
+/// and the cells the run can resolve.
+struct Scope {
+    x: [f64; 2],
+    /// Width of a cell of the first mesh (the coarse grid refined globally).
+    first: f64,
+    /// Adaptations before the last solve; each refines a cell at most once.
+    adaptations: usize,
+    /// Width of the finest cell the run can reach, `first / 2^adaptations`.
+    finest: f64,
+}
+
+impl Scope {
+    fn of(e: &Experiment) -> Scope {
+        let [hx, _] = e.scene.domain.cell_sides(e.scene.coarse_cells);
+        let first = hx / 2f64.powi(e.scene.global_refinements as i32);
+        let adaptations = e.study.unprinted_cycles + e.study.rows - 1;
+        Scope {
+            x: e.scene.domain.x,
+            first,
+            adaptations,
+            finest: first / 2f64.powi(adaptations.min(1000) as i32),
+        }
+    }
+
+    /// Oscillating data whose half period lies below the finest cell the run can reach: no mesh
+    /// of the run resolves it, and the quadrature samples it at arbitrary phases (aliasing) — a
+    /// sine of half period 1e-300 is a pseudo-random load.
+    fn resolves(&self, field: &str, half_period: f64, out: &mut Vec<Warning>) {
+        if half_period < self.finest {
+            out.push(Warning::new(
+                field,
+                format!(
+                    "an oscillation of half period {half_period:?} is below the finest cell \
+                     this run can reach ({:.3e} wide after {} refinements of {:?}): no mesh \
+                     resolves it and the quadrature samples it at arbitrary phases",
+                    self.finest, self.adaptations, self.first
+                ),
+            ));
+        }
+    }
+
+    /// A jump at `at` that the domain's x-range does not contain.
+    fn contains_jump(&self, field: &str, at: f64, consequence: &str, out: &mut Vec<Warning>) {
+        let x = self.x;
+        if at <= x[0] || at >= x[1] {
+            out.push(Warning::new(
+                field,
+                format!(
+                    "the jump at x₁ = {at} lies outside the domain's x₁ ∈ ({}, {}): \
+                     {consequence}",
+                    x[0], x[1]
+                ),
+            ));
+        }
+    }
+}
+
 fn flat_cells(e: &Experiment, out: &mut Vec<Warning>) {
-    let d = e.scene.domain;
-    let [nx, ny] = e.scene.coarse_cells;
-    let hx = (d.x[1] - d.x[0]) / nx as f64;
-    let hy = (d.y[1] - d.y[0]) / ny as f64;
-    let ratio = (hx / hy).max(hy / hx);
+    let [hx, hy] = e.scene.domain.cell_sides(e.scene.coarse_cells);
+    let ratio = e.scene.domain.cell_aspect_ratio(e.scene.coarse_cells);
     if ratio > FLAT_CELLS {
         out.push(Warning::new(
             "scene.coarse_cells",
@@ -86,7 +140,7 @@ fn flat_cells(e: &Experiment, out: &mut Vec<Warning>) {
     }
 }
 
-fn elasticity(e: &ElasticityData, x: [f64; 2], out: &mut Vec<Warning>) {
+fn elasticity(e: &ElasticityData, scope: &Scope, out: &mut Vec<Warning>) {
     const F: &str = "scene.elasticity";
     if e.lambda > LOCKING_LAMBDA_OVER_MU * e.mu {
         let nu = e.lambda / (2.0 * (e.lambda + e.mu));
@@ -100,20 +154,23 @@ fn elasticity(e: &ElasticityData, x: [f64; 2], out: &mut Vec<Warning>) {
             ),
         ));
     }
-    if let Some(load) = &e.volume_load {
-        if let Profile::Step { at, .. } = load.profile {
-            outside(
-                &format!("{F}.volume_load.profile.at"),
-                at,
-                x,
-                "the load is constant on the whole domain",
-                out,
-            );
-        }
+    match e.volume_load.as_ref().map(|load| load.profile) {
+        Some(Profile::Step { at, .. }) => scope.contains_jump(
+            &format!("{F}.volume_load.profile.at"),
+            at,
+            "the load is constant on the whole domain",
+            out,
+        ),
+        Some(Profile::Sine { half_period, .. }) => scope.resolves(
+            &format!("{F}.volume_load.profile.half_period"),
+            half_period,
+            out,
+        ),
+        Some(Profile::Constant { .. } | Profile::Quadratic { .. }) | None => {}
     }
 }
 
-fn contact_data(c: &ContactData, x: [f64; 2], out: &mut Vec<Warning>) {
+fn contact_data(c: &ContactData, scope: &Scope, out: &mut Vec<Warning>) {
     const F: &str = "scene.contact";
     let expected = match c.model {
         ContactModel::Z => [
@@ -136,19 +193,25 @@ fn contact_data(c: &ContactData, x: [f64; 2], out: &mut Vec<Warning>) {
         ));
     }
     for (i, obstacle) in c.obstacles.iter().enumerate() {
-        if let ObstacleShape::Jump { at, .. } = obstacle.shape {
-            outside(
+        match obstacle.shape {
+            ObstacleShape::Jump { at, .. } => scope.contains_jump(
                 &format!("{F}.obstacles[{i}].shape.at"),
                 at,
-                x,
                 "the obstacle is (up to the smoothing θ_s) constant on the contact face",
                 out,
-            );
+            ),
+            // sin(periods·2π(x₁+16)/32): half period 16/|periods|.
+            ObstacleShape::Periodic { periods, .. } if periods != 0.0 => scope.resolves(
+                &format!("{F}.obstacles[{i}].shape.periods"),
+                16.0 / periods.abs(),
+                out,
+            ),
+            _ => {}
         }
     }
 }
 
-fn reynolds(r: &ReynoldsData, out: &mut Vec<Warning>) {
+fn reynolds(r: &ReynoldsData, scope: &Scope, out: &mut Vec<Warning>) {
     if r.upper_wall_velocity == [0.0; 3] {
         out.push(Warning::new(
             "scene.reynolds.upper_wall_velocity",
@@ -160,78 +223,13 @@ fn reynolds(r: &ReynoldsData, out: &mut Vec<Warning>) {
             ),
         ));
     }
-}
-
-/// Oscillating data whose half period lies below the finest cell the run can reach (each cycle
-/// refines a cell at most once): no mesh of the run resolves it, and the quadrature samples it
-/// at arbitrary phases (aliasing) — a sine of half period 1e-300 is a pseudo-random load.
-fn unresolved_oscillations(e: &Experiment, out: &mut Vec<Warning>) {
-    let [nx, _] = e.scene.coarse_cells;
-    let first = (e.scene.domain.x[1] - e.scene.domain.x[0])
-        / nx as f64
-        / 2f64.powi(e.scene.global_refinements as i32);
-    let adaptations = e.study.unprinted_cycles + e.study.rows - 1;
-    let finest = first / 2f64.powi(adaptations.min(1000) as i32);
-    let mut check = |field: &str, half_period: f64| {
-        if half_period < finest {
-            out.push(Warning::new(
-                field,
-                format!(
-                    "an oscillation of half period {half_period:?} is below the finest cell \
-                     this run can reach ({finest:.3e} wide after {adaptations} refinements of \
-                     {first:?}): no mesh resolves it and the quadrature samples it at arbitrary \
-                     phases"
-                ),
-            ));
-        }
+    let half_period = match r.gap {
+        GapShape::WaveHorizontal { frequency, .. } => 0.5 / frequency.abs(),
+        // sin²(2π f x) has period 1/(2f).
+        GapShape::Hill { frequency, .. } => 0.25 / frequency.abs(),
+        GapShape::Plain { .. } | GapShape::Linear { .. } => f64::INFINITY,
     };
-    let load = match &e.problem {
-        Problem::Elasticity(el) | Problem::Contact { elasticity: el, .. } => {
-            el.volume_load.as_ref().map(|l| l.profile)
-        }
-        Problem::Reynolds(_) => None,
-    };
-    if let Some(Profile::Sine { half_period, .. }) = load {
-        check(
-            "scene.elasticity.volume_load.profile.half_period",
-            half_period,
-        );
-    }
-    if let Problem::Contact { contact, .. } = &e.problem {
-        for (i, o) in contact.obstacles.iter().enumerate() {
-            if let ObstacleShape::Periodic { periods, .. } = o.shape {
-                if periods != 0.0 {
-                    // sin(periods·2π(x₁+16)/32): half period 16/|periods|.
-                    check(
-                        &format!("scene.contact.obstacles[{i}].shape.periods"),
-                        16.0 / periods.abs(),
-                    );
-                }
-            }
-        }
-    }
-    if let Problem::Reynolds(r) = &e.problem {
-        let half_period = match r.gap {
-            GapShape::WaveHorizontal { frequency, .. } => 0.5 / frequency.abs(),
-            // sin²(2π f x) has period 1/(2f).
-            GapShape::Hill { frequency, .. } => 0.25 / frequency.abs(),
-            GapShape::Plain { .. } | GapShape::Linear { .. } => f64::INFINITY,
-        };
-        check("scene.reynolds.gap.frequency", half_period);
-    }
-}
-
-/// A jump at `at` that the domain's x-range `x` does not contain.
-fn outside(field: &str, at: f64, x: [f64; 2], consequence: &str, out: &mut Vec<Warning>) {
-    if at <= x[0] || at >= x[1] {
-        out.push(Warning::new(
-            field,
-            format!(
-                "the jump at x₁ = {at} lies outside the domain's x₁ ∈ ({}, {}): {consequence}",
-                x[0], x[1]
-            ),
-        ));
-    }
+    scope.resolves("scene.reynolds.gap.frequency", half_period, out);
 }
 
 fn estimator_name(estimator: ContactEstimator) -> &'static str {

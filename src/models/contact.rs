@@ -32,7 +32,7 @@ use crate::linalg::active_set::{
 };
 use crate::linalg::DirectSolver;
 use crate::mesh::{BoundaryFace, Side};
-use crate::models::obstacle::{ContactSide, GeometryError};
+use crate::models::obstacle::ContactSide;
 
 /// Which contact projection a face uses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -176,17 +176,10 @@ impl ConstraintBuilder<'_> {
                     here
                 };
                 let n = ContactSide::vertex_normal(prev, here, next, cb.obstacle.upper);
-                let g = match cb.obstacle.signed_distance_along(here, n) {
-                    Ok(g) => g,
-                    // The normal line meets no obstacle within the search radius and the vertex
-                    // is on the body's side of it: no displacement below that radius (a
-                    // thousand times the size of any Chapter IV body) reaches the obstacle, so
-                    // the vertex is left unconstrained, as for an obstacle at infinity.
-                    Err(GeometryError::NoIntersection { .. })
-                        if cb.obstacle.vertical_clearance(here) > 0.0 =>
-                    {
-                        continue
-                    }
+                // An obstacle out of reach leaves the vertex unconstrained.
+                let g = match cb.obstacle.distance_within_reach(here, n) {
+                    Ok(Some(g)) => g,
+                    Ok(None) => continue,
                     Err(e) => {
                         return Err(format!(
                             "Signorini linearisation at the contact vertex ({}, {}) deformed to \

@@ -415,6 +415,25 @@ impl ContactSide {
         n[1].abs() + n[0].abs() * self.shape.slope_bound(x0, x1)
     }
 
+    /// [`ContactSide::signed_distance_along`], or `None` when the obstacle is out of reach: the
+    /// line meets no obstacle within [`SEARCH_RADIUS`] and q lies on the body's side of it, so no
+    /// displacement below that radius (a thousand times the size of any Chapter IV body) reaches
+    /// the obstacle — as for an obstacle at infinity. A line that meets nothing from beyond the
+    /// obstacle is still an error.
+    pub fn distance_within_reach(
+        &self,
+        q: [f64; 2],
+        n: [f64; 2],
+    ) -> Result<Option<f64>, GeometryError> {
+        match self.signed_distance_along(q, n) {
+            Ok(eta) => Ok(Some(eta)),
+            Err(GeometryError::NoIntersection { .. }) if self.vertical_clearance(q) > 0.0 => {
+                Ok(None)
+            }
+            Err(e) => Err(e),
+        }
+    }
+
     /// The signed distance η along n (III.13): the t with q + t·n on the obstacle curve, i.e.
     /// (q + t n)₂ = y_face + b((q + t n)₁). With n the outward normal of the body, t > 0 means
     /// a free gap ahead, t < 0 that q has penetrated. If n is a unit vector t is a distance.
