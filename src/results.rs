@@ -58,6 +58,17 @@ pub mod columns {
     pub const THEOREM_ESTIMATE: &str = "estimate_theorem";
     /// Vertices of the contact boundary where the obstacle constraint is active (a count).
     pub const CONTACT_VERTICES: &str = "contact_vertices";
+    /// Contact faces with the z-model, |𝕋_c| of the model-adaptive tables (a count).
+    pub const COARSE_FACES: &str = "coarse_faces";
+    /// Contact faces with the Signorini model, |𝕋_a| (a count).
+    pub const ACCURATE_FACES: &str = "accurate_faces";
+    /// The model-error estimate (Σ_{f∈𝕋_c} ε^m(f)²)^{1/2} of (III.16) over the z-faces.
+    pub const MODEL_ERROR: &str = "model_error";
+    /// Largest vertical depth of the deformed contact boundary beyond its obstacle.
+    pub const PENETRATION: &str = "penetration";
+    /// How many cycles back the same face partition was used (0: new; 1: unchanged; 2: a flip
+    /// between two partitions).
+    pub const PARTITION_REPEAT: &str = "partition_repeat";
 }
 
 /// The value of one column in one row.

@@ -1002,3 +1002,181 @@ fn huge_numbers_in_messages_are_short() {
     assert!(error.message.contains("b = 1e300 > 0"), "{error}");
     assert!(error.message.len() < 400, "{error}");
 }
+
+/// A model-adaptive contact file (§IV.2.3) built from `VALID`: Algorithm III.3, p_r = 2 %,
+/// p_c = 1 %, the mesh refined 3× at the contact side.
+fn model_adaptive() -> String {
+    contact_scene(
+        "[{ side = \"bottom\", shape = { kind = \"constant\", level = -2.0 } }]",
+        "[\"left\", \"right\"]",
+    )
+    .replacen(
+        "model = \"z\"\nestimator = \"z-code\"\n",
+        "model = \"model-adaptive\"\n",
+        1,
+    )
+    .replacen(
+        "coarse_cells = [64, 2]\n",
+        "coarse_cells = [64, 2]\ncontact_refinements = 3\n",
+        1,
+    )
+    .replacen(
+        "kind = \"grid-adaptive\"",
+        "kind = \"model-adaptive\"\nalgorithm = \"III.3\"",
+        1,
+    )
+    .replacen("refine_fraction = 0.3", "refine_fraction = 0.02", 1)
+    .replacen("coarsen_fraction = 0.03", "coarsen_fraction = 0.01", 1)
+    .replacen("convergence_window = [2, 5]\n", "", 1)
+}
+
+#[test]
+fn model_adaptive_checks_name_file_and_field() {
+    let base = model_adaptive();
+    let dir = scratch_dir("ma-valid");
+    let e = load(&write(&dir, "IV.1.toml", &base)).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(e.scene.side_refinements, 3);
+    assert_eq!(e.study.model_tolerance(), 1e-7);
+    let with = |from: &str, to: &str| {
+        assert!(base.contains(from), "test setup: `{from}`");
+        base.replacen(from, to, 1)
+    };
+    let iii2 = |from: &str, to: &str| {
+        with("algorithm = \"III.3\"", "algorithm = \"III.2\"").replacen(from, to, 1)
+    };
+    let cases = [
+        (
+            "unknown algorithm",
+            with("\"III.3\"", "\"III.4\""),
+            "study.algorithm",
+            "III.4",
+        ),
+        (
+            "no algorithm",
+            with("algorithm = \"III.3\"\n", ""),
+            "study.algorithm",
+            "III.2",
+        ),
+        (
+            "p_r = 0 for III.3",
+            with("refine_fraction = 0.02", "refine_fraction = 0.0"),
+            "study.refine_fraction",
+            "(0, 1)",
+        ),
+        (
+            "p_c = 1 for III.3",
+            with("coarsen_fraction = 0.01", "coarsen_fraction = 1.0"),
+            "study.coarsen_fraction",
+            "(0, 1)",
+        ),
+        (
+            "p_r > 1 for III.2",
+            iii2("refine_fraction = 0.02", "refine_fraction = 1.5"),
+            "study.refine_fraction",
+            "[0, 1]",
+        ),
+        (
+            "p_c < 0 for III.2",
+            iii2("coarsen_fraction = 0.01", "coarsen_fraction = -0.1"),
+            "study.coarsen_fraction",
+            "[0, 1]",
+        ),
+        (
+            "eps0 = 0",
+            with(
+                "algorithm = \"III.3\"",
+                "algorithm = \"III.3\"\nmodel_tolerance = 0.0",
+            ),
+            "study.model_tolerance",
+            "> 0",
+        ),
+        (
+            "eps0 < 0",
+            with(
+                "algorithm = \"III.3\"",
+                "algorithm = \"III.3\"\nmodel_tolerance = -1e-7",
+            ),
+            "study.model_tolerance",
+            "> 0",
+        ),
+        (
+            "fixed z model",
+            with("model = \"model-adaptive\"", "model = \"z\""),
+            "scene.contact.model",
+            "`z`",
+        ),
+        (
+            "fixed Signorini model",
+            with("model = \"model-adaptive\"", "model = \"signorini\""),
+            "scene.contact.model",
+            "`signorini`",
+        ),
+        (
+            "model-adaptive in a grid study",
+            with(
+                "kind = \"model-adaptive\"\nalgorithm = \"III.3\"",
+                "kind = \"grid-adaptive\"\nconvergence_window = [2, 5]",
+            ),
+            "scene.contact.model",
+            "study.kind",
+        ),
+        (
+            "levels > 12",
+            with("contact_refinements = 3", "contact_refinements = 13"),
+            "scene.contact_refinements",
+            "12",
+        ),
+        (
+            "a convergence window",
+            with(
+                "algorithm = \"III.3\"",
+                "algorithm = \"III.3\"\nconvergence_window = [2, 5]",
+            ),
+            "study.convergence_window",
+            "fixed",
+        ),
+        (
+            "an estimator",
+            with(
+                "model = \"model-adaptive\"",
+                "model = \"model-adaptive\"\nestimator = \"z-code\"",
+            ),
+            "scene.contact.estimator",
+            "model error",
+        ),
+        (
+            "an algorithm in a grid study",
+            edit(
+                "kind = \"grid-adaptive\"",
+                "kind = \"grid-adaptive\"\nalgorithm = \"III.2\"",
+            ),
+            "study.algorithm",
+            "model-adaptive",
+        ),
+    ];
+    for (case, text, field, needle) in cases {
+        expect_error(case, &text, field, needle);
+    }
+    // Without contact: a model-adaptive study of pure elasticity, and refinements at no side.
+    let no_contact = edit(
+        "kind = \"grid-adaptive\"",
+        "kind = \"model-adaptive\"\nalgorithm = \"III.3\"",
+    )
+    .replacen("convergence_window = [2, 5]\n", "", 1);
+    expect_error(
+        "no contact",
+        &no_contact,
+        "study.kind",
+        "scene with contact",
+    );
+    let levels = edit(
+        "coarse_cells = [64, 2]\n",
+        "coarse_cells = [64, 2]\ncontact_refinements = 2\n",
+    );
+    expect_error(
+        "levels without contact",
+        &levels,
+        "scene.contact_refinements",
+        "without contact",
+    );
+}

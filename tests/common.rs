@@ -118,7 +118,10 @@ pub fn full_tier(tables: &[&str], check: fn(&str, &RunResult)) {
 /// The convergence rule of the foundation issue over the experiment's window (restricted to the
 /// rows computed): every ratio within [0.60, 0.85], geometric mean within [0.66, 0.76].
 pub fn assert_convergence(table: &str, r: &RunResult) {
-    let w = spec(table).study.convergence_window;
+    let w = spec(table)
+        .study
+        .convergence_window
+        .unwrap_or_else(|| panic!("{table} has no convergence window"));
     let cycles_and_ratios: Vec<(usize, f64)> = r
         .rows
         .iter()

@@ -8,6 +8,7 @@ mod elasticity;
 mod full_tier;
 mod mesh;
 mod mesh_limits;
+mod model_contact;
 mod outputs;
 mod properties;
 mod report_failures;

@@ -82,6 +82,13 @@ pub fn load(path: &Path) -> Result<Experiment, ExperimentError> {
             domain: scene.domain,
             coarse_cells: scene.coarse_cells,
             global_refinements: scene.global_refinements,
+            side_refinements: scene.contact_refinements,
+            refined_sides: match &scene.contact {
+                Some(contact) if scene.contact_refinements > 0 => {
+                    contact.obstacles.iter().map(|o| o.side).collect()
+                }
+                _ => Vec::new(),
+            },
         },
         problem,
         study,
@@ -510,7 +517,7 @@ impl Check<'_> {
     fn experiment(&self, spec: &ExperimentFile) -> Checked {
         self.identity(spec)?;
         self.scene(&spec.scene)?;
-        self.study(&spec.study)?;
+        self.study(&spec.study, &spec.scene)?;
         self.probes(&spec.probes, &spec.scene)?;
         self.thesis(&spec.thesis, &spec.table)
     }
@@ -627,6 +634,22 @@ impl Check<'_> {
                 crate::mesh::MAX_LEVEL
             ),
             scene.global_refinements,
+        )?;
+        self.ensure(
+            scene.contact_refinements <= MAX_GLOBAL_REFINEMENTS,
+            "scene.contact_refinements",
+            &format!(
+                "between 0 and {MAX_GLOBAL_REFINEMENTS} refinements at the contact sides (the \
+                 thesis uses 3, §IV.2.3)"
+            ),
+            scene.contact_refinements,
+        )?;
+        self.ensure(
+            scene.contact_refinements == 0 || scene.contact.is_some(),
+            "scene.contact_refinements",
+            "0 (or left out) in a scene without contact: the refinements are at the sides \
+             with an obstacle",
+            scene.contact_refinements,
         )?;
         self.effects(scene)?;
         if let Some(elasticity) = &scene.elasticity {
@@ -824,6 +847,15 @@ impl Check<'_> {
             )?;
             self.obstacle_shape(&format!("{field}.shape"), &obstacle.shape)?;
         }
+        if let Some(estimator) = data.estimator {
+            self.ensure(
+                data.model != ContactModel::ModelAdaptive,
+                "scene.contact.estimator",
+                "no estimator with model = \"model-adaptive\": the model-adaptive tables keep \
+                 their mesh fixed and mark faces by the model error (III.16) alone",
+                format!("{estimator:?}"),
+            )?;
+        }
         Ok(())
     }
 
@@ -932,8 +964,9 @@ impl Check<'_> {
         )
     }
 
-    /// Fixed-fraction grid adaptivity (§IV.1: refine 30 %, coarsen 3 %) and the printed cycles.
-    fn study(&self, study: &Study) -> Checked {
+    /// The printed cycles and how to iterate: fixed-fraction grid adaptivity (§IV.1: refine
+    /// 30 %, coarsen 3 %) or model adaptivity (§IV.2.3: Algorithm III.2 or III.3).
+    fn study(&self, study: &Study, scene: &SceneFile) -> Checked {
         self.ensure(study.rows >= 1, "study.rows", "at least 1", study.rows)?;
         self.ensure(
             study.rows <= MAX_ROWS,
@@ -959,6 +992,34 @@ impl Check<'_> {
             &format!("at most study.rows ({})", study.rows),
             study.quick_rows,
         )?;
+        match study.kind {
+            StudyKind::GridAdaptive => self.grid_adaptive(study, scene),
+            StudyKind::ModelAdaptive => self.model_adaptive(study, scene),
+        }
+    }
+
+    /// A grid-adaptive study: marking fractions and the convergence window.
+    fn grid_adaptive(&self, study: &Study, scene: &SceneFile) -> Checked {
+        let model = scene.contact.as_ref().map(|c| c.model);
+        self.ensure(
+            model != Some(ContactModel::ModelAdaptive),
+            "scene.contact.model",
+            "`z` or `signorini` in a grid-adaptive study (model = \"model-adaptive\" needs \
+             study.kind = \"model-adaptive\")",
+            "`model-adaptive`",
+        )?;
+        for (field, given) in [
+            ("study.algorithm", study.algorithm.is_some()),
+            ("study.model_tolerance", study.model_tolerance.is_some()),
+        ] {
+            self.ensure(
+                !given,
+                field,
+                "no such field in a grid-adaptive study (it belongs to study.kind = \
+                 \"model-adaptive\")",
+                "a value",
+            )?;
+        }
         self.non_negative("study.coarsen_fraction", study.coarsen_fraction)?;
         self.positive("study.refine_fraction", study.refine_fraction)?;
         let total = study.refine_fraction + study.coarsen_fraction;
@@ -971,7 +1032,13 @@ impl Check<'_> {
                 study.refine_fraction, study.coarsen_fraction
             ),
         )?;
-        let [first, last] = study.convergence_window;
+        let Some([first, last]) = study.convergence_window else {
+            return Err(self.fail(
+                "study.convergence_window",
+                "[first, last]: the printed cycles where the convergence rule applies",
+                "no such field",
+            ));
+        };
         self.ensure(
             first <= last,
             "study.convergence_window",
@@ -987,6 +1054,68 @@ impl Check<'_> {
             ),
             last,
         )
+    }
+
+    /// A model-adaptive study (§IV.2.3): a contact scene whose faces the marking assigns
+    /// (`model = "model-adaptive"`), Algorithm III.2 with p_r, p_c ∈ [0, 1] or III.3 with
+    /// p_r, p_c ∈ (0, 1), and ε₀ > 0.
+    fn model_adaptive(&self, study: &Study, scene: &SceneFile) -> Checked {
+        let Some(contact) = &scene.contact else {
+            return Err(self.fail(
+                "study.kind",
+                "a scene with contact for a model-adaptive study (it chooses the contact model \
+                 face by face, §IV.2.3)",
+                format!(
+                    "`model-adaptive` with scene.effects {:?}",
+                    names(&scene.effects)
+                ),
+            ));
+        };
+        self.ensure(
+            contact.model == ContactModel::ModelAdaptive,
+            "scene.contact.model",
+            "`model-adaptive` in a model-adaptive study (the marking chooses z or Signorini per \
+             face; a fixed model leaves nothing to choose)",
+            format!("`{}`", contact.model.name()),
+        )?;
+        let Some(algorithm) = study.algorithm else {
+            return Err(self.fail(
+                "study.algorithm",
+                "`III.2` (fixed fraction) or `III.3` (sorted error)",
+                "no such field",
+            ));
+        };
+        for (field, p) in [
+            ("study.refine_fraction", study.refine_fraction),
+            ("study.coarsen_fraction", study.coarsen_fraction),
+        ] {
+            match algorithm {
+                ModelAlgorithm::FixedFraction => self.ensure(
+                    (0.0..=1.0).contains(&p),
+                    field,
+                    "a fraction in [0, 1] for Algorithm III.2",
+                    p,
+                )?,
+                ModelAlgorithm::SortedError => self.ensure(
+                    p > 0.0 && p < 1.0,
+                    field,
+                    "a fraction in (0, 1) for Algorithm III.3",
+                    p,
+                )?,
+            }
+        }
+        if let Some(eps0) = study.model_tolerance {
+            self.positive("study.model_tolerance", eps0)?;
+        }
+        if let Some([first, last]) = study.convergence_window {
+            return Err(self.fail(
+                "study.convergence_window",
+                "no convergence window in a model-adaptive study (the mesh is fixed: there is \
+                 no discretisation error that converges)",
+                format!("[{first}, {last}]"),
+            ));
+        }
+        Ok(())
     }
 
     /// Probe points inside the domain; components that the scene's effects compute.

@@ -48,6 +48,10 @@ pub struct Scene {
     pub coarse_cells: [usize; 2],
     /// Global refinements of the coarse grid before the first solve ([`SceneFile`]).
     pub global_refinements: usize,
+    /// Refinements at `refined_sides` after the global ones ([`SceneFile::contact_refinements`]).
+    pub side_refinements: usize,
+    /// The contact sides (those with an obstacle) when `side_refinements` > 0.
+    pub refined_sides: Vec<Side>,
 }
 
 /// What a scene simulates — the effects it names, with their data. One variant per model; the

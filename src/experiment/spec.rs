@@ -64,6 +64,11 @@ pub struct SceneFile {
     /// grid refined globally, deal.II style (`refine_global`).
     #[serde(default)]
     pub global_refinements: usize,
+    /// Refinements of the cells at the contact sides (the sides with an obstacle) after the
+    /// global ones: the fixed meshes of the model-adaptive tables, §IV.2.3 — 64×2 cells refined
+    /// 3× at one contact side give 1472 cells, 3980 dofs and 512 contact faces.
+    #[serde(default)]
+    pub contact_refinements: usize,
     pub effects: Vec<Effect>,
     pub elasticity: Option<ElasticityData>,
     pub contact: Option<ContactData>,
@@ -149,6 +154,20 @@ pub enum ContactModel {
     Z,
     /// Signorini projection (I.21), linearised per cycle about the previous solution (§IV.2.2).
     Signorini,
+    /// Chosen face by face by the model marking of a `model-adaptive` study (§IV.2.3): every
+    /// face starts with the z-model.
+    ModelAdaptive,
+}
+
+impl ContactModel {
+    /// The experiment-file spelling.
+    pub fn name(self) -> &'static str {
+        match self {
+            ContactModel::Z => "z",
+            ContactModel::Signorini => "signorini",
+            ContactModel::ModelAdaptive => "model-adaptive",
+        }
+    }
 }
 
 /// The term set of the contact estimator (Theorem III.15) that the thesis's codes evidently used
@@ -170,10 +189,53 @@ pub enum ContactEstimator {
 #[serde(deny_unknown_fields)]
 pub struct ContactData {
     pub model: ContactModel,
-    pub estimator: ContactEstimator,
+    /// Term set of the grid estimator; left out, the thesis's pairing with `model` (`z-code`
+    /// for z, `signorini-code` for Signorini). A model-adaptive study on a fixed mesh has no
+    /// grid estimator.
+    #[serde(default)]
+    pub estimator: Option<ContactEstimator>,
+    /// Model-adaptive: the displacement s_h at which the model error ε_P(s_h) of (III.16) is
+    /// evaluated ([`ModelErrorSolution`]).
+    #[serde(default)]
+    pub model_error_solution: ModelErrorSolution,
     /// One obstacle per contact side: `bottom` means s₂ ≥ b(x₁) on x₂ = y0 (n = −e₂),
     /// `top` means s₂ ≤ b(x₁) on x₂ = y1 (n = +e₂).
     pub obstacles: Vec<Obstacle>,
+}
+
+/// Which solution of a model-adaptive cycle the model error ε^m(f) = ‖ε_P(s_h)‖_{L2(f)} is
+/// evaluated at (§III.1.1 replaces s_z and s_s of Theorem III.4 by "s_h"; the thesis does not
+/// say which of the cycle's two solves).
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum ModelErrorSolution {
+    /// The mixed solution, the solution of the cycle (spec/estimators.md §3.4).
+    #[default]
+    Mixed,
+    /// The z-solution on all faces, computed first in every cycle (the coarse solution u_c of
+    /// Algorithms III.2/III.3); on the fixed mesh it is the same in every cycle.
+    Z,
+}
+
+impl ModelErrorSolution {
+    /// The experiment-file spelling.
+    pub fn name(self) -> &'static str {
+        match self {
+            ModelErrorSolution::Mixed => "mixed",
+            ModelErrorSolution::Z => "z",
+        }
+    }
+}
+
+impl ContactData {
+    /// The term set of the grid estimator: as written, or the thesis's pairing with the model
+    /// (z-code for z and for the z-start of a model-adaptive run, Signorini-code for Signorini).
+    pub fn grid_estimator(&self) -> ContactEstimator {
+        self.estimator.unwrap_or(match self.model {
+            ContactModel::Z | ContactModel::ModelAdaptive => ContactEstimator::ZCode,
+            ContactModel::Signorini => ContactEstimator::SignoriniCode,
+        })
+    }
 }
 
 #[derive(Clone, Debug, Deserialize, PartialEq)]
@@ -331,7 +393,36 @@ pub struct ReynoldsData {
 pub enum StudyKind {
     /// solve → estimate → mark (fixed number) → refine, one printed row per cycle.
     GridAdaptive,
+    /// Model adaptivity on a fixed mesh (§IV.2.3): solve → model error (III.16) per contact
+    /// face → move faces between the z- and the Signorini model (Algorithm III.2 or III.3).
+    ModelAdaptive,
 }
+
+/// The model-marking algorithm of a model-adaptive study (§III.1).
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+pub enum ModelAlgorithm {
+    /// Algorithm III.2, fixed fraction strategy.
+    #[serde(rename = "III.2")]
+    FixedFraction,
+    /// Algorithm III.3, sorted error strategy.
+    #[serde(rename = "III.3")]
+    SortedError,
+}
+
+impl ModelAlgorithm {
+    /// The experiment-file spelling.
+    pub fn name(self) -> &'static str {
+        match self {
+            ModelAlgorithm::FixedFraction => "III.2",
+            ModelAlgorithm::SortedError => "III.3",
+        }
+    }
+}
+
+/// ε₀ of Algorithms III.2/III.3 when a file does not set it: unstated in the thesis; IV.27
+/// row 1 (2.9744e-08, no refinement after it) and IV.29 row 8 (7.6012e-07, refinement
+/// continues) bound it to [2.97e-8, 7.6e-7) (spec/estimators.md §2.3).
+pub const DEFAULT_MODEL_TOLERANCE: f64 = 1e-7;
 
 #[derive(Clone, Debug, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
@@ -345,11 +436,29 @@ pub struct Study {
     /// row 0 is already the once-refined mesh).
     #[serde(default)]
     pub unprinted_cycles: usize,
+    /// Grid-adaptive: the fraction of cells refined (θ_r). Model-adaptive: p_r, the fraction
+    /// of the coarse (z) faces moved to the accurate (Signorini) model.
     pub refine_fraction: f64,
+    /// Grid-adaptive: the fraction of cells coarsened (θ_c). Model-adaptive: p_c, the fraction
+    /// of the accurate faces moved back.
     pub coarsen_fraction: f64,
-    /// Printed cycles `[first, last]` (inclusive) where the convergence rule applies.
-    #[serde(deserialize_with = "exactly")]
-    pub convergence_window: [usize; 2],
+    /// Printed cycles `[first, last]` (inclusive) where the convergence rule applies (required
+    /// for grid-adaptive studies; a model-adaptive study on a fixed mesh has none).
+    #[serde(default, deserialize_with = "exactly_some")]
+    pub convergence_window: Option<[usize; 2]>,
+    /// Model-adaptive: the marking algorithm, `III.2` or `III.3`.
+    #[serde(default)]
+    pub algorithm: Option<ModelAlgorithm>,
+    /// Model-adaptive: ε₀ of Algorithms III.2/III.3 (default [`DEFAULT_MODEL_TOLERANCE`]).
+    #[serde(default)]
+    pub model_tolerance: Option<f64>,
+}
+
+impl Study {
+    /// ε₀ of the model marking.
+    pub fn model_tolerance(&self) -> f64 {
+        self.model_tolerance.unwrap_or(DEFAULT_MODEL_TOLERANCE)
+    }
 }
 
 /// Where to record solution values after the last cycle.
@@ -392,6 +501,15 @@ pub struct AdditivePart {
     pub table: String,
     /// Its printed `estimate` column, row by row.
     pub estimate: Vec<f64>,
+}
+
+/// [`exactly`] for an optional field.
+fn exactly_some<'de, D, T, const N: usize>(deserializer: D) -> Result<Option<[T; N]>, D::Error>
+where
+    D: Deserializer<'de>,
+    T: Deserialize<'de>,
+{
+    exactly(deserializer).map(Some)
 }
 
 /// A list of exactly `N` values. serde's own `[T; N]` reads the first `N` values of a longer list

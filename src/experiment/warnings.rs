@@ -172,13 +172,14 @@ fn elasticity(e: &ElasticityData, scope: &Scope, out: &mut Vec<Warning>) {
 
 fn contact_data(c: &ContactData, scope: &Scope, out: &mut Vec<Warning>) {
     const F: &str = "scene.contact";
+    let estimator = c.grid_estimator();
     let expected = match c.model {
-        ContactModel::Z => [
+        ContactModel::Z | ContactModel::ModelAdaptive => [
             ContactEstimator::ZCode,
             ContactEstimator::ZCodeObstacleSlope,
         ]
-        .contains(&c.estimator),
-        ContactModel::Signorini => c.estimator == ContactEstimator::SignoriniCode,
+        .contains(&estimator),
+        ContactModel::Signorini => estimator == ContactEstimator::SignoriniCode,
     };
     if !expected {
         out.push(Warning::new(
@@ -187,8 +188,8 @@ fn contact_data(c: &ContactData, scope: &Scope, out: &mut Vec<Warning>) {
                 "`{}` with model `{}`: the thesis pairs the z-code terms with the z-model \
                  (Tables IV.6–IV.11) and the Signorini-code terms with the Signorini model \
                  (IV.12–IV.17); this pairing estimates the error of a different problem",
-                estimator_name(c.estimator),
-                model_name(c.model)
+                estimator_name(estimator),
+                c.model.name()
             ),
         ));
     }
@@ -237,12 +238,5 @@ fn estimator_name(estimator: ContactEstimator) -> &'static str {
         ContactEstimator::ZCode => "z-code",
         ContactEstimator::ZCodeObstacleSlope => "z-code-obstacle-slope",
         ContactEstimator::SignoriniCode => "signorini-code",
-    }
-}
-
-fn model_name(model: ContactModel) -> &'static str {
-    match model {
-        ContactModel::Z => "z",
-        ContactModel::Signorini => "signorini",
     }
 }

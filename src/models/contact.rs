@@ -51,9 +51,13 @@ pub struct ContactBoundary {
 }
 
 impl From<crate::experiment::ContactModel> for ContactModel {
+    /// The model of every face at the start: a model-adaptive run starts with z everywhere
+    /// (𝕋_c = 𝕋, Algorithms III.1–III.3).
     fn from(m: crate::experiment::ContactModel) -> ContactModel {
         match m {
-            crate::experiment::ContactModel::Z => ContactModel::Z,
+            crate::experiment::ContactModel::Z | crate::experiment::ContactModel::ModelAdaptive => {
+                ContactModel::Z
+            }
             crate::experiment::ContactModel::Signorini => ContactModel::Signorini,
         }
     }
@@ -94,6 +98,24 @@ impl ContactConstraint {
     }
 }
 
+/// The boundary faces between consecutive vertices `verts` of a side (as
+/// [`crate::fe::dofs::Vertices::side_vertices`] lists them): a boundary face has no finer neighbour
+/// across it, so no vertex lies inside it, and consecutive vertices are the end points of one.
+pub fn side_faces(dofs: &DofMap, side: Side, verts: &[u32]) -> Vec<BoundaryFace> {
+    let along = |vert: u32| {
+        let key = dofs.vertices.keys[vert as usize];
+        if side.is_horizontal() {
+            key.0
+        } else {
+            key.1
+        }
+    };
+    verts
+        .windows(2)
+        .map(|w| BoundaryFace::spanning(side, along(w[0]), along(w[1])))
+        .collect()
+}
+
 /// Builds the contact constraints of one mesh.
 pub struct ConstraintBuilder<'a> {
     pub boundaries: &'a [ContactBoundary],
@@ -127,21 +149,9 @@ impl ConstraintBuilder<'_> {
                     None => p,
                 }
             };
-            // Consecutive vertices of a side are the end points of its boundary faces (a
-            // boundary face has no finer neighbour across it, so no vertex lies inside it).
-            let along = |vert: u32| {
-                let key = v.keys[vert as usize];
-                if cb.side.is_horizontal() {
-                    key.0
-                } else {
-                    key.1
-                }
-            };
-            let face_models: Vec<ContactModel> = verts
-                .windows(2)
-                .map(|w| {
-                    (self.face_model)(BoundaryFace::spanning(cb.side, along(w[0]), along(w[1])))
-                })
+            let face_models: Vec<ContactModel> = side_faces(dofs, cb.side, &verts)
+                .into_iter()
+                .map(|f| (self.face_model)(f))
                 .collect();
             for (i, &vert) in verts.iter().enumerate() {
                 if !constraints.is_free(dofs.dof(vert, 0))
@@ -204,6 +214,20 @@ impl ConstraintBuilder<'_> {
         }
         Ok(out)
     }
+}
+
+/// The contact set of a displacement `u` for `constraints`: the constraints it touches or
+/// violates (bound − n·u ≤ 1e-9·(1 + |bound|)) — the warm start of an active-set solve from
+/// another solution (the previous cycle's, or the z-solution for the mixed solve of §IV.2.3).
+pub fn contact_set(constraints: &[ContactConstraint], dofs: &DofMap, u: &[f64]) -> Vec<bool> {
+    constraints
+        .iter()
+        .map(|c| {
+            let s = [u[dofs.dof(c.vertex, 0)], u[dofs.dof(c.vertex, 1)]];
+            let gap = c.bound - (c.normal[0] * s[0] + c.normal[1] * s[1]);
+            gap <= 1e-9 * (1.0 + c.bound.abs())
+        })
+        .collect()
 }
 
 /// Result of the contact solve.

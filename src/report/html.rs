@@ -13,7 +13,7 @@ use super::{
     compared_value, compares_previous_estimate, estimate_ratio, rel_diff, tolerance, Entry,
     Failure, FailureKind, Figure, ReportMeta, Section, Summary, MAX_SHOWN_THESIS_ROWS,
 };
-use crate::results::columns::{PREVIOUS_ESTIMATE, THEOREM_ESTIMATE};
+use crate::results::columns::{self, PREVIOUS_ESTIMATE, THEOREM_ESTIMATE};
 use crate::results::{Row, RunResult, Value};
 use crate::thesis::ThesisTable;
 
@@ -567,38 +567,55 @@ fn alternative_table(
         Some((lo, hi)) => format!("{} … {}", fmt_pct(lo), fmt_pct(hi)),
         None => "—".into(),
     };
+    // The headline columns: dofs and estimate of the grid-adaptive tables, the face split and
+    // the model error of the model-adaptive ones (whose mesh is fixed).
+    let model_adaptive = run
+        .rows
+        .iter()
+        .any(|r| r.value(columns::MODEL_ERROR).is_some());
+    let (count, value) = if model_adaptive {
+        (columns::COARSE_FACES, columns::MODEL_ERROR)
+    } else {
+        (columns::DOFS, columns::ESTIMATE)
+    };
     let _ = write!(
         h,
         "<h3>Alternative reading: {}</h3>\n<p class=\"legend\">Computed in this run. Against the \
-         table above: estimate {}, dofs {}.</p>\n<div class=\"scroll\"><table><thead><tr>\
-         <th>cycle</th><th>dofs</th><th>dofs (alt.)</th><th>Δ</th><th>estimate</th>\
-         <th>estimate (alt.)</th><th>Δ</th><th>tribo/thesis</th><th>alt./thesis</th>\
+         table above: {value} {}, {count} {}.</p>\n<div class=\"scroll\"><table><thead><tr>\
+         <th>cycle</th><th>{count}</th><th>{count} (alt.)</th><th>Δ</th><th>{value}</th>\
+         <th>{value} (alt.)</th><th>Δ</th><th>tribo/thesis</th><th>alt./thesis</th>\
          </tr></thead><tbody>\n",
         escape(label),
-        span(range(&|r| r.estimate().unwrap_or(f64::NAN))),
-        span(range(&|r| r.value("dofs").unwrap_or(f64::NAN))),
+        span(range(&|r| r.value(value).unwrap_or(f64::NAN))),
+        span(range(&|r| r.value(count).unwrap_or(f64::NAN))),
     );
-    // The estimate ratio to the printed row, compared as in the table above.
+    // The ratio to the printed row, compared as in the table above.
     let to_thesis = |rows: &[Row], cycle: usize| {
         let i = rows.iter().position(|r| r.cycle == cycle)?;
-        estimate_ratio(rows, i, thesis.value(cycle, "estimate")).map(fmt_sig)
+        let printed = thesis.value(cycle, value);
+        let ratio = if model_adaptive {
+            Some(rows[i].value(value)? / printed?).filter(|q| q.is_finite())
+        } else {
+            estimate_ratio(rows, i, printed)
+        };
+        ratio.map(fmt_sig)
     };
     for (r, a) in &pairs {
         let _ = writeln!(
             h,
             "<tr><td>{}</td><td>{}</td><td>{}</td>{}<td>{}</td><td>{}</td>{}{}{}</tr>",
             r.cycle,
-            opt_count(r.dofs()),
-            opt_count(a.dofs()),
+            opt_count(r.value(count).map(|v| v as usize)),
+            opt_count(a.value(count).map(|v| v as usize)),
             diff_cell(
-                "dofs",
-                rel_diff(nan_or(a.value("dofs")), nan_or(r.value("dofs")))
+                count,
+                rel_diff(nan_or(a.value(count)), nan_or(r.value(count)))
             ),
-            fmt_sig(nan_or(r.estimate())),
-            fmt_sig(nan_or(a.estimate())),
+            fmt_sig(nan_or(r.value(value))),
+            fmt_sig(nan_or(a.value(value))),
             diff_cell(
-                "estimate",
-                rel_diff(nan_or(a.estimate()), nan_or(r.estimate()))
+                value,
+                rel_diff(nan_or(a.value(value)), nan_or(r.value(value)))
             ),
             opt_cell(to_thesis(&run.rows, r.cycle)),
             opt_cell(to_thesis(&alt.rows, r.cycle)),

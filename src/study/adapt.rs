@@ -4,7 +4,9 @@
 //! [`Adaptation`], each changing the [`Discretisation`] its way.
 
 use super::problem::{Discretisation, Estimate};
+use crate::adaptivity::model::{fixed_fraction, sorted_error, Partition};
 use crate::adaptivity::{mark_fixed_number, rounded_measure};
+use crate::experiment::ModelAlgorithm;
 
 /// One adaptation step between two solves.
 pub trait Adaptation {
@@ -38,6 +40,55 @@ impl Adaptation for FixedNumber {
         disc.mesh
             .refine_and_coarsen(&marking.refine, &marking.coarsen)
             .map_err(|e| format!("cannot refine the mesh after this cycle: {e}"))?;
+        Ok(())
+    }
+}
+
+/// Model marking of the model-adaptive contact tables (§IV.2.3): the contact faces with their
+/// indicators ε^m(f) ([`Estimate::faces`], in the stable geometric order) move between the
+/// z-model (𝕋_c) and the Signorini model (𝕋_a, [`Discretisation::accurate_faces`]) by
+/// Algorithm III.2 ([`fixed_fraction`]) or III.3 ([`sorted_error`]); the mesh stays.
+pub struct ModelMarking {
+    pub algorithm: ModelAlgorithm,
+    /// p_r.
+    pub refine: f64,
+    /// p_c.
+    pub coarsen: f64,
+    /// ε₀.
+    pub tolerance: f64,
+}
+
+impl Adaptation for ModelMarking {
+    fn adapt(&mut self, disc: &mut Discretisation, estimate: &Estimate) -> Result<(), String> {
+        let faces = &estimate.faces;
+        let eps: Vec<f64> = faces.iter().map(|&(_, e)| e).collect();
+        let mut partition = Partition::from_accurate(
+            faces
+                .iter()
+                .map(|(f, _)| disc.accurate_faces.contains(f))
+                .collect(),
+        );
+        match self.algorithm {
+            ModelAlgorithm::FixedFraction => {
+                fixed_fraction(&mut partition, &eps, self.refine, self.coarsen);
+            }
+            ModelAlgorithm::SortedError => {
+                sorted_error(
+                    &mut partition,
+                    &eps,
+                    self.refine,
+                    self.coarsen,
+                    self.tolerance,
+                )
+                .map_err(|e| format!("model marking: {e}"))?;
+            }
+        }
+        disc.accurate_faces = faces
+            .iter()
+            .zip(partition.accurate())
+            .filter(|(_, &accurate)| accurate)
+            .map(|((f, _), _)| *f)
+            .collect();
         Ok(())
     }
 }

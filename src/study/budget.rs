@@ -18,7 +18,7 @@
 //! IV.43), where it is far above.
 
 use super::{RunError, Schedule};
-use crate::experiment::{Experiment, Problem};
+use crate::experiment::{Experiment, Problem, StudyKind};
 
 /// Bytes of memory per active cell and squared solution component, measured (module docs).
 pub const BYTES_PER_CELL: f64 = 2000.0;
@@ -81,9 +81,15 @@ impl Budget {
     pub fn admit_run(&self, experiment: &Experiment, schedule: Schedule) -> Result<(), RunError> {
         let c = components(experiment);
         let mut cells = initial_cells(experiment);
-        let growth = CLOSURE
-            * (1.0 + 3.0 * experiment.study.refine_fraction
-                - 0.75 * experiment.study.coarsen_fraction);
+        let growth = match experiment.study.kind {
+            StudyKind::GridAdaptive => {
+                CLOSURE
+                    * (1.0 + 3.0 * experiment.study.refine_fraction
+                        - 0.75 * experiment.study.coarsen_fraction)
+            }
+            // The mesh is fixed; only the models of the contact faces change.
+            StudyKind::ModelAdaptive => 1.0,
+        };
         for solve in schedule.solves() {
             if memory(cells, c) > self.bytes {
                 return Err(solve.error(
@@ -129,10 +135,24 @@ fn components(experiment: &Experiment) -> usize {
     }
 }
 
-/// Active cells of the first mesh: the coarse grid refined globally.
+/// Active cells of the first mesh: the coarse grid refined globally, then at the contact sides
+/// (each refinement there splits the boundary row of 2^k·n cells into four; the 2:1 closure
+/// behind them is bounded by [`CLOSURE`] per refinement).
 fn initial_cells(experiment: &Experiment) -> f64 {
-    let [nx, ny] = experiment.scene.coarse_cells;
-    nx as f64 * ny as f64 * 4f64.powi(experiment.scene.global_refinements as i32)
+    let scene = &experiment.scene;
+    let [nx, ny] = scene.coarse_cells;
+    let levels = 2f64.powi(scene.global_refinements as i32);
+    let mut cells = nx as f64 * ny as f64 * levels * levels;
+    for k in 0..scene.side_refinements {
+        let boundary_row: f64 = scene
+            .refined_sides
+            .iter()
+            .map(|s| if s.is_horizontal() { nx } else { ny } as f64 * levels)
+            .sum::<f64>()
+            * 2f64.powi(k as i32);
+        cells = (cells + 3.0 * boundary_row) * CLOSURE.powi(4);
+    }
+    cells
 }
 
 /// Predicted bytes of a cycle with `cells` active cells and `c` components.

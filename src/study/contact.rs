@@ -16,8 +16,8 @@ use crate::fe::{DofMap, System};
 use crate::linalg::DirectSolver;
 use crate::mesh::{BoundaryFace, Mesh, Side};
 use crate::models::contact::{
-    contact_boundaries, penetration, solve_contact, ConstraintBuilder, ContactBoundary,
-    ContactConstraint, ContactModel, ContactSolution,
+    contact_boundaries, contact_set, penetration, solve_contact, ConstraintBuilder,
+    ContactBoundary, ContactConstraint, ContactModel, ContactSolution,
 };
 use crate::models::elasticity::Elasticity;
 use crate::results::{columns, DeformedPicture};
@@ -63,7 +63,7 @@ impl ContactProblem {
             elasticity.into(),
             contact_boundaries(contact),
             contact.model.into(),
-            contact.estimator.into(),
+            contact.grid_estimator().into(),
         )
     }
 
@@ -233,16 +233,9 @@ impl Problem for ContactProblem {
         };
         let dofs = &system.dofs;
         self.constraints = builder.build(dofs, &system.constraints, s0)?;
-        self.initial = previous.as_ref().map(|p| {
-            self.constraints
-                .iter()
-                .map(|c| {
-                    let s = [p[dofs.dof(c.vertex, 0)], p[dofs.dof(c.vertex, 1)]];
-                    let gap = c.bound - (c.normal[0] * s[0] + c.normal[1] * s[1]);
-                    gap <= 1e-9 * (1.0 + c.bound.abs())
-                })
-                .collect()
-        });
+        self.initial = previous
+            .as_ref()
+            .map(|p| contact_set(&self.constraints, dofs, p));
         Ok(())
     }
 
@@ -278,7 +271,12 @@ impl Problem for ContactProblem {
         Ok(Solution { u, counters })
     }
 
-    fn estimate(&mut self, disc: &Discretisation, dofs: &DofMap, solution: &Solution) -> Estimate {
+    fn estimate(
+        &mut self,
+        disc: &Discretisation,
+        dofs: &DofMap,
+        solution: &Solution,
+    ) -> Result<Estimate, String> {
         let u = &solution.u;
         let e = self.contact_estimate(&disc.mesh, dofs, u);
         let mut estimate = Estimate::of_cells(e.eta2);
@@ -304,10 +302,10 @@ impl Problem for ContactProblem {
             estimate = estimate.with("obstacle_estimate", e.obstacle.sqrt());
         }
         self.previous_parts = Some((e.contact, e.gap));
-        estimate.with(
+        Ok(estimate.with(
             "penetration",
             penetration(&self.boundaries, dofs, u, PENETRATION_SAMPLES),
-        )
+        ))
     }
 
     fn finish_cycle(&mut self, disc: &Discretisation, dofs: DofMap, solution: Solution) {

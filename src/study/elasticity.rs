@@ -70,14 +70,19 @@ impl Problem for ElasticityProblem {
         })
     }
 
-    fn estimate(&mut self, disc: &Discretisation, dofs: &DofMap, solution: &Solution) -> Estimate {
-        Estimate::of_cells(estimators::elasticity::indicators(
+    fn estimate(
+        &mut self,
+        disc: &Discretisation,
+        dofs: &DofMap,
+        solution: &Solution,
+    ) -> Result<Estimate, String> {
+        Ok(Estimate::of_cells(estimators::elasticity::indicators(
             &disc.mesh,
             dofs,
             &solution.u,
             &self.model,
             &self.terms,
-        ))
+        )))
     }
 
     fn pictures(

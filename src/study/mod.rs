@@ -12,6 +12,7 @@ pub mod budget;
 pub mod clock;
 pub mod contact;
 pub mod elasticity;
+pub mod model_contact;
 pub mod problem;
 pub mod readings;
 pub mod record;
@@ -20,7 +21,7 @@ pub mod thin_film;
 pub mod transfer;
 pub mod warnings;
 
-pub use adapt::{Adaptation, FixedNumber};
+pub use adapt::{Adaptation, FixedNumber, ModelMarking};
 pub use budget::Budget;
 pub use clock::{Phase, PhaseClock};
 pub use problem::{Discretisation, Estimate, Pictures, Problem, Solution};
@@ -185,7 +186,12 @@ pub fn build_problem(experiment: &Experiment) -> Box<dyn Problem> {
         experiment::Problem::Contact {
             elasticity,
             contact,
-        } => Box::new(contact::ContactProblem::new(elasticity, contact)),
+        } => match experiment.study.kind {
+            StudyKind::GridAdaptive => Box::new(contact::ContactProblem::new(elasticity, contact)),
+            StudyKind::ModelAdaptive => Box::new(model_contact::ModelAdaptiveContact::new(
+                elasticity, contact,
+            )),
+        },
         experiment::Problem::Reynolds(data) => Box::new(reynolds::ReynoldsFilm::new(data, domain)),
     }
 }
@@ -196,6 +202,14 @@ pub fn build_adaptation(study: &experiment::Study) -> Box<dyn Adaptation> {
         StudyKind::GridAdaptive => Box::new(FixedNumber {
             refine: study.refine_fraction,
             coarsen: study.coarsen_fraction,
+        }),
+        StudyKind::ModelAdaptive => Box::new(ModelMarking {
+            algorithm: study
+                .algorithm
+                .unwrap_or(experiment::ModelAlgorithm::SortedError),
+            refine: study.refine_fraction,
+            coarsen: study.coarsen_fraction,
+            tolerance: study.model_tolerance(),
         }),
     }
 }
@@ -231,9 +245,11 @@ pub fn run_study(
             .and_then(Solution::finite)
             .map_err(fail)?;
         let dofs = system.into_dofs();
-        let estimate = clock.time(Phase::Estimate, || {
-            problem.estimate(&disc, &dofs, &solution)
-        });
+        let estimate = clock
+            .time(Phase::Estimate, || {
+                problem.estimate(&disc, &dofs, &solution)
+            })
+            .map_err(fail)?;
         estimate.finite_total().map_err(fail)?;
         record.cycle(&solve, &disc, &dofs, &solution, &estimate, problem);
         problem.finish_cycle(&disc, dofs, solution);

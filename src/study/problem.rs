@@ -2,33 +2,47 @@
 //! (what is assembled and solved, which columns it produces) and the *adaptation* (what changes
 //! between cycles, [`super::adapt`]).
 
+use std::collections::BTreeSet;
+
 use crate::estimators::FaceIndicators;
 use crate::experiment::Scene;
 use crate::fe::{DofMap, System};
 use crate::linalg::DirectSolver;
-use crate::mesh::{Mesh, MeshError};
+use crate::mesh::{BoundaryFace, Mesh, MeshError};
 use crate::results::{columns, DeformedPicture, FieldPicture, Value};
 
 use super::clock::PhaseClock;
 
-/// What changes from cycle to cycle: the mesh (and, for the model-adaptive families, the model
-/// of each face or cell, and the load step of a forming run, as they arrive).
+/// What changes from cycle to cycle: the mesh and, in the model-adaptive families, the model
+/// of each contact face (the load step of a forming run will join them).
 #[derive(Clone, Debug)]
 pub struct Discretisation {
     pub mesh: Mesh,
+    /// The contact faces that use the accurate (Signorini) model, 𝕋_a of Algorithms
+    /// III.1–III.3; every other contact face uses the z-model (𝕋_c). Empty at the start.
+    pub accurate_faces: BTreeSet<BoundaryFace>,
 }
 
 impl Discretisation {
-    /// The scene's coarse grid of its domain, refined globally `global_refinements` times, or
-    /// the reason the mesh cannot be built (a grid too large to number, more global
-    /// refinements than [`crate::mesh::MAX_LEVEL`]).
+    /// A mesh with every contact face on the z-model.
+    pub fn of_mesh(mesh: Mesh) -> Discretisation {
+        Discretisation {
+            mesh,
+            accurate_faces: BTreeSet::new(),
+        }
+    }
+
+    /// The scene's coarse grid of its domain, refined globally `global_refinements` times and
+    /// then `side_refinements` times at the contact sides, or the reason the mesh cannot be
+    /// built (a grid too large to number, more refinements than [`crate::mesh::MAX_LEVEL`]).
     pub fn initial(scene: &Scene) -> Result<Discretisation, MeshError> {
         let d = &scene.domain;
         let mut mesh = Mesh::try_new(d.x, d.y, scene.coarse_cells[0], scene.coarse_cells[1])?;
         for _ in 0..scene.global_refinements {
             mesh.refine_global()?;
         }
-        Ok(Discretisation { mesh })
+        mesh.refine_at_sides(&scene.refined_sides, scene.side_refinements)?;
+        Ok(Discretisation::of_mesh(mesh))
     }
 }
 
@@ -143,8 +157,13 @@ pub trait Problem {
     ) -> Result<Solution, String>;
 
     /// Indicators and the row's estimate columns (after the solve only the dofs of the system
-    /// are kept).
-    fn estimate(&mut self, disc: &Discretisation, dofs: &DofMap, solution: &Solution) -> Estimate;
+    /// are kept). An error message names what could not be evaluated.
+    fn estimate(
+        &mut self,
+        disc: &Discretisation,
+        dofs: &DofMap,
+        solution: &Solution,
+    ) -> Result<Estimate, String>;
 
     /// After the row is recorded and before the adaptation: keep what the next cycle transfers
     /// (the previous solution).

@@ -3,7 +3,7 @@
 //! share the readings of the cavitation source ([`super::thin_film::source_readings`]).
 
 use super::thin_film::source_readings;
-use crate::experiment::{Experiment, Problem};
+use crate::experiment::{ContactModel, Experiment, ModelErrorSolution, Problem};
 
 /// An experiment with one reading changed.
 pub struct AlternativeReading {
@@ -16,7 +16,8 @@ pub struct AlternativeReading {
 
 /// The alternative readings the report compares an experiment with: for Reynolds with
 /// cavitation and the printed γ₃c of (I.61), two readings of the source term R₃c
-/// ([`source_readings`]); none for the other problems.
+/// ([`source_readings`]); for model-adaptive contact the model error at the z-solution instead
+/// of the mixed one ([`ModelErrorSolution`]); none for the other problems.
 pub fn alternative_readings(experiment: &Experiment) -> Vec<AlternativeReading> {
     match &experiment.problem {
         Problem::Reynolds(data) => source_readings(data.cavitation, data.cavitation_source)
@@ -33,6 +34,22 @@ pub fn alternative_readings(experiment: &Experiment) -> Vec<AlternativeReading> 
                 }
             })
             .collect(),
+        Problem::Contact { contact, .. }
+            if contact.model == ContactModel::ModelAdaptive
+                && contact.model_error_solution == ModelErrorSolution::Mixed =>
+        {
+            let mut alt = experiment.clone();
+            if let Problem::Contact { contact, .. } = &mut alt.problem {
+                contact.model_error_solution = ModelErrorSolution::Z;
+            }
+            vec![AlternativeReading {
+                label: "model error ε_P at the z-solution of each cycle (the coarse solution \
+                        u_c), not at the mixed solution"
+                    .into(),
+                suffix: "z-solution".into(),
+                experiment: alt,
+            }]
+        }
         Problem::Elasticity(_) | Problem::Contact { .. } => Vec::new(),
     }
 }

@@ -172,7 +172,12 @@ impl Problem for ReynoldsFilm {
         solution
     }
 
-    fn estimate(&mut self, disc: &Discretisation, dofs: &DofMap, solution: &Solution) -> Estimate {
+    fn estimate(
+        &mut self,
+        disc: &Discretisation,
+        dofs: &DofMap,
+        solution: &Solution,
+    ) -> Result<Estimate, String> {
         let data = &self.cache.as_ref().expect("estimate after assembly").data;
         let cavitation = self.switch.is_on();
         let zone = if cavitation {
@@ -207,7 +212,7 @@ impl Problem for ReynoldsFilm {
             estimate = estimate.with(columns::THEOREM_ESTIMATE, t);
         }
         estimate.noise_floor = Some(noise_floor(self.psi_scale));
-        estimate
+        Ok(estimate)
     }
 
     fn finish_cycle(&mut self, disc: &Discretisation, dofs: DofMap, solution: Solution) {

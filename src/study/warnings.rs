@@ -45,7 +45,7 @@ pub fn of_run(experiment: &Experiment, rows: &[Row]) -> Vec<Warning> {
 /// The printed cycles of the convergence window the run reached and the geometric mean of the
 /// estimate ratios over them, when it is above 1.
 fn growth_over_window(experiment: &Experiment, rows: &[Row]) -> Option<(usize, usize, f64)> {
-    let [first, last] = experiment.study.convergence_window;
+    let [first, last] = experiment.study.convergence_window?;
     let ratios: Vec<(usize, f64)> = rows
         .iter()
         .filter(|r| first < r.cycle && r.cycle <= last)
