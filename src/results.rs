@@ -258,6 +258,27 @@ pub struct FieldPicture {
     pub zone_label: String,
 }
 
+/// One contact face of a model-adaptive cycle: where it lies, its model and its indicator.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct FaceModel {
+    /// `bottom` or `top`.
+    pub side: String,
+    /// The face's extent along x₁ (undeformed).
+    pub x0: f64,
+    pub x1: f64,
+    /// Signorini (𝕋_a) rather than z (𝕋_c).
+    pub accurate: bool,
+    /// ε^m(f) of this cycle.
+    pub error: f64,
+}
+
+/// The partition of the contact faces into z and Signorini in one cycle (thesis Figs IV.35–IV.45).
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct PartitionPicture {
+    pub cycle: usize,
+    pub faces: Vec<FaceModel>,
+}
+
 /// Everything one experiment run produced.
 #[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct RunResult {
@@ -273,6 +294,8 @@ pub struct RunResult {
     pub meshes: Vec<MeshPicture>,
     pub deformed: Vec<DeformedPicture>,
     pub fields: Vec<FieldPicture>,
+    /// The contact-face models of every printed cycle of a model-adaptive run (empty otherwise).
+    pub partitions: Vec<PartitionPicture>,
     /// Bounding box of the domain `[x0, x1, y0, y1]`.
     pub domain: [f64; 4],
     /// Readings of the thesis and known differences that apply to this table (shown in the report).

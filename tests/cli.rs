@@ -154,3 +154,32 @@ fn a_small_memory_budget_is_written_in_its_unit() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A model-adaptive table's page: the face split and model error per cycle and the partition
+/// strips instead of the convergence and cost plots (its mesh is fixed), the z-solution reading
+/// beside it, and the partition of every printed cycle.
+#[test]
+fn model_adaptive_tables_draw_their_partitions() {
+    let out = temp_dir("model-adaptive");
+    let run = quick_table("IV.29", &out, &[]);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let figures = out.join("figures");
+    assert!(figures.join("IV.29-model.svg").is_file());
+    assert!(!figures.join("IV.29-convergence.svg").exists());
+    assert!(!figures.join("IV.29-cost.svg").exists());
+    let strips = std::fs::read_to_string(figures.join("IV.29-partition.svg")).unwrap();
+    for (cycle, signorini) in [(0, 0), (1, 12), (8, 48), (9, 58)] {
+        assert!(
+            strips.contains(&format!("cycle {cycle}: {signorini} S")),
+            "cycle {cycle}"
+        );
+    }
+    assert!(out.join("data/IV.29.z-solution.csv").is_file());
+    let page = std::fs::read_to_string(out.join("index.html")).unwrap();
+    assert!(page.contains("Alternative reading: model error ε_P at the z-solution"));
+    assert!(page.contains("<th>coarse_faces (alt.)</th>"));
+}

@@ -12,6 +12,7 @@
 
 pub mod data;
 mod html;
+mod model_plots;
 mod plots;
 
 use std::any::Any;
@@ -273,16 +274,39 @@ fn write_figures(fig_dir: &Path, section: &Section) -> io::Result<Vec<Figure>> {
         path
     };
 
-    let path = push(
-        "convergence",
-        format!(
-            "{}: estimate vs degrees of freedom, tribo (solid) and thesis (dashed), log–log",
-            run.table
-        ),
-    );
-    plots::convergence(&path, run, section.thesis)?;
+    if !run.partitions.is_empty() {
+        // Model-adaptive: a fixed mesh, so no convergence in dofs; the face split and the
+        // model error per cycle, and the partition itself.
+        let path = push(
+            "model",
+            format!(
+                "{}: Signorini faces and model error per cycle, tribo (solid) and thesis \
+                 (dashed); thesis Figs IV.35–IV.45 show the partitions",
+                run.table
+            ),
+        );
+        model_plots::model_adaptivity(&path, run, section.thesis)?;
+        let path = push(
+            "partition",
+            format!(
+                "{}: the contact faces per cycle, Signorini black and z light grey (cf. thesis \
+                 Figs IV.35–IV.45)",
+                run.table
+            ),
+        );
+        model_plots::partitions(&path, run, run.domain)?;
+    } else {
+        let path = push(
+            "convergence",
+            format!(
+                "{}: estimate vs degrees of freedom, tribo (solid) and thesis (dashed), log–log",
+                run.table
+            ),
+        );
+        plots::convergence(&path, run, section.thesis)?;
+    }
 
-    if !run.rows.is_empty() {
+    if !run.rows.is_empty() && run.partitions.is_empty() {
         let path = push(
             "cost",
             format!(

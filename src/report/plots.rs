@@ -1297,6 +1297,7 @@ mod tests {
                 meshes: vec![],
                 deformed: vec![],
                 fields: vec![],
+                partitions: vec![],
                 domain: [0.0, 1.0, 0.0, 1.0],
                 notes: vec![],
                 warnings: vec![],

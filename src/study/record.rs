@@ -5,10 +5,13 @@
 use super::problem::{Discretisation, Estimate, Problem, Solution};
 use super::transfer::evaluate;
 use super::{Solve, Tier};
-use crate::experiment::Experiment;
+use crate::experiment::{Experiment, StudyKind};
 use crate::fe::DofMap;
-use crate::mesh::Mesh;
-use crate::results::{columns, CellBox, MeshPicture, PhaseSeconds, Probe, Row, RunResult, Value};
+use crate::mesh::{Mesh, Side};
+use crate::results::{
+    columns, CellBox, FaceModel, MeshPicture, PartitionPicture, PhaseSeconds, Probe, Row,
+    RunResult, Value,
+};
 
 /// Builds the [`RunResult`] of one study.
 pub struct Recorder<'a> {
@@ -33,6 +36,7 @@ impl<'a> Recorder<'a> {
                 meshes: Vec::new(),
                 deformed: Vec::new(),
                 fields: Vec::new(),
+                partitions: Vec::new(),
                 domain: [d.x[0], d.x[1], d.y[0], d.y[1]],
                 notes: experiment.notes.clone(),
                 warnings: Vec::new(),
@@ -64,6 +68,11 @@ impl<'a> Recorder<'a> {
             let pictures = problem.pictures(disc, dofs, solution, cycle);
             self.result.deformed.extend(pictures.deformed);
             self.result.fields.extend(pictures.fields);
+        }
+        if self.experiment.study.kind == StudyKind::ModelAdaptive {
+            self.result
+                .partitions
+                .push(partition_picture(disc, estimate, cycle));
         }
         let mut row = Row::new(cycle)
             .count(columns::ACTIVE_CELLS, disc.mesh.n_active())
@@ -153,4 +162,25 @@ pub fn mesh_picture(mesh: &Mesh, cycle: usize) -> MeshPicture {
             })
             .collect(),
     }
+}
+
+/// The contact faces of a model-adaptive cycle with their models and indicators.
+fn partition_picture(disc: &Discretisation, estimate: &Estimate, cycle: usize) -> PartitionPicture {
+    let mesh = &disc.mesh;
+    let (_, top) = mesh.extent();
+    let faces = estimate
+        .faces
+        .iter()
+        .map(|&(f, error)| {
+            let y = if f.side == Side::Top { top } else { 0 };
+            FaceModel {
+                side: f.side.name().to_string(),
+                x0: mesh.point((f.start, y))[0],
+                x1: mesh.point((f.end(), y))[0],
+                accurate: disc.accurate_faces.contains(&f),
+                error,
+            }
+        })
+        .collect();
+    PartitionPicture { cycle, faces }
 }
