@@ -7,7 +7,7 @@ use std::fs;
 use std::io;
 use std::path::Path;
 
-use super::html::escape;
+use super::plots::{svg_open, text};
 use crate::results::{columns, PartitionPicture, RunResult};
 use crate::thesis::ThesisTable;
 
@@ -15,22 +15,6 @@ const TRIBO: &str = "#1f77b4";
 const THESIS: &str = "#d62728";
 const AXIS: &str = "#555555";
 const GRID: &str = "#e6e6e6";
-
-fn open(width: f64, height: f64) -> String {
-    format!(
-        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{width}\" height=\"{height}\" \
-         viewBox=\"0 0 {width} {height}\" font-family=\"sans-serif\">\n\
-         <rect width=\"{width}\" height=\"{height}\" fill=\"white\"/>\n"
-    )
-}
-
-fn text(svg: &mut String, x: f64, y: f64, size: f64, anchor: &str, s: &str) {
-    let _ = writeln!(
-        svg,
-        "<text x=\"{x:.1}\" y=\"{y:.1}\" font-size=\"{size}\" text-anchor=\"{anchor}\">{}</text>",
-        escape(s)
-    );
-}
 
 /// A panel: its frame in pixels and the data ranges it maps.
 struct Panel {
@@ -220,7 +204,7 @@ pub fn model_adaptivity(path: &Path, run: &RunResult, thesis: &ThesisTable) -> i
         (-1.0, 1.0)
     };
     let (width, height) = (1000.0, 400.0);
-    let mut svg = open(width, height);
+    let mut svg = svg_open(width, height);
     let left = Panel {
         left: 70.0,
         top: 60.0,
@@ -285,7 +269,7 @@ pub fn partitions(path: &Path, run: &RunResult, domain: [f64; 4]) -> io::Result<
     let (left, right) = (150.0, 1560.0);
     let top = 50.0;
     let height = top + row * run.partitions.len() as f64 + 50.0;
-    let mut svg = open(right + 30.0, height);
+    let mut svg = svg_open(right + 30.0, height);
     text(
         &mut svg,
         (left + right) / 2.0,

@@ -695,7 +695,7 @@ fn rect_path<'a>(cells: impl Iterator<Item = &'a CellBox>, f: &Frame) -> String 
     )
 }
 
-fn svg_open(width: f64, height: f64) -> String {
+pub(super) fn svg_open(width: f64, height: f64) -> String {
     let (w, h) = (width.ceil(), height.ceil());
     format!(
         "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" \
@@ -704,7 +704,7 @@ fn svg_open(width: f64, height: f64) -> String {
     )
 }
 
-fn text(svg: &mut String, x: f64, y: f64, size: f64, anchor: &str, s: &str) {
+pub(super) fn text(svg: &mut String, x: f64, y: f64, size: f64, anchor: &str, s: &str) {
     let _ = writeln!(
         svg,
         "<text x=\"{x:.1}\" y=\"{y:.1}\" font-size=\"{size}\" text-anchor=\"{anchor}\">{}</text>",
