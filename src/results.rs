@@ -306,6 +306,14 @@ pub struct RunResult {
 }
 
 impl RunResult {
+    /// Whether the run chose a contact model per face (the model-adaptive tables): then it has a
+    /// partition per printed cycle and a fixed mesh.
+    pub fn is_model_adaptive(&self) -> bool {
+        !self.partitions.is_empty()
+    }
+}
+
+impl RunResult {
     /// Cumulative wall seconds after each cycle (for the cost-of-accuracy plot).
     pub fn cumulative_seconds(&self) -> Vec<f64> {
         let mut acc = 0.0;

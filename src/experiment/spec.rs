@@ -217,16 +217,6 @@ pub enum ModelErrorSolution {
     Z,
 }
 
-impl ModelErrorSolution {
-    /// The experiment-file spelling.
-    pub fn name(self) -> &'static str {
-        match self {
-            ModelErrorSolution::Mixed => "mixed",
-            ModelErrorSolution::Z => "z",
-        }
-    }
-}
-
 impl ContactData {
     /// The term set of the grid estimator: as written, or the thesis's pairing with the model
     /// (z-code for z and for the z-start of a model-adaptive run, Signorini-code for Signorini).
@@ -407,16 +397,6 @@ pub enum ModelAlgorithm {
     /// Algorithm III.3, sorted error strategy.
     #[serde(rename = "III.3")]
     SortedError,
-}
-
-impl ModelAlgorithm {
-    /// The experiment-file spelling.
-    pub fn name(self) -> &'static str {
-        match self {
-            ModelAlgorithm::FixedFraction => "III.2",
-            ModelAlgorithm::SortedError => "III.3",
-        }
-    }
 }
 
 /// ε₀ of Algorithms III.2/III.3 when a file does not set it: unstated in the thesis; IV.27

@@ -569,10 +569,7 @@ fn alternative_table(
     };
     // The headline columns: dofs and estimate of the grid-adaptive tables, the face split and
     // the model error of the model-adaptive ones (whose mesh is fixed).
-    let model_adaptive = run
-        .rows
-        .iter()
-        .any(|r| r.value(columns::MODEL_ERROR).is_some());
+    let model_adaptive = run.is_model_adaptive();
     let (count, value) = if model_adaptive {
         (columns::COARSE_FACES, columns::MODEL_ERROR)
     } else {

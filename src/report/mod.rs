@@ -274,7 +274,7 @@ fn write_figures(fig_dir: &Path, section: &Section) -> io::Result<Vec<Figure>> {
         path
     };
 
-    if !run.partitions.is_empty() {
+    if run.is_model_adaptive() {
         // Model-adaptive: a fixed mesh, so no convergence in dofs; the face split and the
         // model error per cycle, and the partition itself.
         let path = push(
@@ -306,7 +306,7 @@ fn write_figures(fig_dir: &Path, section: &Section) -> io::Result<Vec<Figure>> {
         plots::convergence(&path, run, section.thesis)?;
     }
 
-    if !run.rows.is_empty() && run.partitions.is_empty() {
+    if !run.rows.is_empty() && !run.is_model_adaptive() {
         let path = push(
             "cost",
             format!(

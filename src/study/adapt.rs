@@ -3,10 +3,14 @@
 //! grid together (Algorithm III.25) and load steps are further implementations of
 //! [`Adaptation`], each changing the [`Discretisation`] its way.
 
+use std::collections::BTreeSet;
+
 use super::problem::{Discretisation, Estimate};
 use crate::adaptivity::model::{fixed_fraction, sorted_error, Partition};
 use crate::adaptivity::{mark_fixed_number, rounded_measure};
+use crate::estimators::FaceIndicators;
 use crate::experiment::ModelAlgorithm;
+use crate::mesh::BoundaryFace;
 
 /// One adaptation step between two solves.
 pub trait Adaptation {
@@ -44,6 +48,12 @@ impl Adaptation for FixedNumber {
     }
 }
 
+/// The partition of the contact faces `faces` (in their order) with the Signorini faces
+/// `accurate`.
+pub fn face_partition(faces: &FaceIndicators, accurate: &BTreeSet<BoundaryFace>) -> Partition {
+    Partition::from_accurate(faces.iter().map(|(f, _)| accurate.contains(f)).collect())
+}
+
 /// Model marking of the model-adaptive contact tables (§IV.2.3): the contact faces with their
 /// indicators ε^m(f) ([`Estimate::faces`], in the stable geometric order) move between the
 /// z-model (𝕋_c) and the Signorini model (𝕋_a, [`Discretisation::accurate_faces`]) by
@@ -62,12 +72,7 @@ impl Adaptation for ModelMarking {
     fn adapt(&mut self, disc: &mut Discretisation, estimate: &Estimate) -> Result<(), String> {
         let faces = &estimate.faces;
         let eps: Vec<f64> = faces.iter().map(|&(_, e)| e).collect();
-        let mut partition = Partition::from_accurate(
-            faces
-                .iter()
-                .map(|(f, _)| disc.accurate_faces.contains(f))
-                .collect(),
-        );
+        let mut partition = face_partition(faces, &disc.accurate_faces);
         match self.algorithm {
             ModelAlgorithm::FixedFraction => {
                 fixed_fraction(&mut partition, &eps, self.refine, self.coarsen);

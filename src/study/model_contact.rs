@@ -18,9 +18,11 @@
 
 use std::collections::BTreeSet;
 
+use super::adapt::face_partition;
 use super::clock::PhaseClock;
 use super::elasticity::displacement_component;
 use super::problem::{setup_system, Discretisation, Estimate, Problem, Solution};
+use crate::adaptivity::model::model_error;
 use crate::estimators::contact_model::{face_indicators, vertex_differences};
 use crate::estimators::FaceIndicators;
 use crate::experiment::{ContactData, ElasticityData, ModelErrorSolution};
@@ -29,12 +31,15 @@ use crate::linalg::DirectSolver;
 use crate::mesh::BoundaryFace;
 use crate::models::contact::{
     contact_boundaries, contact_set, penetration, side_faces, solve_contact, ConstraintBuilder,
-    ContactBoundary, ContactConstraint, ContactModel,
+    ContactBoundary, ContactConstraint, ContactModel, ContactSolution,
 };
 use crate::models::elasticity::Elasticity;
 use crate::results::{columns, Value};
 
 use super::contact::{CycleState, PENETRATION_SAMPLES};
+
+/// The constraints and solution of a cycle's mixed solve (none without Signorini faces).
+type MixedSolve = Option<(Vec<ContactConstraint>, ContactSolution)>;
 
 /// The model-adaptive contact problem of one experiment.
 pub struct ModelAdaptiveContact {
@@ -93,6 +98,49 @@ impl ModelAdaptiveContact {
         Ok(faces)
     }
 
+    /// The cycle's two solves: the z-solve on all faces, warm-started from the last one, and,
+    /// when there are Signorini faces, the mixed solve linearised about the z-solution with its
+    /// constraints.
+    fn solve_models(&mut self, system: &System) -> Result<(ContactSolution, MixedSolve), String> {
+        let z = solve_contact(
+            system,
+            &mut self.solver,
+            &self.z_constraints,
+            self.z_active.as_deref(),
+        )
+        .map_err(|e| format!("z-solve on all faces: {e}"))?;
+        if self.accurate.is_empty() {
+            return Ok((z, None));
+        }
+        let accurate = &self.accurate;
+        let face_model = |f: BoundaryFace| {
+            if accurate.contains(&f) {
+                ContactModel::Signorini
+            } else {
+                ContactModel::Z
+            }
+        };
+        let builder = ConstraintBuilder {
+            boundaries: &self.boundaries,
+            face_model: &face_model,
+        };
+        let mixed = builder
+            .build(&system.dofs, &system.constraints, Some(&z.u))
+            .and_then(|constraints| {
+                let initial = contact_set(&constraints, &system.dofs, &z.u);
+                let solution =
+                    solve_contact(system, &mut self.solver, &constraints, Some(&initial))?;
+                Ok((constraints, solution))
+            })
+            .map_err(|e| {
+                format!(
+                    "mixed solve ({} Signorini faces linearised about the z-solution): {e}",
+                    accurate.len()
+                )
+            })?;
+        Ok((z, Some(mixed)))
+    }
+
     /// How many cycles back the current partition was used before (the smallest such
     /// number), 0 if it is new: 1 for a partition that stays, 2 for Algorithm III.3 flipping
     /// between two partitions.
@@ -134,60 +182,17 @@ impl Problem for ModelAdaptiveContact {
         system: &mut System,
         _clock: &PhaseClock,
     ) -> Result<Solution, String> {
-        let z = solve_contact(
-            system,
-            &mut self.solver,
-            &self.z_constraints,
-            self.z_active.as_deref(),
-        )
-        .map_err(|e| format!("z-solve on all faces: {e}"));
-        let z = match z {
-            Ok(z) => z,
-            Err(e) => {
-                self.solver.release_pattern();
-                return Err(e);
-            }
-        };
+        let solved = self.solve_models(system);
+        self.solver.release_pattern();
+        let (z, mixed) = solved?;
+        let z_iterations = z.iterations;
+        let mixed_iterations = mixed.as_ref().map_or(0, |(_, m)| m.iterations);
         self.z_active = Some(z.active.clone());
         self.z_solution = (self.error_solution == ModelErrorSolution::Z).then(|| z.u.clone());
-        let mixed = if self.accurate.is_empty() {
-            None
-        } else {
-            let accurate = &self.accurate;
-            let face_model = |f: BoundaryFace| {
-                if accurate.contains(&f) {
-                    ContactModel::Signorini
-                } else {
-                    ContactModel::Z
-                }
-            };
-            let builder = ConstraintBuilder {
-                boundaries: &self.boundaries,
-                face_model: &face_model,
-            };
-            let solved = builder
-                .build(&system.dofs, &system.constraints, Some(&z.u))
-                .and_then(|constraints| {
-                    let initial = contact_set(&constraints, &system.dofs, &z.u);
-                    let solution =
-                        solve_contact(system, &mut self.solver, &constraints, Some(&initial))?;
-                    Ok((constraints, solution))
-                })
-                .map_err(|e| {
-                    format!(
-                        "mixed solve ({} Signorini faces linearised about the z-solution): {e}",
-                        accurate.len()
-                    )
-                });
-            Some(solved)
-        };
-        self.solver.release_pattern();
-        let mixed = mixed.transpose()?;
-        let mixed_iterations = mixed.as_ref().map_or(0, |m| m.1.iterations);
         let (constraints, solution) =
-            mixed.unwrap_or_else(|| (std::mem::take(&mut self.z_constraints), z.clone()));
+            mixed.unwrap_or_else(|| (std::mem::take(&mut self.z_constraints), z));
         let counters = vec![
-            ("z_iterations".to_string(), z.iterations as i64),
+            ("z_iterations".to_string(), z_iterations as i64),
             ("mixed_iterations".to_string(), mixed_iterations as i64),
             (
                 columns::CONTACT_VERTICES.to_string(),
@@ -209,24 +214,17 @@ impl Problem for ModelAdaptiveContact {
         solution: &Solution,
     ) -> Result<Estimate, String> {
         let u = &solution.u;
-        let at = match (&self.z_solution, self.error_solution) {
-            (Some(z), ModelErrorSolution::Z) => z,
-            _ => u,
-        };
-        let faces = self.face_errors(dofs, at)?;
-        let coarse: Vec<f64> = faces
-            .iter()
-            .filter(|(f, _)| !self.accurate.contains(f))
-            .map(|(_, e)| *e)
-            .collect();
-        let model_error = coarse.iter().map(|e| e * e).sum::<f64>().sqrt();
+        // The z-solution is kept only when the model error is evaluated at it.
+        let faces = self.face_errors(dofs, self.z_solution.as_deref().unwrap_or(u))?;
+        let partition = face_partition(&faces, &self.accurate);
+        let eps: Vec<f64> = faces.iter().map(|&(_, e)| e).collect();
         let count = |name: &str, n: usize| (name.to_string(), Value::Count(n as i64));
         let columns = vec![
-            count(columns::COARSE_FACES, coarse.len()),
-            count(columns::ACCURATE_FACES, faces.len() - coarse.len()),
+            count(columns::COARSE_FACES, partition.n_coarse()),
+            count(columns::ACCURATE_FACES, partition.n_accurate()),
             (
                 columns::MODEL_ERROR.to_string(),
-                Value::real(Some(model_error)),
+                Value::real(Some(model_error(&partition, &eps))),
             ),
             (
                 columns::PENETRATION.to_string(),
