@@ -69,6 +69,16 @@ pub mod columns {
     /// How many cycles back the same face partition was used (0: new; 1: unchanged; 2: a flip
     /// between two partitions).
     pub const PARTITION_REPEAT: &str = "partition_repeat";
+    /// Model-and-grid-adaptive contact (Tables IV.30–IV.35): contact faces on the z-model.
+    pub const Z_FACES: &str = "z_faces";
+    /// Contact faces on the Signorini model.
+    pub const S_FACES: &str = "s_faces";
+    /// √Σ η_Q² over the cells with a z-face.
+    pub const EST_Z_BOUNDARY: &str = "est_z_boundary";
+    /// √Σ η_Q² over the cells with a Signorini face.
+    pub const EST_S_BOUNDARY: &str = "est_s_boundary";
+    /// √Σ η_Q² over the cells without a contact face.
+    pub const EST_INTERIOR: &str = "est_interior";
 }
 
 /// The value of one column in one row.
@@ -306,9 +316,21 @@ pub struct RunResult {
 }
 
 impl RunResult {
-    /// Whether the run chose a contact model per face (the model-adaptive tables): then it has a
-    /// partition per printed cycle and a fixed mesh.
+    /// Whether the run chose a contact model per face on a fixed mesh (the model-adaptive
+    /// tables IV.18–IV.29): it has a partition per printed cycle and the columns
+    /// `coarse_faces`/`accurate_faces` of a fixed mesh (the model-and-grid-adaptive tables
+    /// print `z_faces`/`s_faces` and an estimate that converges in dofs).
     pub fn is_model_adaptive(&self) -> bool {
+        !self.partitions.is_empty()
+            && self
+                .rows
+                .first()
+                .is_some_and(|r| r.count_of(columns::COARSE_FACES).is_some())
+    }
+
+    /// Whether the run chose a contact model per face (model-adaptive, with or without grid
+    /// adaptivity): it has a partition per printed cycle.
+    pub fn has_partitions(&self) -> bool {
         !self.partitions.is_empty()
     }
 }

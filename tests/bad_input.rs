@@ -1157,6 +1157,18 @@ fn model_adaptive_checks_name_file_and_field() {
     for (case, text, field, needle) in cases {
         expect_error(case, &text, field, needle);
     }
+    // Model-and-grid fields in a model-adaptive study on a fixed mesh.
+    for field in ["model_refine_fraction", "model_coarsen_fraction", "balance"] {
+        expect_error(
+            field,
+            &with(
+                "algorithm = \"III.3\"",
+                &format!("algorithm = \"III.3\"\n{field} = 0.5"),
+            ),
+            &format!("study.{field}"),
+            "model-and-grid-adaptive",
+        );
+    }
     // Without contact: a model-adaptive study of pure elasticity, and refinements at no side.
     let no_contact = edit(
         "kind = \"grid-adaptive\"",
@@ -1178,5 +1190,153 @@ fn model_adaptive_checks_name_file_and_field() {
         &levels,
         "scene.contact_refinements",
         "without contact",
+    );
+}
+
+/// A model-and-grid-adaptive contact file (§IV.2.4, Algorithm III.25) built from `VALID`: grid
+/// marking 30 %/3 %, Algorithm III.3 with p_r = 2 %, p_c = 1 %, α = 0.5.
+fn model_and_grid() -> String {
+    contact_scene(
+        "[{ side = \"bottom\", shape = { kind = \"constant\", level = -2.0 } }]",
+        "[\"left\", \"right\"]",
+    )
+    .replacen(
+        "model = \"z\"\nestimator = \"z-code\"\n",
+        "model = \"model-adaptive\"\n",
+        1,
+    )
+    .replacen(
+        "kind = \"grid-adaptive\"",
+        "kind = \"model-and-grid-adaptive\"\nalgorithm = \"III.3\"\nmodel_refine_fraction = 0.02\n\
+         model_coarsen_fraction = 0.01\nbalance = 0.5",
+        1,
+    )
+}
+
+#[test]
+fn model_and_grid_checks_name_file_and_field() {
+    let base = model_and_grid();
+    let dir = scratch_dir("mga-valid");
+    let e = load(&write(&dir, "IV.1.toml", &base)).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(e.study.balance(), 0.5);
+    assert_eq!(e.study.model_fractions(), (0.02, 0.01));
+    let with = |from: &str, to: &str| {
+        assert!(base.contains(from), "test setup: `{from}`");
+        base.replacen(from, to, 1)
+    };
+    let cases = [
+        (
+            "alpha = 0",
+            with("balance = 0.5", "balance = 0.0"),
+            "study.balance",
+            "(0, 1)",
+        ),
+        (
+            "alpha = 1",
+            with("balance = 0.5", "balance = 1.0"),
+            "study.balance",
+            "(0, 1)",
+        ),
+        (
+            "alpha < 0",
+            with("balance = 0.5", "balance = -0.5"),
+            "study.balance",
+            "(0, 1)",
+        ),
+        (
+            "alpha > 1",
+            with("balance = 0.5", "balance = 2.0"),
+            "study.balance",
+            "(0, 1)",
+        ),
+        (
+            "alpha nan",
+            with("balance = 0.5", "balance = nan"),
+            "study.balance",
+            "(0, 1)",
+        ),
+        (
+            "no model p_r",
+            with("model_refine_fraction = 0.02\n", ""),
+            "study.model_refine_fraction",
+            "model marking",
+        ),
+        (
+            "no model p_c",
+            with("model_coarsen_fraction = 0.01\n", ""),
+            "study.model_coarsen_fraction",
+            "model marking",
+        ),
+        (
+            "model p_r = 1 for III.3",
+            with(
+                "model_refine_fraction = 0.02",
+                "model_refine_fraction = 1.0",
+            ),
+            "study.model_refine_fraction",
+            "(0, 1)",
+        ),
+        (
+            "model p_c > 1 for III.2",
+            with("\"III.3\"", "\"III.2\"").replacen(
+                "model_coarsen_fraction = 0.01",
+                "model_coarsen_fraction = 1.5",
+                1,
+            ),
+            "study.model_coarsen_fraction",
+            "[0, 1]",
+        ),
+        (
+            "no algorithm",
+            with("algorithm = \"III.3\"\n", ""),
+            "study.algorithm",
+            "III.3",
+        ),
+        (
+            "no convergence window",
+            with("convergence_window = [2, 5]\n", ""),
+            "study.convergence_window",
+            "[first, last]",
+        ),
+        (
+            "grid fractions over 1",
+            with("refine_fraction = 0.3", "refine_fraction = 0.99"),
+            "study.refine_fraction",
+            "≤ 1",
+        ),
+        (
+            "fixed z model",
+            with("model = \"model-adaptive\"", "model = \"z\""),
+            "scene.contact.model",
+            "`z`",
+        ),
+        (
+            "an estimator",
+            with(
+                "model = \"model-adaptive\"",
+                "model = \"model-adaptive\"\nestimator = \"signorini-code\"",
+            ),
+            "scene.contact.estimator",
+            "MGA",
+        ),
+        (
+            "eps0 < 0",
+            with("balance = 0.5", "balance = 0.5\nmodel_tolerance = -1.0"),
+            "study.model_tolerance",
+            "> 0",
+        ),
+    ];
+    for (case, text, field, needle) in cases {
+        expect_error(case, &text, field, needle);
+    }
+    // A balance in a grid-adaptive study.
+    expect_error(
+        "balance in a grid study",
+        &edit(
+            "kind = \"grid-adaptive\"",
+            "kind = \"grid-adaptive\"\nbalance = 0.5",
+        ),
+        "study.balance",
+        "model-and-grid-adaptive",
     );
 }

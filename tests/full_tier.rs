@@ -28,6 +28,15 @@ fn contact() {
 
 #[test]
 #[ignore]
+fn model_grid() {
+    full_tier(
+        &crate::model_grid::TABLES,
+        crate::model_grid::full_tier_rules,
+    );
+}
+
+#[test]
+#[ignore]
 fn reynolds() {
     full_tier(&crate::reynolds::TABLES, crate::reynolds::full_tier_rules);
 }

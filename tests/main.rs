@@ -9,6 +9,7 @@ mod full_tier;
 mod mesh;
 mod mesh_limits;
 mod model_contact;
+mod model_grid;
 mod outputs;
 mod properties;
 mod report_failures;

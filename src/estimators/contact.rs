@@ -28,6 +28,11 @@
 //!   the nodal fields n and b = g + n·(x + s₀) of the linearisation interpolated linearly along
 //!   the face and frozen in the gradient (∇(n·s_h) := (∇s_h)ᵀn). Reproduces 0.8374 of Table IV.12.
 //!   η_C2 (points between nodes where the discrete solution penetrates) is not included.
+//! * **MGA-code** (Tables IV.30–IV.35, mixed z/Signorini faces): the Signorini-code plus the
+//!   full Neumann residual on the free faces, for the constraints of either model (n and b of
+//!   each vertex's constraint). Reproduces the cycle-0 "interior" 0.6213 of Table IV.30 (the
+//!   cells without a contact face), and the contact-boundary 0.5941 to 0.3 % (cells with a
+//!   z-face; spec/estimators.md §10).
 //!
 //! Γ_C faces use the 4-point Gauss rule (the obstacle terms are not polynomial).
 
@@ -50,6 +55,8 @@ pub enum ContactEstimator {
     ZCodeObstacleSlope,
     /// Cell residual and ½ interior jumps only, η_C on contact cells (Σ_p1).
     SignoriniCode,
+    /// The Signorini-code plus the full Neumann residual (model-and-grid adaptivity).
+    MgaCode,
 }
 
 impl From<crate::experiment::ContactEstimator> for ContactEstimator {
@@ -107,6 +114,10 @@ pub fn indicators(
             neumann: false,
             contact_sides: boundaries.iter().map(|b| b.side).collect(),
         },
+        ContactEstimator::MgaCode => BoundaryTerms {
+            neumann: true,
+            contact_sides: boundaries.iter().map(|b| b.side).collect(),
+        },
     };
     let mut eta2 = elasticity_estimator::indicators(mesh, dofs, u, problem, &terms);
     // Constraint of each vertex, if any.
@@ -161,7 +172,7 @@ pub fn indicators(
                     }
                     // Only faces of cells with a vertex in contact carry the terms (the face
                     // still gets its indicator, 0).
-                    ContactEstimator::SignoriniCode => 'face: {
+                    ContactEstimator::SignoriniCode | ContactEstimator::MgaCode => 'face: {
                         let in_contact = cv
                             .iter()
                             .any(|&v| of_vertex[v as usize].map(|i| active[i]).unwrap_or(false));

@@ -852,7 +852,8 @@ impl Check<'_> {
                 data.model != ContactModel::ModelAdaptive,
                 "scene.contact.estimator",
                 "no estimator with model = \"model-adaptive\": the model-adaptive tables keep \
-                 their mesh fixed and mark faces by the model error (III.16) alone",
+                 their mesh fixed and mark faces by the model error (III.16) alone, and the \
+                 model-and-grid-adaptive ones use the term set of the thesis's MGA code",
                 format!("{estimator:?}"),
             )?;
         }
@@ -993,33 +994,118 @@ impl Check<'_> {
             study.quick_rows,
         )?;
         match study.kind {
-            StudyKind::GridAdaptive => self.grid_adaptive(study, scene),
-            StudyKind::ModelAdaptive => self.model_adaptive(study, scene),
+            StudyKind::GridAdaptive => {
+                self.refused(
+                    study,
+                    "\"model-adaptive\" or \"model-and-grid-adaptive\"",
+                    &[
+                        ("study.algorithm", study.algorithm.is_some()),
+                        ("study.model_tolerance", study.model_tolerance.is_some()),
+                        (
+                            "study.model_refine_fraction",
+                            study.model_refine_fraction.is_some(),
+                        ),
+                        (
+                            "study.model_coarsen_fraction",
+                            study.model_coarsen_fraction.is_some(),
+                        ),
+                        ("study.balance", study.balance.is_some()),
+                    ],
+                )?;
+                let model = scene.contact.as_ref().map(|c| c.model);
+                self.ensure(
+                    model != Some(ContactModel::ModelAdaptive),
+                    "scene.contact.model",
+                    "`z` or `signorini` in a grid-adaptive study (model = \"model-adaptive\" \
+                     needs study.kind = \"model-adaptive\" or \"model-and-grid-adaptive\")",
+                    "`model-adaptive`",
+                )?;
+                self.grid_marking(study)
+            }
+            StudyKind::ModelAdaptive => {
+                self.refused(
+                    study,
+                    "\"model-and-grid-adaptive\"",
+                    &[
+                        (
+                            "study.model_refine_fraction",
+                            study.model_refine_fraction.is_some(),
+                        ),
+                        (
+                            "study.model_coarsen_fraction",
+                            study.model_coarsen_fraction.is_some(),
+                        ),
+                        ("study.balance", study.balance.is_some()),
+                    ],
+                )?;
+                self.model_marking(
+                    study,
+                    scene,
+                    ["study.refine_fraction", "study.coarsen_fraction"],
+                )?;
+                if let Some([first, last]) = study.convergence_window {
+                    return Err(self.fail(
+                        "study.convergence_window",
+                        "no convergence window in a model-adaptive study (the mesh is fixed: \
+                         there is no discretisation error that converges)",
+                        format!("[{first}, {last}]"),
+                    ));
+                }
+                Ok(())
+            }
+            StudyKind::ModelAndGridAdaptive => {
+                for (field, given) in [
+                    ("study.model_refine_fraction", study.model_refine_fraction),
+                    ("study.model_coarsen_fraction", study.model_coarsen_fraction),
+                ] {
+                    if given.is_none() {
+                        return Err(self.fail(
+                            field,
+                            "the fraction of the model marking (p_r, p_c of Algorithm III.3; \
+                             refine_fraction and coarsen_fraction are the grid's)",
+                            "no such field",
+                        ));
+                    }
+                }
+                self.model_marking(
+                    study,
+                    scene,
+                    [
+                        "study.model_refine_fraction",
+                        "study.model_coarsen_fraction",
+                    ],
+                )?;
+                if let Some(alpha) = study.balance {
+                    self.ensure(
+                        alpha > 0.0 && alpha < 1.0,
+                        "study.balance",
+                        "α of the balance (III.93) in (0, 1)",
+                        alpha,
+                    )?;
+                }
+                self.grid_marking(study)
+            }
         }
     }
 
-    /// A grid-adaptive study: marking fractions and the convergence window.
-    fn grid_adaptive(&self, study: &Study, scene: &SceneFile) -> Checked {
-        let model = scene.contact.as_ref().map(|c| c.model);
-        self.ensure(
-            model != Some(ContactModel::ModelAdaptive),
-            "scene.contact.model",
-            "`z` or `signorini` in a grid-adaptive study (model = \"model-adaptive\" needs \
-             study.kind = \"model-adaptive\")",
-            "`model-adaptive`",
-        )?;
-        for (field, given) in [
-            ("study.algorithm", study.algorithm.is_some()),
-            ("study.model_tolerance", study.model_tolerance.is_some()),
-        ] {
+    /// Fields a study kind does not have, each given or not; they belong to the kinds `owners`.
+    fn refused(&self, study: &Study, owners: &str, fields: &[(&str, bool)]) -> Checked {
+        for &(field, given) in fields {
             self.ensure(
                 !given,
                 field,
-                "no such field in a grid-adaptive study (it belongs to study.kind = \
-                 \"model-adaptive\")",
+                &format!(
+                    "no such field in a {} study (it belongs to study.kind = {owners})",
+                    study.kind.name()
+                ),
                 "a value",
             )?;
         }
+        Ok(())
+    }
+
+    /// Fixed-number grid marking: the fractions and the convergence window.
+    fn grid_marking(&self, study: &Study) -> Checked {
         self.non_negative("study.coarsen_fraction", study.coarsen_fraction)?;
         self.positive("study.refine_fraction", study.refine_fraction)?;
         let total = study.refine_fraction + study.coarsen_fraction;
@@ -1056,17 +1142,24 @@ impl Check<'_> {
         )
     }
 
-    /// A model-adaptive study (§IV.2.3): a contact scene whose faces the marking assigns
-    /// (`model = "model-adaptive"`), Algorithm III.2 with p_r, p_c ∈ [0, 1] or III.3 with
-    /// p_r, p_c ∈ (0, 1), and ε₀ > 0.
-    fn model_adaptive(&self, study: &Study, scene: &SceneFile) -> Checked {
+    /// The model marking of a model-adaptive or model-and-grid-adaptive study (§IV.2.3,
+    /// §IV.2.4): a contact scene whose faces the marking assigns (`model = "model-adaptive"`),
+    /// Algorithm III.2 with p_r, p_c ∈ [0, 1] or III.3 with p_r, p_c ∈ (0, 1) (read from the
+    /// two `fraction_fields`), and ε₀ > 0.
+    fn model_marking(
+        &self,
+        study: &Study,
+        scene: &SceneFile,
+        fraction_fields: [&str; 2],
+    ) -> Checked {
         let Some(contact) = &scene.contact else {
             return Err(self.fail(
                 "study.kind",
                 "a scene with contact for a model-adaptive study (it chooses the contact model \
                  face by face, §IV.2.3)",
                 format!(
-                    "`model-adaptive` with scene.effects {:?}",
+                    "`{}` with scene.effects {:?}",
+                    study.kind.name(),
                     names(&scene.effects)
                 ),
             ));
@@ -1085,10 +1178,8 @@ impl Check<'_> {
                 "no such field",
             ));
         };
-        for (field, p) in [
-            ("study.refine_fraction", study.refine_fraction),
-            ("study.coarsen_fraction", study.coarsen_fraction),
-        ] {
+        let (p_r, p_c) = study.model_fractions();
+        for (field, p) in fraction_fields.into_iter().zip([p_r, p_c]) {
             match algorithm {
                 ModelAlgorithm::FixedFraction => self.ensure(
                     (0.0..=1.0).contains(&p),
@@ -1106,14 +1197,6 @@ impl Check<'_> {
         }
         if let Some(eps0) = study.model_tolerance {
             self.positive("study.model_tolerance", eps0)?;
-        }
-        if let Some([first, last]) = study.convergence_window {
-            return Err(self.fail(
-                "study.convergence_window",
-                "no convergence window in a model-adaptive study (the mesh is fixed: there is \
-                 no discretisation error that converges)",
-                format!("[{first}, {last}]"),
-            ));
         }
         Ok(())
     }

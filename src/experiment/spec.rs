@@ -386,6 +386,37 @@ pub enum StudyKind {
     /// Model adaptivity on a fixed mesh (§IV.2.3): solve → model error (III.16) per contact
     /// face → move faces between the z- and the Signorini model (Algorithm III.2 or III.3).
     ModelAdaptive,
+    /// Model and grid adaptivity balanced (Algorithm III.25, §IV.2.4): per cycle the model
+    /// marking on the balanced model indicators ε̃_m and the fixed-number grid marking on the
+    /// balanced discretisation indicators ε̃_d of (III.93).
+    ModelAndGridAdaptive,
+}
+
+impl StudyKind {
+    /// The experiment-file spelling.
+    pub fn name(self) -> &'static str {
+        match self {
+            StudyKind::GridAdaptive => "grid-adaptive",
+            StudyKind::ModelAdaptive => "model-adaptive",
+            StudyKind::ModelAndGridAdaptive => "model-and-grid-adaptive",
+        }
+    }
+
+    /// Whether the study moves contact faces between the z- and the Signorini model.
+    pub fn adapts_model(self) -> bool {
+        matches!(
+            self,
+            StudyKind::ModelAdaptive | StudyKind::ModelAndGridAdaptive
+        )
+    }
+
+    /// Whether the study refines and coarsens the mesh.
+    pub fn adapts_grid(self) -> bool {
+        matches!(
+            self,
+            StudyKind::GridAdaptive | StudyKind::ModelAndGridAdaptive
+        )
+    }
 }
 
 /// The model-marking algorithm of a model-adaptive study (§III.1).
@@ -404,6 +435,10 @@ pub enum ModelAlgorithm {
 /// continues) bound it to [2.97e-8, 7.6e-7) (spec/estimators.md §2.3).
 pub const DEFAULT_MODEL_TOLERANCE: f64 = 1e-7;
 
+/// α of the balance (III.93) when a file does not set it: unstated in the thesis; 0.5, the
+/// middle of (0, 1) (spec/estimators.md §7).
+pub const DEFAULT_BALANCE: f64 = 0.5;
+
 #[derive(Clone, Debug, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct Study {
@@ -416,12 +451,24 @@ pub struct Study {
     /// row 0 is already the once-refined mesh).
     #[serde(default)]
     pub unprinted_cycles: usize,
-    /// Grid-adaptive: the fraction of cells refined (θ_r). Model-adaptive: p_r, the fraction
-    /// of the coarse (z) faces moved to the accurate (Signorini) model.
+    /// Grid-adaptive and model-and-grid-adaptive: the fraction of cells refined (θ_r).
+    /// Model-adaptive: p_r, the fraction of the coarse (z) faces moved to the accurate
+    /// (Signorini) model.
     pub refine_fraction: f64,
-    /// Grid-adaptive: the fraction of cells coarsened (θ_c). Model-adaptive: p_c, the fraction
-    /// of the accurate faces moved back.
+    /// Grid-adaptive and model-and-grid-adaptive: the fraction of cells coarsened (θ_c).
+    /// Model-adaptive: p_c, the fraction of the accurate faces moved back.
     pub coarsen_fraction: f64,
+    /// Model-and-grid-adaptive: p_r of the model marking (the grid's θ_r is
+    /// `refine_fraction`).
+    #[serde(default)]
+    pub model_refine_fraction: Option<f64>,
+    /// Model-and-grid-adaptive: p_c of the model marking.
+    #[serde(default)]
+    pub model_coarsen_fraction: Option<f64>,
+    /// Model-and-grid-adaptive: α ∈ (0, 1) of the balance (III.93) (default
+    /// [`DEFAULT_BALANCE`]).
+    #[serde(default)]
+    pub balance: Option<f64>,
     /// Printed cycles `[first, last]` (inclusive) where the convergence rule applies (required
     /// for grid-adaptive studies; a model-adaptive study on a fixed mesh has none).
     #[serde(default, deserialize_with = "exactly_some")]
@@ -438,6 +485,24 @@ impl Study {
     /// ε₀ of the model marking.
     pub fn model_tolerance(&self) -> f64 {
         self.model_tolerance.unwrap_or(DEFAULT_MODEL_TOLERANCE)
+    }
+
+    /// α of the balance (III.93).
+    pub fn balance(&self) -> f64 {
+        self.balance.unwrap_or(DEFAULT_BALANCE)
+    }
+
+    /// p_r and p_c of the model marking: `refine_fraction` and `coarsen_fraction` on a fixed
+    /// mesh, the `model_*` fractions when the grid adapts too (the loader ensures they are
+    /// given there).
+    pub fn model_fractions(&self) -> (f64, f64) {
+        match self.kind {
+            StudyKind::ModelAndGridAdaptive => (
+                self.model_refine_fraction.unwrap_or(f64::NAN),
+                self.model_coarsen_fraction.unwrap_or(f64::NAN),
+            ),
+            _ => (self.refine_fraction, self.coarsen_fraction),
+        }
     }
 }
 

@@ -304,6 +304,18 @@ fn write_figures(fig_dir: &Path, section: &Section) -> io::Result<Vec<Figure>> {
             ),
         );
         plots::convergence(&path, run, section.thesis)?;
+        if run.has_partitions() {
+            // Model and grid adaptivity: the faces change with the mesh.
+            let path = push(
+                "partition",
+                format!(
+                    "{}: the contact faces per cycle on the adapted mesh, Signorini black and z \
+                     light grey (cf. thesis Figs IV.46–IV.51)",
+                    run.table
+                ),
+            );
+            model_plots::partitions(&path, run, run.domain)?;
+        }
     }
 
     if !run.rows.is_empty() && !run.is_model_adaptive() {

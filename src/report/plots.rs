@@ -21,7 +21,7 @@ use plotters::prelude::*;
 
 use super::html::{escape, fmt_short};
 use super::MAX_SHOWN_THESIS_ROWS;
-use crate::results::{CellBox, DeformedPicture, FieldPicture, MeshPicture, RunResult};
+use crate::results::{columns, CellBox, DeformedPicture, FieldPicture, MeshPicture, RunResult};
 use crate::thesis::ThesisTable;
 
 /// Turn a plotters error into an `io::Error` (plotters' SVG backend draws into a `String`, so
@@ -224,6 +224,28 @@ pub fn convergence(path: &Path, run: &RunResult, thesis: &ThesisTable) -> io::Re
             points: thesis_pairs(thesis, "dofs", "estimate"),
         },
     ];
+    if curves[1].points.is_empty() {
+        // Tables IV.30–IV.35 print the estimate in three cell groups: their root sum of squares
+        // is the estimate tribo's column holds.
+        let groups = [
+            columns::EST_Z_BOUNDARY,
+            columns::EST_S_BOUNDARY,
+            columns::EST_INTERIOR,
+        ];
+        curves[1].label = "thesis √(z² + S² + interior²)".into();
+        curves[1].points = (0..thesis.rows.len().min(MAX_SHOWN_THESIS_ROWS))
+            .filter_map(|i| {
+                let cycle = thesis.rows[i].first().copied()? as usize;
+                let total = groups
+                    .iter()
+                    .map(|g| thesis.value(cycle, g).map(|v| v * v))
+                    .sum::<Option<f64>>()?
+                    .sqrt();
+                Some((thesis.value(cycle, columns::DOFS)?, total))
+            })
+            .filter(loggable)
+            .collect();
+    }
     if thesis.columns.iter().any(|c| c == "model_error") {
         curves.push(Curve {
             label: "tribo model error".into(),

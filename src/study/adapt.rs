@@ -1,16 +1,15 @@
-//! The adaptation strategies: what changes between two cycles. Fixed-number grid marking now;
-//! the model strategies (Algorithms III.2, III.3: faces move between z and Signorini), model and
-//! grid together (Algorithm III.25) and load steps are further implementations of
-//! [`Adaptation`], each changing the [`Discretisation`] its way.
+//! The adaptation strategies: what changes between two cycles. Fixed-number grid marking, the
+//! model strategies (Algorithms III.2, III.3: faces move between z and Signorini) and model and
+//! grid together (Algorithm III.25); each changes the [`Discretisation`] its way.
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeSet, HashMap};
 
 use super::problem::{Discretisation, Estimate};
 use crate::adaptivity::model::{fixed_fraction, sorted_error, Partition};
 use crate::adaptivity::{mark_fixed_number, rounded_measure};
 use crate::estimators::FaceIndicators;
 use crate::experiment::ModelAlgorithm;
-use crate::mesh::BoundaryFace;
+use crate::mesh::{BoundaryFace, Face, Mesh, Side};
 
 /// One adaptation step between two solves.
 pub trait Adaptation {
@@ -34,15 +33,20 @@ impl Adaptation for FixedNumber {
             .iter()
             .map(|&e| if e < floor { 0.0 } else { e.sqrt() })
             .collect();
-        let mesh = &disc.mesh;
+        self.refine(&mut disc.mesh, &eta)
+    }
+}
+
+impl FixedNumber {
+    /// Mark by the indicators η_Q (one per active cell) and refine and coarsen `mesh`.
+    fn refine(&self, mesh: &mut Mesh, eta: &[f64]) -> Result<(), String> {
         let marking = mark_fixed_number(
-            &eta,
+            eta,
             |k| rounded_measure(mesh, mesh.active()[k]),
             self.refine,
             self.coarsen,
         );
-        disc.mesh
-            .refine_and_coarsen(&marking.refine, &marking.coarsen)
+        mesh.refine_and_coarsen(&marking.refine, &marking.coarsen)
             .map_err(|e| format!("cannot refine the mesh after this cycle: {e}"))?;
         Ok(())
     }
@@ -70,9 +74,21 @@ pub struct ModelMarking {
 
 impl Adaptation for ModelMarking {
     fn adapt(&mut self, disc: &mut Discretisation, estimate: &Estimate) -> Result<(), String> {
-        let faces = &estimate.faces;
+        disc.accurate_faces = self.mark(&estimate.faces, &disc.accurate_faces)?;
+        Ok(())
+    }
+}
+
+impl ModelMarking {
+    /// The Signorini faces after marking `faces` (with their indicators) whose Signorini faces
+    /// were `accurate`.
+    fn mark(
+        &self,
+        faces: &FaceIndicators,
+        accurate: &BTreeSet<BoundaryFace>,
+    ) -> Result<BTreeSet<BoundaryFace>, String> {
         let eps: Vec<f64> = faces.iter().map(|&(_, e)| e).collect();
-        let mut partition = face_partition(faces, &disc.accurate_faces);
+        let mut partition = face_partition(faces, accurate);
         match self.algorithm {
             ModelAlgorithm::FixedFraction => {
                 fixed_fraction(&mut partition, &eps, self.refine, self.coarsen);
@@ -88,12 +104,126 @@ impl Adaptation for ModelMarking {
                 .map_err(|e| format!("model marking: {e}"))?;
             }
         }
-        disc.accurate_faces = faces
+        Ok(faces
             .iter()
             .zip(partition.accurate())
             .filter(|(_, &accurate)| accurate)
             .map(|((f, _), _)| *f)
+            .collect())
+    }
+}
+
+/// Algorithm III.25 (balance of model and grid refinement, §IV.2.4): the indicators of both
+/// errors are balanced by (III.93) with α ∈ (0, 1),
+///
+/// ε̃_m = ε_m where ε_m ≥ α ε_d, else 0;   ε̃_d = ε_d where ε_d ≥ α ε_m, else 0;
+///
+/// then the model is marked with ε̃_m ([`ModelMarking`], Algorithm III.3 in the thesis) and the
+/// grid with ε̃_d ([`FixedNumber`], 30 %/3 %), in this order (the algorithm's two `refine`
+/// lines). Model indicators live on contact faces and grid indicators on cells:
+/// * a face f compares ε^m(f) with η of its cell K(f);
+/// * a cell K compares η_K with ε^m(K) = (Σ ε^m(f)²)^{1/2} over its **z-faces**: the thesis
+///   says the model error "of course only appears on the z-faces" (§IV.2.4), so a cell whose
+///   contact face is already Signorini has no model error to balance (spec/estimators.md §7
+///   sums over all its contact faces; that reading differs only on cells with an S-face).
+///
+/// After refinement a face's children inherit its model; a face made by coarsening is
+/// Signorini if any of the faces it replaces was ([`inherit_models`]).
+pub struct Balanced {
+    pub model: ModelMarking,
+    pub grid: FixedNumber,
+    /// α of (III.93).
+    pub alpha: f64,
+}
+
+impl Adaptation for Balanced {
+    fn adapt(&mut self, disc: &mut Discretisation, estimate: &Estimate) -> Result<(), String> {
+        let mesh = &disc.mesh;
+        let eta: Vec<f64> = estimate.cells.iter().map(|e| e.sqrt()).collect();
+        let cell_of = contact_cells(mesh, &estimate.faces);
+        let mut model_of_cell = vec![0.0; eta.len()];
+        for (f, e) in &estimate.faces {
+            if !disc.accurate_faces.contains(f) {
+                model_of_cell[cell_of[f]] += e * e;
+            }
+        }
+        let alpha = self.alpha;
+        let model_tilde: FaceIndicators = estimate
+            .faces
+            .iter()
+            .map(|&(f, e)| {
+                (
+                    f,
+                    if e >= alpha * eta[cell_of[&f]] {
+                        e
+                    } else {
+                        0.0
+                    },
+                )
+            })
             .collect();
+        let grid_tilde: Vec<f64> = eta
+            .iter()
+            .zip(&model_of_cell)
+            .map(|(&d, &m2)| if d >= alpha * m2.sqrt() { d } else { 0.0 })
+            .collect();
+        let accurate = self.model.mark(&model_tilde, &disc.accurate_faces)?;
+        self.grid.refine(&mut disc.mesh, &grid_tilde)?;
+        let sides: BTreeSet<Side> = estimate.faces.iter().map(|(f, _)| f.side).collect();
+        disc.accurate_faces = inherit_models(&accurate, &boundary_faces(&disc.mesh, &sides));
         Ok(())
     }
+}
+
+/// The active cell (index into `mesh.active()`) of every face in `faces`.
+fn contact_cells(mesh: &Mesh, faces: &FaceIndicators) -> HashMap<BoundaryFace, usize> {
+    let wanted: BTreeSet<BoundaryFace> = faces.iter().map(|(f, _)| *f).collect();
+    let mut cell_of = HashMap::with_capacity(wanted.len());
+    for (k, &c) in mesh.active().iter().enumerate() {
+        for face in [Face::Bottom, Face::Top, Face::Left, Face::Right] {
+            if let Some(f) = mesh.boundary_face(c, face).filter(|f| wanted.contains(f)) {
+                cell_of.insert(f, k);
+            }
+        }
+    }
+    cell_of
+}
+
+/// The boundary faces of `mesh` on `sides`.
+pub fn boundary_faces(mesh: &Mesh, sides: &BTreeSet<Side>) -> Vec<BoundaryFace> {
+    let mut faces: Vec<BoundaryFace> = mesh
+        .active()
+        .iter()
+        .flat_map(|&c| {
+            [Face::Bottom, Face::Top, Face::Left, Face::Right]
+                .into_iter()
+                .filter_map(move |face| mesh.boundary_face(c, face))
+        })
+        .filter(|f| sides.contains(&f.side))
+        .collect();
+    faces.sort();
+    faces
+}
+
+/// The Signorini faces among `faces` (a new mesh's contact faces) when `accurate` were the
+/// Signorini faces of the old one: a face that was there keeps its model, a refined face's
+/// children inherit it, and a face made by coarsening is Signorini if any face it replaces was.
+pub fn inherit_models(
+    accurate: &BTreeSet<BoundaryFace>,
+    faces: &[BoundaryFace],
+) -> BTreeSet<BoundaryFace> {
+    let ancestors_of_accurate: BTreeSet<BoundaryFace> = accurate
+        .iter()
+        .flat_map(|f| std::iter::successors(f.parent(), BoundaryFace::parent))
+        .collect();
+    faces
+        .iter()
+        .copied()
+        .filter(|f| {
+            accurate.contains(f)
+                || ancestors_of_accurate.contains(f)
+                || std::iter::successors(f.parent(), BoundaryFace::parent)
+                    .any(|a| accurate.contains(&a))
+        })
+        .collect()
 }

@@ -82,7 +82,7 @@ impl Budget {
         let c = components(experiment);
         let mut cells = initial_cells(experiment);
         let growth = match experiment.study.kind {
-            StudyKind::GridAdaptive => {
+            StudyKind::GridAdaptive | StudyKind::ModelAndGridAdaptive => {
                 CLOSURE
                     * (1.0 + 3.0 * experiment.study.refine_fraction
                         - 0.75 * experiment.study.coarsen_fraction)

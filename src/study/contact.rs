@@ -111,25 +111,10 @@ impl ContactProblem {
 
     /// s₀ at the contact vertices of the new mesh (zero elsewhere), from the previous cycle.
     fn transferred_s0(&self, system: &System) -> Result<Option<Vec<f64>>, String> {
-        let Some(previous) = &self.previous else {
-            return Ok(None);
-        };
-        let dofs = &system.dofs;
-        let mut s0 = vec![0.0; dofs.n_dofs()];
-        for cb in &self.boundaries {
-            for v in dofs.vertices.side_vertices(cb.side) {
-                let p = dofs.vertices.coords[v as usize];
-                for comp in 0..2 {
-                    s0[dofs.dof(v, comp)] = previous.value(comp, p).ok_or_else(|| {
-                        format!(
-                            "transfer of s₀: the vertex ({}, {}) lies outside the previous mesh",
-                            p[0], p[1]
-                        )
-                    })?;
-                }
-            }
-        }
-        Ok(Some(s0))
+        self.previous
+            .as_ref()
+            .map(|p| p.at_contact_vertices(&self.boundaries, &system.dofs))
+            .transpose()
     }
 
     /// The indicators of Theorem III.15 for the current state.

@@ -21,7 +21,7 @@ pub mod thin_film;
 pub mod transfer;
 pub mod warnings;
 
-pub use adapt::{Adaptation, FixedNumber, ModelMarking};
+pub use adapt::{Adaptation, Balanced, FixedNumber, ModelMarking};
 pub use budget::Budget;
 pub use clock::{Phase, PhaseClock};
 pub use problem::{Discretisation, Estimate, Pictures, Problem, Solution};
@@ -191,6 +191,9 @@ pub fn build_problem(experiment: &Experiment) -> Box<dyn Problem> {
             StudyKind::ModelAdaptive => Box::new(model_contact::ModelAdaptiveContact::new(
                 elasticity, contact,
             )),
+            StudyKind::ModelAndGridAdaptive => Box::new(
+                model_contact::ModelAdaptiveContact::with_grid(elasticity, contact),
+            ),
         },
         experiment::Problem::Reynolds(data) => Box::new(reynolds::ReynoldsFilm::new(data, domain)),
     }
@@ -198,18 +201,28 @@ pub fn build_problem(experiment: &Experiment) -> Box<dyn Problem> {
 
 /// The adaptation strategy of a study: one match arm per `[study] kind`.
 pub fn build_adaptation(study: &experiment::Study) -> Box<dyn Adaptation> {
+    let grid = FixedNumber {
+        refine: study.refine_fraction,
+        coarsen: study.coarsen_fraction,
+    };
+    // The loader requires `algorithm` in the studies that mark models; III.3 is the one the
+    // model-and-grid tables use.
+    let (refine, coarsen) = study.model_fractions();
+    let model = ModelMarking {
+        algorithm: study
+            .algorithm
+            .unwrap_or(experiment::ModelAlgorithm::SortedError),
+        refine,
+        coarsen,
+        tolerance: study.model_tolerance(),
+    };
     match study.kind {
-        StudyKind::GridAdaptive => Box::new(FixedNumber {
-            refine: study.refine_fraction,
-            coarsen: study.coarsen_fraction,
-        }),
-        StudyKind::ModelAdaptive => Box::new(ModelMarking {
-            algorithm: study
-                .algorithm
-                .unwrap_or(experiment::ModelAlgorithm::SortedError),
-            refine: study.refine_fraction,
-            coarsen: study.coarsen_fraction,
-            tolerance: study.model_tolerance(),
+        StudyKind::GridAdaptive => Box::new(grid),
+        StudyKind::ModelAdaptive => Box::new(model),
+        StudyKind::ModelAndGridAdaptive => Box::new(Balanced {
+            model,
+            grid,
+            alpha: study.balance(),
         }),
     }
 }

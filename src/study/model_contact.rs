@@ -15,6 +15,13 @@
 //! **Indicator.** ε^m(f) = ‖ε_P(s_h)‖_{L2(f)} of (III.16) for the mixed solution s_h on every
 //! face ([`crate::estimators::contact_model`], spec/estimators.md §3.4), the printed
 //! `model_error` = (Σ_{f∈𝕋_c} ε^m(f)²)^{1/2} over the z-faces.
+//!
+//! **Model and grid (Tables IV.30–IV.35, Algorithm III.25).** The same two solves per cycle on
+//! a mesh that adapts too ([`super::adapt::Balanced`]): the z-solve is warm-started from the
+//! contact set of the previous z-solution transferred to the new mesh, and the estimate adds
+//! the discretisation indicators η_Q² of Theorem III.15 with the term set of the thesis's MGA
+//! code ([`ContactEstimator::MgaCode`]) for the mixed solution, printed as √Σ over three cell
+//! groups: cells with a z-face, cells with a Signorini face, cells without a contact face.
 
 use std::collections::BTreeSet;
 
@@ -22,13 +29,15 @@ use super::adapt::face_partition;
 use super::clock::PhaseClock;
 use super::elasticity::displacement_component;
 use super::problem::{setup_system, Discretisation, Estimate, Problem, Solution};
+use super::transfer::PreviousSolution;
 use crate::adaptivity::model::model_error;
+use crate::estimators::contact::{self as contact_estimator, ContactEstimator};
 use crate::estimators::contact_model::{face_indicators, vertex_differences};
 use crate::estimators::FaceIndicators;
 use crate::experiment::{ContactData, ElasticityData, ModelErrorSolution};
 use crate::fe::{DofMap, System};
 use crate::linalg::DirectSolver;
-use crate::mesh::BoundaryFace;
+use crate::mesh::{BoundaryFace, Face, Mesh};
 use crate::models::contact::{
     contact_boundaries, contact_set, penetration, side_faces, solve_contact, ConstraintBuilder,
     ContactBoundary, ContactConstraint, ContactModel, ContactSolution,
@@ -60,6 +69,11 @@ pub struct ModelAdaptiveContact {
     z_solution: Option<Vec<f64>>,
     /// Constraints and active-set solution of the current cycle's mixed solve (after `solve`).
     pub state: Option<CycleState>,
+    /// Whether the mesh adapts too (Algorithm III.25).
+    adapts_grid: bool,
+    /// The last z-solution on its mesh: the warm start of the next z-solve when the mesh
+    /// adapts.
+    previous_z: Option<PreviousSolution>,
 }
 
 impl ModelAdaptiveContact {
@@ -75,7 +89,71 @@ impl ModelAdaptiveContact {
             error_solution: contact.model_error_solution,
             z_solution: None,
             state: None,
+            adapts_grid: false,
+            previous_z: None,
         }
+    }
+
+    /// The problem of a model-and-grid-adaptive study (Algorithm III.25).
+    pub fn with_grid(elasticity: &ElasticityData, contact: &ContactData) -> ModelAdaptiveContact {
+        ModelAdaptiveContact {
+            adapts_grid: true,
+            ..ModelAdaptiveContact::new(elasticity, contact)
+        }
+    }
+
+    /// Whether the z-solution of the cycle is kept after the solve.
+    fn keeps_z_solution(&self) -> bool {
+        self.adapts_grid || self.error_solution == ModelErrorSolution::Z
+    }
+
+    /// The columns of the discretisation estimate (model-and-grid-adaptive): η_Q² of the
+    /// MGA-code term set per cell and √Σ over the cells with a z-face, with a Signorini face,
+    /// without a contact face, and over all cells (`estimate`).
+    fn grid_estimate(
+        &self,
+        mesh: &Mesh,
+        dofs: &DofMap,
+        u: &[f64],
+    ) -> (Vec<f64>, Vec<(String, Value)>) {
+        let state = self.state.as_ref().expect("estimate after solve");
+        let eta2 = contact_estimator::indicators(
+            mesh,
+            dofs,
+            u,
+            &self.model,
+            &self.boundaries,
+            &state.constraints,
+            &state.solution.active,
+            ContactEstimator::MgaCode,
+        )
+        .eta2;
+        // [z-face cells, Signorini-face cells, interior cells]; a cell with faces of both
+        // models (a one-cell-thick body) counts as Signorini.
+        let mut groups = [0.0; 3];
+        for (&c, &e) in mesh.active().iter().zip(&eta2) {
+            let contact_faces = [Face::Bottom, Face::Top]
+                .into_iter()
+                .filter_map(|face| mesh.boundary_face(c, face))
+                .filter(|f| self.boundaries.iter().any(|b| b.side == f.side));
+            let mut group = 2;
+            for f in contact_faces {
+                if self.accurate.contains(&f) {
+                    group = 1;
+                } else if group == 2 {
+                    group = 0;
+                }
+            }
+            groups[group] += e;
+        }
+        let real = |name: &str, v: f64| (name.to_string(), Value::real(Some(v.sqrt())));
+        let columns = vec![
+            real(columns::EST_Z_BOUNDARY, groups[0]),
+            real(columns::EST_S_BOUNDARY, groups[1]),
+            real(columns::EST_INTERIOR, groups[2]),
+            real(columns::ESTIMATE, groups.iter().sum()),
+        ];
+        (eta2, columns)
     }
 
     /// The model-error indicators ε^m(f) of every contact face for the displacement `u`, in
@@ -165,7 +243,15 @@ impl Problem for ModelAdaptiveContact {
             face_model: &|_| ContactModel::Z,
         };
         self.z_constraints = all_z.build(&system.dofs, &system.constraints, None)?;
-        if self
+        if self.adapts_grid {
+            self.z_active = match &self.previous_z {
+                Some(previous) => {
+                    let z = previous.at_contact_vertices(&self.boundaries, &system.dofs)?;
+                    Some(contact_set(&self.z_constraints, &system.dofs, &z))
+                }
+                None => None,
+            };
+        } else if self
             .z_active
             .as_ref()
             .is_some_and(|a| a.len() != self.z_constraints.len())
@@ -188,7 +274,7 @@ impl Problem for ModelAdaptiveContact {
         let z_iterations = z.iterations;
         let mixed_iterations = mixed.as_ref().map_or(0, |(_, m)| m.iterations);
         self.z_active = Some(z.active.clone());
-        self.z_solution = (self.error_solution == ModelErrorSolution::Z).then(|| z.u.clone());
+        self.z_solution = self.keeps_z_solution().then(|| z.u.clone());
         let (constraints, solution) =
             mixed.unwrap_or_else(|| (std::mem::take(&mut self.z_constraints), z));
         let counters = vec![
@@ -209,19 +295,27 @@ impl Problem for ModelAdaptiveContact {
 
     fn estimate(
         &mut self,
-        _disc: &Discretisation,
+        disc: &Discretisation,
         dofs: &DofMap,
         solution: &Solution,
     ) -> Result<Estimate, String> {
         let u = &solution.u;
-        // The z-solution is kept only when the model error is evaluated at it.
-        let faces = self.face_errors(dofs, self.z_solution.as_deref().unwrap_or(u))?;
+        let at = match (self.error_solution, &self.z_solution) {
+            (ModelErrorSolution::Z, Some(z)) => z,
+            _ => u,
+        };
+        let faces = self.face_errors(dofs, at)?;
         let partition = face_partition(&faces, &self.accurate);
         let eps: Vec<f64> = faces.iter().map(|&(_, e)| e).collect();
         let count = |name: &str, n: usize| (name.to_string(), Value::Count(n as i64));
-        let columns = vec![
-            count(columns::COARSE_FACES, partition.n_coarse()),
-            count(columns::ACCURATE_FACES, partition.n_accurate()),
+        let (coarse, accurate) = if self.adapts_grid {
+            (columns::Z_FACES, columns::S_FACES)
+        } else {
+            (columns::COARSE_FACES, columns::ACCURATE_FACES)
+        };
+        let mut columns = vec![
+            count(coarse, partition.n_coarse()),
+            count(accurate, partition.n_accurate()),
             (
                 columns::MODEL_ERROR.to_string(),
                 Value::real(Some(model_error(&partition, &eps))),
@@ -237,16 +331,34 @@ impl Problem for ModelAdaptiveContact {
             ),
             count(columns::PARTITION_REPEAT, self.partition_repeat()),
         ];
+        let mut cells = Vec::new();
+        if self.adapts_grid {
+            let (eta2, grid) = self.grid_estimate(&disc.mesh, dofs, u);
+            cells = eta2;
+            // After model_error, before penetration: the order of Tables IV.30–IV.35.
+            let tail = columns.split_off(3);
+            columns.extend(grid);
+            columns.extend(tail);
+        }
         Ok(Estimate {
-            cells: Vec::new(),
+            cells,
             faces,
             columns,
             noise_floor: None,
         })
     }
 
-    fn finish_cycle(&mut self, _disc: &Discretisation, _dofs: DofMap, _solution: Solution) {
+    fn finish_cycle(&mut self, disc: &Discretisation, dofs: DofMap, _solution: Solution) {
         self.history.push(std::mem::take(&mut self.accurate));
+        if self.adapts_grid {
+            if let Some(u) = self.z_solution.take() {
+                self.previous_z = Some(PreviousSolution {
+                    mesh: disc.mesh.clone(),
+                    dofs,
+                    u,
+                });
+            }
+        }
     }
 
     fn component(&self, name: &str) -> Option<usize> {

@@ -5,7 +5,7 @@
 use super::problem::{Discretisation, Estimate, Problem, Solution};
 use super::transfer::evaluate;
 use super::{Solve, Tier};
-use crate::experiment::{Experiment, StudyKind};
+use crate::experiment::Experiment;
 use crate::fe::DofMap;
 use crate::mesh::{Mesh, Side};
 use crate::results::{
@@ -69,7 +69,7 @@ impl<'a> Recorder<'a> {
             self.result.deformed.extend(pictures.deformed);
             self.result.fields.extend(pictures.fields);
         }
-        if self.experiment.study.kind == StudyKind::ModelAdaptive {
+        if self.experiment.study.kind.adapts_model() {
             self.result
                 .partitions
                 .push(partition_picture(disc, estimate, cycle));

@@ -5,6 +5,7 @@
 use crate::fe::cell_values::evaluate_at;
 use crate::fe::DofMap;
 use crate::mesh::Mesh;
+use crate::models::contact::ContactBoundary;
 
 /// Value of component `comp` of the Q₁ field `u` at a physical point (None outside the domain).
 pub fn evaluate(mesh: &Mesh, dofs: &DofMap, u: &[f64], comp: usize, p: [f64; 2]) -> Option<f64> {
@@ -27,5 +28,32 @@ impl PreviousSolution {
     /// outside the previous mesh).
     pub fn value(&self, comp: usize, p: [f64; 2]) -> Option<f64> {
         evaluate(&self.mesh, &self.dofs, &self.u, comp, p)
+    }
+}
+
+impl PreviousSolution {
+    /// The previous solution at the contact vertices of the new dofs `dofs` (zero elsewhere):
+    /// the linearisation point s₀ of the Signorini constraints and the warm start of a contact
+    /// active set, or the contact vertex that lies outside the previous mesh.
+    pub fn at_contact_vertices(
+        &self,
+        boundaries: &[ContactBoundary],
+        dofs: &DofMap,
+    ) -> Result<Vec<f64>, String> {
+        let mut s0 = vec![0.0; dofs.n_dofs()];
+        for cb in boundaries {
+            for v in dofs.vertices.side_vertices(cb.side) {
+                let p = dofs.vertices.coords[v as usize];
+                for comp in 0..2 {
+                    s0[dofs.dof(v, comp)] = self.value(comp, p).ok_or_else(|| {
+                        format!(
+                            "transfer of s₀: the vertex ({}, {}) lies outside the previous mesh",
+                            p[0], p[1]
+                        )
+                    })?;
+                }
+            }
+        }
+        Ok(s0)
     }
 }
