@@ -289,6 +289,30 @@ pub struct PartitionPicture {
     pub faces: Vec<FaceModel>,
 }
 
+/// One cycle of one variant of the cost-of-accuracy study of a model-adaptive scene
+/// (`crate::study::cost`).
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct CostRow {
+    /// `z`, `signorini`, `III.2` or `III.3`.
+    pub variant: String,
+    pub cycle: usize,
+    /// Wall seconds of the cycle's solves.
+    pub seconds_solve: f64,
+    /// Active-set iterations of the cycle's solves.
+    pub iterations: i64,
+    /// Largest vertical depth of the deformed contact boundary beyond its obstacle.
+    pub penetration: f64,
+    /// ‖s − s_S‖_a / ‖s_S‖_a, s_S the all-Signorini solution on the same mesh.
+    pub energy_distance: f64,
+    /// Contact faces on the Signorini model.
+    pub accurate_faces: usize,
+    /// The model-error estimate (Σ_{f∈𝕋_c} ε^m(f)²)^{1/2} over the z-faces.
+    pub model_error: f64,
+    /// ε₀ of the marking: Algorithm III.3 stops moving faces once the model error is below it,
+    /// so errors below ε₀ count as equal when the variants are compared.
+    pub model_tolerance: f64,
+}
+
 /// Everything one experiment run produced.
 #[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct RunResult {
@@ -306,6 +330,8 @@ pub struct RunResult {
     pub fields: Vec<FieldPicture>,
     /// The contact-face models of every printed cycle of a model-adaptive run (empty otherwise).
     pub partitions: Vec<PartitionPicture>,
+    /// The cost-of-accuracy study of a model-adaptive scene (empty unless the report ran it).
+    pub costs: Vec<CostRow>,
     /// Bounding box of the domain `[x0, x1, y0, y1]`.
     pub domain: [f64; 4],
     /// Readings of the thesis and known differences that apply to this table (shown in the report).

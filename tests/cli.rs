@@ -182,4 +182,43 @@ fn model_adaptive_tables_draw_their_partitions() {
     let page = std::fs::read_to_string(out.join("index.html")).unwrap();
     assert!(page.contains("Alternative reading: model error ε_P at the z-solution"));
     assert!(page.contains("<th>coarse_faces (alt.)</th>"));
+    // The cost of accuracy of the scene: four variants over the ten cycles, the plot, the
+    // verdicts on §IV.2.2 and §IV.2.3.
+    let costs = std::fs::read_to_string(out.join("data/IV.29.cost.csv")).unwrap();
+    let mut lines = costs.lines();
+    assert_eq!(
+        lines.next(),
+        Some(
+            "variant,cycle,seconds_solve,iterations,penetration,energy_distance,accurate_faces,\
+             model_error,model_tolerance"
+        )
+    );
+    assert_eq!(lines.count(), 40);
+    assert!(figures.join("IV.29-accuracy.svg").is_file());
+    assert!(page.contains("Cost of accuracy (this scene's fixed mesh)"));
+    assert!(page.contains("§IV.2.2's trade-off holds on this scene"));
+    assert!(page.contains("<b>III.2 vs III.3</b>"));
+}
+
+/// A model-and-grid-adaptive table: the convergence plot (with the thesis's three printed
+/// estimate groups combined) and the partition on the adapted mesh.
+#[test]
+fn model_and_grid_tables_draw_convergence_and_partitions() {
+    let out = temp_dir("model-and-grid");
+    let run = quick_table("IV.31", &out, &["--no-alternatives"]);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let figures = out.join("figures");
+    let convergence = std::fs::read_to_string(figures.join("IV.31-convergence.svg")).unwrap();
+    assert!(convergence.contains("thesis √(z² + S² + interior²)"));
+    assert!(figures.join("IV.31-partition.svg").is_file());
+    assert!(!figures.join("IV.31-model.svg").exists());
+    let data = std::fs::read_to_string(out.join("data/IV.31.csv")).unwrap();
+    assert!(data.starts_with(
+        "cycle,active_cells,dofs,z_faces,s_faces,model_error,est_z_boundary,est_s_boundary,\
+         est_interior,estimate,ratio,"
+    ));
 }

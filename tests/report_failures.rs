@@ -364,6 +364,7 @@ fn run_result(title: &str, notes: &[&str], rows: usize) -> tribo::results::RunRe
         deformed: vec![],
         fields: vec![],
         partitions: vec![],
+        costs: vec![],
         domain: [0.0, 1.0, 0.0, 1.0],
         notes: notes.iter().map(|n| n.to_string()).collect(),
         warnings: vec![],

@@ -177,6 +177,13 @@ fn run(cli: &Cli) -> Result<bool, String> {
         let runs_of_spec = 1 + readings.len() as u64;
         let progress = |_: &str, done: usize, _: usize| bar.set_position(base + done as u64);
         let outcome = match run_isolated(&spec, tier, budget, &progress)
+            .map(|run| {
+                if cli.no_alternatives {
+                    run
+                } else {
+                    with_costs(&spec, run)
+                }
+            })
             .and_then(|run| write_data(&cli.out, &spec, run))
         {
             Ok(run) => {
@@ -331,6 +338,18 @@ fn install_panic_hook() {
 
 /// Write `out/data/<table>.csv` and its probes; a table whose data cannot be written is a failed
 /// entry like one whose run failed.
+/// The run with the cost-of-accuracy study of its scene, where it applies
+/// ([`study::cost::applies`]); a study that fails is a warning of the table, not a failure.
+fn with_costs(spec: &Experiment, mut run: RunResult) -> RunResult {
+    if study::cost::applies(spec) {
+        match study::cost::accuracy_costs(spec) {
+            Ok(costs) => run.costs = costs,
+            Err(e) => run.warnings.push(format!("cost of accuracy: {e}")),
+        }
+    }
+    run
+}
+
 fn write_data(out: &Path, spec: &Experiment, run: RunResult) -> Result<RunResult, Failure> {
     let dir = out.join("data");
     match data::write_csv(&dir, &run) {

@@ -7,7 +7,7 @@ use std::path::Path;
 
 use polars::prelude::*;
 
-use crate::results::{PhaseSeconds, RunResult, Value};
+use crate::results::{CostRow, PhaseSeconds, RunResult, Value};
 
 /// One row per cycle: `cycle`, then the rows' named columns in order of first appearance
 /// (`active_cells, dofs, estimate, ratio` and the family's further columns for the
@@ -70,7 +70,57 @@ pub fn csv_stem(table: &str) -> String {
     table.replace(['/', '\\'], "_")
 }
 
-/// Write both CSV files of a run into `dir`.
+/// The cost-of-accuracy study: `variant, cycle, seconds_solve, iterations, penetration,
+/// energy_distance, accurate_faces, model_error, model_tolerance`.
+pub fn costs_frame(costs: &[CostRow]) -> PolarsResult<DataFrame> {
+    DataFrame::new(
+        costs.len(),
+        vec![
+            Column::new(
+                "variant".into(),
+                costs.iter().map(|c| c.variant.as_str()).collect::<Vec<_>>(),
+            ),
+            Column::new(
+                "cycle".into(),
+                costs.iter().map(|c| c.cycle as u64).collect::<Vec<_>>(),
+            ),
+            Column::new(
+                "seconds_solve".into(),
+                costs.iter().map(|c| c.seconds_solve).collect::<Vec<_>>(),
+            ),
+            Column::new(
+                "iterations".into(),
+                costs.iter().map(|c| c.iterations).collect::<Vec<_>>(),
+            ),
+            Column::new(
+                "penetration".into(),
+                costs.iter().map(|c| c.penetration).collect::<Vec<_>>(),
+            ),
+            Column::new(
+                "energy_distance".into(),
+                costs.iter().map(|c| c.energy_distance).collect::<Vec<_>>(),
+            ),
+            Column::new(
+                "accurate_faces".into(),
+                costs
+                    .iter()
+                    .map(|c| c.accurate_faces as u64)
+                    .collect::<Vec<_>>(),
+            ),
+            Column::new(
+                "model_error".into(),
+                costs.iter().map(|c| c.model_error).collect::<Vec<_>>(),
+            ),
+            Column::new(
+                "model_tolerance".into(),
+                costs.iter().map(|c| c.model_tolerance).collect::<Vec<_>>(),
+            ),
+        ],
+    )
+}
+
+/// Write the CSV files of a run into `dir`: rows, probes and, when the run has them, the costs
+/// (`<table>.cost.csv`).
 pub fn write_csv(dir: &Path, run: &RunResult) -> PolarsResult<()> {
     std::fs::create_dir_all(dir)?;
     let safe = csv_stem(&run.table);
@@ -78,5 +128,9 @@ pub fn write_csv(dir: &Path, run: &RunResult) -> PolarsResult<()> {
     CsvWriter::new(File::create(dir.join(format!("{safe}.csv")))?).finish(&mut rows)?;
     let mut probes = probes_frame(run)?;
     CsvWriter::new(File::create(dir.join(format!("{safe}.probes.csv")))?).finish(&mut probes)?;
+    if !run.costs.is_empty() {
+        let mut costs = costs_frame(&run.costs)?;
+        CsvWriter::new(File::create(dir.join(format!("{safe}.cost.csv")))?).finish(&mut costs)?;
+    }
     Ok(())
 }

@@ -318,6 +318,18 @@ fn write_figures(fig_dir: &Path, section: &Section) -> io::Result<Vec<Figure>> {
         }
     }
 
+    if !run.costs.is_empty() {
+        let path = push(
+            "accuracy",
+            format!(
+                "{}: cost of accuracy on this scene's fixed mesh — energy distance to the \
+                 all-Signorini solution and true penetration against cumulative solve seconds, \
+                 for z on every face, Signorini on every face, Algorithms III.2 and III.3",
+                run.table
+            ),
+        );
+        plots::accuracy(&path, run)?;
+    }
     if !run.rows.is_empty() && !run.is_model_adaptive() {
         let path = push(
             "cost",

@@ -272,7 +272,6 @@ pub fn convergence(path: &Path, run: &RunResult, thesis: &ThesisTable) -> io::Re
         .iter()
         .flat_map(|c| c.points.iter().copied())
         .collect();
-    let (x_lo, x_hi) = log_range(all.iter().map(|p| p.0));
     let guide = all
         .iter()
         .map(|(x, y)| y * x.sqrt())
@@ -284,24 +283,47 @@ pub fn convergence(path: &Path, run: &RunResult, thesis: &ThesisTable) -> io::Re
     } else {
         Vec::new()
     };
-    let (y_lo, y_hi) = log_range(all.iter().chain(&guide_pts).map(|p| p.1));
+    let svg = log_log_chart(
+        &format!("{} — convergence", run.table),
+        ("degrees of freedom", "estimate"),
+        &curves,
+        (&guide_pts, "slope −1/2"),
+        "no positive estimates to plot",
+    )?;
+    fs::write(path, svg)
+}
 
+/// A log–log chart of `curves` (solid with dots, or dashed with hollow triangles) with an
+/// optional dashed grey guide line, a legend, and `empty` written where there is nothing to draw.
+fn log_log_chart(
+    title: &str,
+    (x_label, y_label): (&str, &str),
+    curves: &[Curve],
+    (guide_pts, guide_label): (&[(f64, f64)], &str),
+    empty: &str,
+) -> io::Result<String> {
+    let all: Vec<(f64, f64)> = curves
+        .iter()
+        .flat_map(|c| c.points.iter().copied())
+        .collect();
+    let (x_lo, x_hi) = log_range(all.iter().map(|p| p.0));
+    let (y_lo, y_hi) = log_range(all.iter().chain(guide_pts).map(|p| p.1));
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, (760, 520)).into_drawing_area();
         root.fill(&WHITE).map_err(plot_err)?;
         let mut chart = ChartBuilder::on(&root)
-            .caption(format!("{} — convergence", run.table), ("sans-serif", 24))
+            .caption(title, ("sans-serif", 24))
             .margin(12)
             .x_label_area_size(48)
             .y_label_area_size(70)
             .build_cartesian_2d(NiceLog::new((x_lo, x_hi)), NiceLog::new((y_lo, y_hi)))
             .map_err(plot_err)?;
-        log_log_grid(&mut chart, "degrees of freedom", "estimate")?;
+        log_log_grid(&mut chart, x_label, y_label)?;
 
         if curves.is_empty() {
             root.draw(&Text::new(
-                "no positive estimates to plot",
+                empty,
                 (280, 250),
                 ("sans-serif", 18).into_font().color(&GUIDE),
             ))
@@ -310,14 +332,14 @@ pub fn convergence(path: &Path, run: &RunResult, thesis: &ThesisTable) -> io::Re
         if !guide_pts.is_empty() {
             let style = GUIDE.stroke_width(1);
             chart
-                .draw_series(DashedLineSeries::new(guide_pts.clone(), 2, 4, style))
+                .draw_series(DashedLineSeries::new(guide_pts.to_vec(), 2, 4, style))
                 .map_err(plot_err)?
-                .label("slope −1/2")
+                .label(guide_label)
                 .legend(move |(x, y)| {
                     DashedPathElement::new(vec![(x, y), (x + 22, y)], 2, 4, style)
                 });
         }
-        for c in &curves {
+        for c in curves {
             let style = c.color.stroke_width(2);
             let color = c.color;
             if c.dashed {
@@ -359,7 +381,73 @@ pub fn convergence(path: &Path, run: &RunResult, thesis: &ThesisTable) -> io::Re
         }
         root.present().map_err(plot_err)?;
     }
-    fs::write(path, svg)
+    Ok(svg)
+}
+
+/// Cost of accuracy of a model-adaptive scene (`<table>.cost.csv`): per variant (z, Signorini on
+/// every face, III.2, III.3) the energy distance to the all-Signorini solution and the true
+/// penetration against the cumulative solve seconds over the cycles, log–log. The all-Signorini
+/// variant is the reference (distance 0) and appears in the penetration panel only.
+pub fn accuracy(path: &Path, run: &RunResult) -> io::Result<()> {
+    const COLORS: [RGBColor; 4] = [
+        RGBColor(31, 119, 180),
+        RGBColor(0, 0, 0),
+        RGBColor(44, 160, 44),
+        RGBColor(214, 39, 40),
+    ];
+    let panel = |measure: fn(&crate::results::CostRow) -> f64| -> Vec<Curve> {
+        crate::study::cost::VARIANTS
+            .iter()
+            .zip(COLORS)
+            .map(|(variant, color)| {
+                let mut seconds = 0.0;
+                let points = run
+                    .costs
+                    .iter()
+                    .filter(|c| c.variant == *variant)
+                    .map(|c| {
+                        seconds += c.seconds_solve;
+                        (seconds, measure(c))
+                    })
+                    .filter(loggable)
+                    .collect();
+                Curve {
+                    label: (*variant).to_string(),
+                    color,
+                    dashed: false,
+                    points,
+                }
+            })
+            .filter(|c| !c.points.is_empty())
+            .collect()
+    };
+    let distance = log_log_chart(
+        &format!("{} — accuracy: energy distance to all-Signorini", run.table),
+        ("cumulative solve seconds", "‖s − s_S‖_a / ‖s_S‖_a"),
+        &panel(|c| c.energy_distance),
+        (&[], ""),
+        "no positive distances",
+    )?;
+    let penetration = log_log_chart(
+        &format!("{} — true penetration into the obstacle", run.table),
+        ("cumulative solve seconds", "penetration"),
+        &panel(|c| c.penetration),
+        (&[], ""),
+        "no penetration",
+    )?;
+    // Two 760×520 charts side by side.
+    let strip = |svg: &str| -> String {
+        let start = svg.find('>').map_or(0, |i| i + 1);
+        let end = svg.rfind("</svg>").unwrap_or(svg.len());
+        svg[start..end].to_string()
+    };
+    let out = format!(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"1520\" height=\"520\" \
+         viewBox=\"0 0 1520 520\">\n<g>{}</g>\n<g transform=\"translate(760,0)\">{}</g>\n</svg>\n",
+        strip(&distance),
+        strip(&penetration)
+    );
+    fs::write(path, out)
 }
 
 /// The five phases in drawing order, with their colours.
@@ -1320,6 +1408,7 @@ mod tests {
                 deformed: vec![],
                 fields: vec![],
                 partitions: vec![],
+                costs: vec![],
                 domain: [0.0, 1.0, 0.0, 1.0],
                 notes: vec![],
                 warnings: vec![],

@@ -141,51 +141,63 @@ impl ContactProblem {
         cycle: usize,
         label: &str,
     ) -> DeformedPicture {
-        let u = &state.solution.u;
-        let mut pic = deformed_picture(mesh, dofs, u, cycle, None);
-        let (x0, x1) = mesh
-            .active()
-            .iter()
-            .map(|&c| mesh.cell_box(c))
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), b| {
-                (lo.min(b[0]), hi.max(b[2]))
-            });
-        let n = 3200;
-        pic.obstacles = self
-            .boundaries
-            .iter()
-            .map(|cb| {
-                (0..=n)
-                    .map(|i| {
-                        cb.obstacle
-                            .obstacle_point(x0 + (x1 - x0) * i as f64 / n as f64)
-                    })
-                    .collect()
-            })
-            .collect();
-        pic.contact_points = state
-            .constraints
-            .iter()
-            .zip(&state.solution.active)
-            .filter(|(_, &a)| a)
-            .map(|(c, _)| {
-                let x = dofs.vertices.coords[c.vertex as usize];
-                [
-                    x[0] + u[dofs.dof(c.vertex, 0)],
-                    x[1] + u[dofs.dof(c.vertex, 1)],
-                ]
-            })
-            .collect();
-        let depth = penetration(&self.boundaries, dofs, u, PENETRATION_SAMPLES);
-        pic.caption = format!(
-            "{label}: {} of {} contact vertices in contact (dots); true penetration of the \
-             deformed boundary into the obstacle {:.3e} (largest vertical depth)",
-            pic.contact_points.len(),
-            state.constraints.len(),
-            depth
-        );
-        pic
+        contact_picture(&self.boundaries, mesh, dofs, state, cycle, label)
     }
+}
+
+/// The deformed body of a contact solution in true scale with the obstacle curves of
+/// `boundaries` and the vertices in contact, captioned with `label`.
+pub fn contact_picture(
+    boundaries: &[ContactBoundary],
+    mesh: &Mesh,
+    dofs: &DofMap,
+    state: &CycleState,
+    cycle: usize,
+    label: &str,
+) -> DeformedPicture {
+    let u = &state.solution.u;
+    let mut pic = deformed_picture(mesh, dofs, u, cycle, None);
+    let (x0, x1) = mesh
+        .active()
+        .iter()
+        .map(|&c| mesh.cell_box(c))
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), b| {
+            (lo.min(b[0]), hi.max(b[2]))
+        });
+    let n = 3200;
+    pic.obstacles = boundaries
+        .iter()
+        .map(|cb| {
+            (0..=n)
+                .map(|i| {
+                    cb.obstacle
+                        .obstacle_point(x0 + (x1 - x0) * i as f64 / n as f64)
+                })
+                .collect()
+        })
+        .collect();
+    pic.contact_points = state
+        .constraints
+        .iter()
+        .zip(&state.solution.active)
+        .filter(|(_, &a)| a)
+        .map(|(c, _)| {
+            let x = dofs.vertices.coords[c.vertex as usize];
+            [
+                x[0] + u[dofs.dof(c.vertex, 0)],
+                x[1] + u[dofs.dof(c.vertex, 1)],
+            ]
+        })
+        .collect();
+    let depth = penetration(boundaries, dofs, u, PENETRATION_SAMPLES);
+    pic.caption = format!(
+        "{label}: {} of {} contact vertices in contact (dots); true penetration of the \
+         deformed boundary into the obstacle {:.3e} (largest vertical depth)",
+        pic.contact_points.len(),
+        state.constraints.len(),
+        depth
+    );
+    pic
 }
 
 fn model_label(model: ContactModel) -> &'static str {

@@ -11,6 +11,7 @@ pub mod adapt;
 pub mod budget;
 pub mod clock;
 pub mod contact;
+pub mod cost;
 pub mod elasticity;
 pub mod model_contact;
 pub mod problem;

@@ -28,7 +28,7 @@ use std::collections::BTreeSet;
 use super::adapt::face_partition;
 use super::clock::PhaseClock;
 use super::elasticity::displacement_component;
-use super::problem::{setup_system, Discretisation, Estimate, Problem, Solution};
+use super::problem::{setup_system, Discretisation, Estimate, Pictures, Problem, Solution};
 use super::transfer::PreviousSolution;
 use crate::adaptivity::model::model_error;
 use crate::estimators::contact::{self as contact_estimator, ContactEstimator};
@@ -45,7 +45,18 @@ use crate::models::contact::{
 use crate::models::elasticity::Elasticity;
 use crate::results::{columns, Value};
 
-use super::contact::{CycleState, PENETRATION_SAMPLES};
+use super::contact::{contact_picture, CycleState, PENETRATION_SAMPLES};
+
+/// The number of contact faces on the sides of `boundaries`.
+fn side_count(dofs: &DofMap, boundaries: &[ContactBoundary]) -> usize {
+    boundaries
+        .iter()
+        .map(|cb| {
+            let verts = dofs.vertices.side_vertices(cb.side);
+            side_faces(dofs, cb.side, &verts).len()
+        })
+        .sum()
+}
 
 /// The constraints and solution of a cycle's mixed solve (none without Signorini faces).
 type MixedSolve = Option<(Vec<ContactConstraint>, ContactSolution)>;
@@ -358,6 +369,36 @@ impl Problem for ModelAdaptiveContact {
                     u,
                 });
             }
+        }
+    }
+
+    /// The deformed body of the last printed cycle with the mixed solution (thesis Figs IV.35–IV.51
+    /// show the partitions; the deformed body is tribo's addition).
+    fn pictures(
+        &mut self,
+        disc: &Discretisation,
+        dofs: &DofMap,
+        _solution: &Solution,
+        cycle: usize,
+    ) -> Pictures {
+        let Some(state) = &self.state else {
+            return Pictures::default();
+        };
+        let label = format!(
+            "mixed contact, {} of {} faces Signorini",
+            disc.accurate_faces.len(),
+            side_count(dofs, &self.boundaries)
+        );
+        Pictures {
+            deformed: vec![contact_picture(
+                &self.boundaries,
+                &disc.mesh,
+                dofs,
+                state,
+                cycle,
+                &label,
+            )],
+            fields: Vec::new(),
         }
     }
 

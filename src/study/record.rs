@@ -37,6 +37,7 @@ impl<'a> Recorder<'a> {
                 deformed: Vec::new(),
                 fields: Vec::new(),
                 partitions: Vec::new(),
+                costs: Vec::new(),
                 domain: [d.x[0], d.x[1], d.y[0], d.y[1]],
                 notes: experiment.notes.clone(),
                 warnings: Vec::new(),

@@ -1,0 +1,198 @@
+//! What accuracy costs on the fixed mesh of a model-adaptive scene (§IV.2.2 closes with "this
+//! advantage [of the Signorini solver] is balanced out against the higher speed of the z-solver
+//! in section IV.2.3"): the scene solved with four choices of the contact model per face, each
+//! through the cycles of its table,
+//!
+//! * `z` — every face z (the z-solve alone);
+//! * `signorini` — every face Signorini, linearised once about the z-solution (the mixed solve
+//!   of the model-adaptive tables with 𝕋_a = all faces);
+//! * `III.2`, `III.3` — the partitions of Algorithms III.2 and III.3.
+//!
+//! Measured per cycle: the solve seconds (both solves of the cycle), the active-set iterations,
+//! the true penetration of the deformed boundary into the obstacle, the energy distance
+//! ‖s − s_S‖_a / ‖s_S‖_a to the all-Signorini solution s_S on the same mesh, and the model
+//! error. The III.2 and III.3 variants also test the claim closing §IV.2.3: "after the same
+//! number of refinement cycles the error estimate for the sorted error algorithm is lower than
+//! that of the fixed-fraction algorithm and demands for the more expensive model on a lower
+//! number of faces" ([`claim_of_section_iv_2_3`]).
+
+use std::collections::BTreeSet;
+use std::time::Instant;
+
+use super::adapt::{boundary_faces, Adaptation, ModelMarking};
+use super::model_contact::ModelAdaptiveContact;
+use super::problem::{Discretisation, Problem};
+use super::{PhaseClock, RunError};
+use crate::experiment::{self, Experiment, ModelAlgorithm, StudyKind};
+use crate::fe::DofMap;
+use crate::mesh::Mesh;
+use crate::models::elasticity::Elasticity;
+use crate::results::{columns, CostRow};
+
+/// The variants in the order of the file and the page.
+pub const VARIANTS: [&str; 4] = ["z", "signorini", "III.2", "III.3"];
+
+/// Whether the cost study applies to an experiment: a model-adaptive contact table on a fixed
+/// mesh with Algorithm III.3 (one study per scene; its III.2 twin shares the mesh).
+pub fn applies(experiment: &Experiment) -> bool {
+    experiment.study.kind == StudyKind::ModelAdaptive
+        && experiment.study.algorithm == Some(ModelAlgorithm::SortedError)
+        && matches!(experiment.problem, experiment::Problem::Contact { .. })
+}
+
+/// The four variants of [`applies`]'s scene through the table's printed cycles.
+pub fn accuracy_costs(experiment: &Experiment) -> Result<Vec<CostRow>, RunError> {
+    let experiment::Problem::Contact {
+        elasticity,
+        contact,
+    } = &experiment.problem
+    else {
+        return Ok(Vec::new());
+    };
+    let fail = |cycle: usize, message: String| RunError {
+        table: experiment.table.clone(),
+        cycle,
+        message: format!("cost of accuracy: {message}"),
+    };
+    let disc = Discretisation::initial(&experiment.scene).map_err(|e| fail(0, e.to_string()))?;
+    let model = Elasticity::from(elasticity);
+    let new_problem = || ModelAdaptiveContact::new(elasticity, contact);
+    let sides: BTreeSet<_> = contact.obstacles.iter().map(|o| o.side).collect();
+    let all_faces: BTreeSet<_> = boundary_faces(&disc.mesh, &sides).into_iter().collect();
+
+    // The reference s_S: every face Signorini.
+    let mut reference_problem = new_problem();
+    let mut all_signorini = disc.clone();
+    all_signorini.accurate_faces = all_faces.clone();
+    let (dofs, s_s, ..) =
+        solve_cycle(&mut reference_problem, &all_signorini).map_err(|e| fail(0, e))?;
+    let s_s_norm = energy_norm(&model, &disc.mesh, &dofs, &s_s, None);
+
+    let (p_r, p_c) = experiment.study.model_fractions();
+    let marking = |algorithm| ModelMarking {
+        algorithm,
+        refine: p_r,
+        coarsen: p_c,
+        tolerance: experiment.study.model_tolerance(),
+    };
+    let mut rows = Vec::new();
+    for variant in VARIANTS {
+        let mut problem = new_problem();
+        let mut disc = disc.clone();
+        if variant == "signorini" {
+            disc.accurate_faces = all_faces.clone();
+        }
+        let mut adaptation = match variant {
+            "III.2" => Some(marking(ModelAlgorithm::FixedFraction)),
+            "III.3" => Some(marking(ModelAlgorithm::SortedError)),
+            _ => None,
+        };
+        for cycle in 0..experiment.study.rows {
+            let (dofs, u, seconds, iterations, estimate) =
+                solve_cycle(&mut problem, &disc).map_err(|e| fail(cycle, e))?;
+            let distance = energy_norm(&model, &disc.mesh, &dofs, &u, Some(&s_s)) / s_s_norm;
+            let column = |wanted: &str| {
+                estimate
+                    .columns
+                    .iter()
+                    .find(|(name, _)| name == wanted)
+                    .and_then(|(_, v)| v.as_f64())
+                    .unwrap_or(f64::NAN)
+            };
+            rows.push(CostRow {
+                variant: variant.to_string(),
+                cycle,
+                seconds_solve: seconds,
+                iterations,
+                penetration: column(columns::PENETRATION),
+                energy_distance: distance,
+                accurate_faces: disc.accurate_faces.len(),
+                model_error: column(columns::MODEL_ERROR),
+                model_tolerance: experiment.study.model_tolerance(),
+            });
+            if let Some(adaptation) = adaptation.as_mut() {
+                adaptation
+                    .adapt(&mut disc, &estimate)
+                    .map_err(|e| fail(cycle, e))?;
+            }
+        }
+    }
+    Ok(rows)
+}
+
+type Cycle = (DofMap, Vec<f64>, f64, i64, super::Estimate);
+
+/// One cycle of the model-adaptive problem: the solution, the seconds of the solve phase, the
+/// active-set iterations of both solves, and the estimate (face indicators, penetration).
+fn solve_cycle(problem: &mut ModelAdaptiveContact, disc: &Discretisation) -> Result<Cycle, String> {
+    let mut system = problem.setup(disc);
+    problem.assemble(disc, &mut system)?;
+    let started = Instant::now();
+    let solution = problem.solve(disc, &mut system, &PhaseClock::default())?;
+    let seconds = started.elapsed().as_secs_f64();
+    let iterations = solution
+        .counters
+        .iter()
+        .filter(|(name, _)| name.ends_with("_iterations"))
+        .map(|(_, n)| n)
+        .sum();
+    let solution = solution.finite()?;
+    let dofs = system.into_dofs();
+    let estimate = problem.estimate(disc, &dofs, &solution)?;
+    let u = solution.u.clone();
+    problem.finish_cycle(disc, dofs.clone(), solution);
+    Ok((dofs, u, seconds, iterations, estimate))
+}
+
+/// ‖u − v‖_a = (∫_Ω σ(u − v) : ∇(u − v))^{1/2} (v = 0 when `minus` is None), with the 2×2
+/// Gauss rule per cell (exact for Q₁ on rectangles).
+fn energy_norm(
+    model: &Elasticity,
+    mesh: &Mesh,
+    dofs: &DofMap,
+    u: &[f64],
+    minus: Option<&[f64]>,
+) -> f64 {
+    let e: Vec<f64> = match minus {
+        Some(v) => u.iter().zip(v).map(|(a, b)| a - b).collect(),
+        None => u.to_vec(),
+    };
+    let g = 0.5 / 3f64.sqrt();
+    let mut sum = 0.0;
+    for (k, &c) in mesh.active().iter().enumerate() {
+        let [x0, y0, x1, y1] = mesh.cell_box(c);
+        let (xm, ym, w, h) = ((x0 + x1) / 2.0, (y0 + y1) / 2.0, x1 - x0, y1 - y0);
+        for (a, b) in [(-g, -g), (g, -g), (-g, g), (g, g)] {
+            let grad = Elasticity::gradient_at(mesh, dofs, &e, k, [xm + a * w, ym + b * h]);
+            let sigma = model.stress(grad);
+            let density: f64 = (0..2)
+                .flat_map(|i| (0..2).map(move |j| (i, j)))
+                .map(|(i, j)| sigma[i][j] * grad[i][j])
+                .sum();
+            sum += density * w * h / 4.0;
+        }
+    }
+    sum.sqrt()
+}
+
+/// The claim closing §IV.2.3 on the cost rows of one scene: over the cycles after the first,
+/// (cycles where III.3's model error ≤ III.2's — or both are at most ε₀, where III.3 stops by
+/// design —, cycles where III.3 has no more Signorini faces than III.2, cycles compared).
+pub fn claim_of_section_iv_2_3(costs: &[CostRow]) -> (usize, usize, usize) {
+    let of = |variant: &str| -> Vec<&CostRow> {
+        costs
+            .iter()
+            .filter(|c| c.variant == variant && c.cycle > 0)
+            .collect()
+    };
+    let pairs: Vec<_> = of("III.2").into_iter().zip(of("III.3")).collect();
+    let lower_error = pairs
+        .iter()
+        .filter(|(f, s)| s.model_error <= f.model_error.max(s.model_tolerance))
+        .count();
+    let fewer_faces = pairs
+        .iter()
+        .filter(|(f, s)| s.accurate_faces <= f.accurate_faces)
+        .count();
+    (lower_error, fewer_faces, pairs.len())
+}
