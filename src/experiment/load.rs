@@ -999,18 +999,13 @@ impl Check<'_> {
                     study,
                     "\"model-adaptive\" or \"model-and-grid-adaptive\"",
                     &[
-                        ("study.algorithm", study.algorithm.is_some()),
-                        ("study.model_tolerance", study.model_tolerance.is_some()),
-                        (
-                            "study.model_refine_fraction",
-                            study.model_refine_fraction.is_some(),
-                        ),
-                        (
-                            "study.model_coarsen_fraction",
-                            study.model_coarsen_fraction.is_some(),
-                        ),
-                        ("study.balance", study.balance.is_some()),
-                    ],
+                        &[
+                            ("study.algorithm", study.algorithm.is_some()),
+                            ("study.model_tolerance", study.model_tolerance.is_some()),
+                        ],
+                        &balance_fields(study)[..],
+                    ]
+                    .concat(),
                 )?;
                 let model = scene.contact.as_ref().map(|c| c.model);
                 self.ensure(
@@ -1023,21 +1018,7 @@ impl Check<'_> {
                 self.grid_marking(study)
             }
             StudyKind::ModelAdaptive => {
-                self.refused(
-                    study,
-                    "\"model-and-grid-adaptive\"",
-                    &[
-                        (
-                            "study.model_refine_fraction",
-                            study.model_refine_fraction.is_some(),
-                        ),
-                        (
-                            "study.model_coarsen_fraction",
-                            study.model_coarsen_fraction.is_some(),
-                        ),
-                        ("study.balance", study.balance.is_some()),
-                    ],
-                )?;
+                self.refused(study, "\"model-and-grid-adaptive\"", &balance_fields(study))?;
                 self.model_marking(
                     study,
                     scene,
@@ -1414,4 +1395,19 @@ fn effect_name(effect: Effect) -> &'static str {
 
 fn names(effects: &[Effect]) -> Vec<&'static str> {
     effects.iter().map(|&e| effect_name(e)).collect()
+}
+
+/// The fields only a model-and-grid-adaptive study has, each given or not.
+fn balance_fields(study: &Study) -> [(&'static str, bool); 3] {
+    [
+        (
+            "study.model_refine_fraction",
+            study.model_refine_fraction.is_some(),
+        ),
+        (
+            "study.model_coarsen_fraction",
+            study.model_coarsen_fraction.is_some(),
+        ),
+        ("study.balance", study.balance.is_some()),
+    ]
 }
