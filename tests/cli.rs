@@ -216,6 +216,9 @@ fn model_and_grid_tables_draw_convergence_and_partitions() {
     assert!(convergence.contains("thesis √(z² + S² + interior²)"));
     assert!(figures.join("IV.31-partition.svg").is_file());
     assert!(!figures.join("IV.31-model.svg").exists());
+    // The Signorini faces (1, 3, 9 in cycles 1–3) drawn on the meshes.
+    let meshes = std::fs::read_to_string(figures.join("IV.31-mesh.svg")).unwrap();
+    assert!(meshes.contains("stroke-width=\"4\""));
     let data = std::fs::read_to_string(out.join("data/IV.31.csv")).unwrap();
     assert!(data.starts_with(
         "cycle,active_cells,dofs,z_faces,s_faces,model_error,est_z_boundary,est_s_boundary,\

@@ -342,15 +342,26 @@ fn write_figures(fig_dir: &Path, section: &Section) -> io::Result<Vec<Figure>> {
     }
     if !run.meshes.is_empty() {
         let cycles: Vec<String> = run.meshes.iter().map(|m| m.cycle.to_string()).collect();
+        // The Signorini faces on the adapted meshes of the model-and-grid tables.
+        let partitions: &[_] = if run.is_model_adaptive() {
+            &[]
+        } else {
+            &run.partitions
+        };
         let path = push(
             "mesh",
             format!(
-                "{}: active cells after cycle {}",
+                "{}: active cells after cycle {}{}",
                 run.table,
-                cycles.join(", ")
+                cycles.join(", "),
+                if partitions.is_empty() {
+                    ""
+                } else {
+                    "; Signorini faces thick black (cf. thesis Figs IV.46–IV.51)"
+                }
             ),
         );
-        plots::meshes(&path, &run.meshes, run.domain)?;
+        plots::meshes(&path, &run.meshes, run.domain, partitions)?;
     }
 
     for (i, pic) in run.deformed.iter().enumerate() {

@@ -21,7 +21,9 @@ use plotters::prelude::*;
 
 use super::html::{escape, fmt_short};
 use super::MAX_SHOWN_THESIS_ROWS;
-use crate::results::{columns, CellBox, DeformedPicture, FieldPicture, MeshPicture, RunResult};
+use crate::results::{
+    columns, CellBox, DeformedPicture, FieldPicture, MeshPicture, PartitionPicture, RunResult,
+};
 use crate::thesis::ThesisTable;
 
 /// Turn a plotters error into an `io::Error` (plotters' SVG backend draws into a `String`, so
@@ -857,7 +859,39 @@ fn draw_mesh(svg: &mut String, cells: &[CellBox], f: &Frame, clip_id: &str) {
 /// detail around its finest cell — at true aspect ratio the refined ends of a 32:1 strip are a few
 /// pixels wide, and the detail is where the refinement pattern can actually be compared with the
 /// thesis figure. Squarish domains are drawn side by side.
-pub fn meshes(path: &Path, meshes: &[MeshPicture], domain: [f64; 4]) -> io::Result<()> {
+///
+/// With `partitions` (model-and-grid adaptivity), the Signorini faces of each drawn cycle are
+/// thick black lines on the boundary (thesis Figs IV.46–IV.51).
+pub fn meshes(
+    path: &Path,
+    meshes: &[MeshPicture],
+    domain: [f64; 4],
+    partitions: &[PartitionPicture],
+) -> io::Result<()> {
+    let signorini = |body: &mut String, cycle: usize, frame: &Frame| {
+        let Some(p) = partitions.iter().find(|p| p.cycle == cycle) else {
+            return;
+        };
+        for f in p.faces.iter().filter(|f| f.accurate) {
+            let y = if f.side == "top" {
+                domain[3]
+            } else {
+                domain[2]
+            };
+            let (a, b) = (f.x0.max(frame.win[0]), f.x1.min(frame.win[1]));
+            if a < b {
+                let _ = writeln!(
+                    body,
+                    "<line x1=\"{:.2}\" y1=\"{:.2}\" x2=\"{:.2}\" y2=\"{:.2}\" stroke=\"#000\" \
+                     stroke-width=\"4\"/>",
+                    frame.px(a),
+                    frame.py(y),
+                    frame.px(b),
+                    frame.py(y)
+                );
+            }
+        }
+    };
     let Some(win) = picture_window(domain, meshes.iter().flat_map(|m| &m.cells)) else {
         return placeholder(path, "mesh", "no cells with a finite extent to draw");
     };
@@ -883,6 +917,7 @@ pub fn meshes(path: &Path, meshes: &[MeshPicture], domain: [f64; 4]) -> io::Resu
             y += label_h;
             let strip = Frame::new(win, margin, y, strip_w);
             draw_mesh(&mut body, &m.cells, &strip, &format!("m{i}"));
+            signorini(&mut body, m.cycle, &strip);
             y += strip.height() + 8.0;
 
             // Detail window: 4 domain heights wide, centred on the smallest cell.
@@ -905,6 +940,7 @@ pub fn meshes(path: &Path, meshes: &[MeshPicture], domain: [f64; 4]) -> io::Resu
                 );
                 let detail = Frame::new(dwin, margin, y, detail_w);
                 draw_mesh(&mut body, &m.cells, &detail, &format!("d{i}"));
+                signorini(&mut body, m.cycle, &detail);
                 let _ = writeln!(
                     body,
                     "<rect x=\"{:.1}\" y=\"{:.1}\" width=\"{:.1}\" height=\"{:.1}\" fill=\"none\" stroke=\"#d62728\" stroke-width=\"1.5\"/>",
