@@ -129,6 +129,12 @@ impl ModelMarking {
 ///
 /// After refinement a face's children inherit its model; a face made by coarsening is
 /// Signorini if any of the faces it replaces was ([`inherit_models`]).
+///
+/// Readings of the printed algorithm: α is not stated (default 0.5, `study.balance`);
+/// "(ε^d)² ← (ε^d)² + ε^d(Q)" misses a square and is indented under "if Q ∈ 𝕋_c" (read: the
+/// squares of all cells); the loop test compares the sum of squares with ε₀ unsquared (read:
+/// ε₀²); "p_a" is III.3's p_r. The loop test never stops a Chapter IV run (every table prints
+/// its ten cycles), so the study runs its printed cycles and ε₀ acts inside III.3 only.
 pub struct Balanced {
     pub model: ModelMarking,
     pub grid: FixedNumber,
