@@ -1456,7 +1456,7 @@ mod tests {
             cycle: 0,
             cells: vec![],
         };
-        meshes(&dir.join("m.svg"), &[empty], [f64::NAN; 4]).unwrap();
+        meshes(&dir.join("m.svg"), &[empty], [f64::NAN; 4], &[]).unwrap();
         let pic = DeformedPicture {
             cycle: 0,
             scale: 1.0,

@@ -146,27 +146,27 @@ impl Adaptation for Balanced {
     fn adapt(&mut self, disc: &mut Discretisation, estimate: &Estimate) -> Result<(), String> {
         let mesh = &disc.mesh;
         let eta: Vec<f64> = estimate.cells.iter().map(|e| e.sqrt()).collect();
-        let cell_of = contact_cells(mesh, &estimate.faces);
+        if eta.len() != mesh.n_active() {
+            return Err(format!(
+                "the balance (III.93) needs one discretisation indicator per cell: {} for {} \
+                 active cells",
+                eta.len(),
+                mesh.n_active()
+            ));
+        }
+        let cell_of = contact_cells(mesh, &estimate.faces)?;
         let mut model_of_cell = vec![0.0; eta.len()];
-        for (f, e) in &estimate.faces {
+        for (&k, (f, e)) in cell_of.iter().zip(&estimate.faces) {
             if !disc.accurate_faces.contains(f) {
-                model_of_cell[cell_of[f]] += e * e;
+                model_of_cell[k] += e * e;
             }
         }
         let alpha = self.alpha;
         let model_tilde: FaceIndicators = estimate
             .faces
             .iter()
-            .map(|&(f, e)| {
-                (
-                    f,
-                    if e >= alpha * eta[cell_of[&f]] {
-                        e
-                    } else {
-                        0.0
-                    },
-                )
-            })
+            .zip(&cell_of)
+            .map(|(&(f, e), &k)| (f, if e >= alpha * eta[k] { e } else { 0.0 }))
             .collect();
         let grid_tilde: Vec<f64> = eta
             .iter()
@@ -181,18 +181,28 @@ impl Adaptation for Balanced {
     }
 }
 
-/// The active cell (index into `mesh.active()`) of every face in `faces`.
-fn contact_cells(mesh: &Mesh, faces: &FaceIndicators) -> HashMap<BoundaryFace, usize> {
-    let wanted: BTreeSet<BoundaryFace> = faces.iter().map(|(f, _)| *f).collect();
-    let mut cell_of = HashMap::with_capacity(wanted.len());
+/// The active cell (index into `mesh.active()`) of each face of `faces`, in their order, or the
+/// first face that is not a boundary face of the mesh.
+fn contact_cells(mesh: &Mesh, faces: &FaceIndicators) -> Result<Vec<usize>, String> {
+    let mut cell_of = HashMap::with_capacity(faces.len());
     for (k, &c) in mesh.active().iter().enumerate() {
         for face in [Face::Bottom, Face::Top, Face::Left, Face::Right] {
-            if let Some(f) = mesh.boundary_face(c, face).filter(|f| wanted.contains(f)) {
+            if let Some(f) = mesh.boundary_face(c, face) {
                 cell_of.insert(f, k);
             }
         }
     }
-    cell_of
+    faces
+        .iter()
+        .map(|(f, _)| {
+            cell_of.get(f).copied().ok_or_else(|| {
+                format!(
+                    "the balance (III.93): the contact face {f:?} is not a boundary face of the \
+                     current mesh"
+                )
+            })
+        })
+        .collect()
 }
 
 /// The boundary faces of `mesh` on `sides`.

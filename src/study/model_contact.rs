@@ -126,8 +126,11 @@ impl ModelAdaptiveContact {
         mesh: &Mesh,
         dofs: &DofMap,
         u: &[f64],
-    ) -> (Vec<f64>, Vec<(String, Value)>) {
-        let state = self.state.as_ref().expect("estimate after solve");
+    ) -> Result<(Vec<f64>, Vec<(String, Value)>), String> {
+        let state = self
+            .state
+            .as_ref()
+            .ok_or("the discretisation estimate needs the cycle's mixed solve")?;
         let eta2 = contact_estimator::indicators(
             mesh,
             dofs,
@@ -164,7 +167,7 @@ impl ModelAdaptiveContact {
             real(columns::EST_INTERIOR, groups[2]),
             real(columns::ESTIMATE, groups.iter().sum()),
         ];
-        (eta2, columns)
+        Ok((eta2, columns))
     }
 
     /// The model-error indicators ε^m(f) of every contact face for the displacement `u`, in
@@ -344,7 +347,7 @@ impl Problem for ModelAdaptiveContact {
         ];
         let mut cells = Vec::new();
         if self.adapts_grid {
-            let (eta2, grid) = self.grid_estimate(&disc.mesh, dofs, u);
+            let (eta2, grid) = self.grid_estimate(&disc.mesh, dofs, u)?;
             cells = eta2;
             // After model_error, before penetration: the order of Tables IV.30–IV.35.
             let tail = columns.split_off(3);
