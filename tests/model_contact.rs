@@ -319,8 +319,7 @@ fn cost_of_accuracy_on_the_saw() {
     let last = |variant: &str| {
         costs
             .iter()
-            .filter(|c| c.variant == variant)
-            .last()
+            .rfind(|c| c.variant == variant)
             .unwrap()
             .clone()
     };

@@ -58,6 +58,9 @@ fn side_count(dofs: &DofMap, boundaries: &[ContactBoundary]) -> usize {
         .sum()
 }
 
+/// η_Q² per cell and the estimate's columns of a model-and-grid cycle.
+type GridEstimate = (Vec<f64>, Vec<(String, Value)>);
+
 /// The constraints and solution of a cycle's mixed solve (none without Signorini faces).
 type MixedSolve = Option<(Vec<ContactConstraint>, ContactSolution)>;
 
@@ -121,12 +124,7 @@ impl ModelAdaptiveContact {
     /// The columns of the discretisation estimate (model-and-grid-adaptive): η_Q² of the
     /// MGA-code term set per cell and √Σ over the cells with a z-face, with a Signorini face,
     /// without a contact face, and over all cells (`estimate`).
-    fn grid_estimate(
-        &self,
-        mesh: &Mesh,
-        dofs: &DofMap,
-        u: &[f64],
-    ) -> Result<(Vec<f64>, Vec<(String, Value)>), String> {
+    fn grid_estimate(&self, mesh: &Mesh, dofs: &DofMap, u: &[f64]) -> Result<GridEstimate, String> {
         let state = self
             .state
             .as_ref()
