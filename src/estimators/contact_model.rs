@@ -66,7 +66,7 @@ pub fn vertex_differences(
             let n_s = ContactSide::vertex_normal(prev, here, next, side.upper);
             let s = displacement[i];
             let s_dot_nz = s[0] * n_z[0] + s[1] * n_z[1];
-            let eta_z = side.eta_z(points[i][0]);
+            let eta_z = side.eta_z_at(points[i]);
             let eta_s = side
                 .distance_within_reach(here, n_s)
                 .map_err(|e| {

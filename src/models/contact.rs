@@ -167,7 +167,7 @@ impl ConstraintBuilder<'_> {
                     .any(|m| m == ContactModel::Signorini);
                 let xv = x(i);
                 if !signorini {
-                    let eta = cb.obstacle.eta_z(xv[0]);
+                    let eta = cb.obstacle.eta_z_at(xv);
                     out.push(ContactConstraint {
                         vertex: vert,
                         boundary: bi,

@@ -378,6 +378,21 @@ impl ContactSide {
         }
     }
 
+    /// η_z (III.12) at a boundary point p of the body: the distance along n_z from p to the
+    /// obstacle y_face + b(p₁). On the undeformed face of the Chapter IV tables (p₂ = y_face)
+    /// it is exactly [`ContactSide::eta_z`]`(p₁)`; on a moved body (the load steps of the U-O
+    /// forming, §IV.2.4.7) the face point lies off y_face and the gap changes by the offset.
+    pub fn eta_z_at(&self, p: [f64; 2]) -> f64 {
+        let offset = p[1] - self.y_face();
+        if offset == 0.0 {
+            self.eta_z(p[0])
+        } else if self.upper {
+            self.z_bound(p[0]) - offset
+        } else {
+            offset - self.z_bound(p[0])
+        }
+    }
+
     /// Whether a displacement component s₂ at undeformed x₁ satisfies the z-constraint.
     pub fn z_admissible(&self, x1: f64, s2: f64, tol: f64) -> bool {
         let b = self.z_bound(x1);
