@@ -1329,6 +1329,26 @@ fn model_and_grid_checks_name_file_and_field() {
     for (case, text, field, needle) in cases {
         expect_error(case, &text, field, needle);
     }
+    // The arc tools of the U-O forming.
+    let arc = |radius: &str| {
+        with(
+            "shape = { kind = \"constant\", level = -2.0 }",
+            &format!(
+                "shape = {{ kind = \"arc\", center = [-16.0, 10.0], radius = {radius}, \
+                 plateau = 0.0, s = 0.01 }}"
+            ),
+        )
+    };
+    let dir = scratch_dir("arc-valid");
+    load(&write(&dir, "IV.1.toml", &arc("10.0"))).unwrap_or_else(|e| panic!("{e}"));
+    for radius in ["0.0", "-1.0", "nan", "inf"] {
+        expect_error(
+            &format!("arc radius {radius}"),
+            &arc(radius),
+            "scene.contact.obstacles[0].shape.radius",
+            "> 0",
+        );
+    }
     // A balance in a grid-adaptive study.
     expect_error(
         "balance in a grid study",

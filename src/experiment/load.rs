@@ -885,6 +885,18 @@ impl Check<'_> {
                 self.positive(&f("s"), s)
             }
             ObstacleShape::Saw { s, .. } => self.positive(&f("s"), s),
+            ObstacleShape::Arc {
+                center,
+                radius,
+                plateau,
+                s,
+            } => {
+                self.finite(&f("center[0]"), center[0])?;
+                self.finite(&f("center[1]"), center[1])?;
+                self.positive(&f("radius"), radius)?;
+                self.finite(&f("plateau"), plateau)?;
+                self.positive(&f("s"), s)
+            }
         }
     }
 

@@ -256,6 +256,15 @@ pub enum ObstacleShape {
     },
     /// The saw obstacle of §IV.2.1.6 in one of two readings of the printed formula.
     Saw { s: f64, reading: SawReading },
+    /// The tools of the U-O forming (§IV.2.4.7): b = A + θ_s(x₁ − c₁ − r)·(plateau − A) with
+    /// A = c₂ − √(r² − (x₁ − c₁)²), the lower half circle about `center` up to its vertical
+    /// end x₁ = c₁ + r, blended into the `plateau` (heights relative to the contact face).
+    Arc {
+        center: [f64; 2],
+        radius: f64,
+        plateau: f64,
+        s: f64,
+    },
 }
 
 /// How the printed saw formula of §IV.2.1.6 is read (`crate::models::obstacle::SawReading`).

@@ -138,9 +138,40 @@ pub enum Shape {
     /// * `Literal`: c_k = 0 for all k, the formula as printed (pieces 2 and 4 lack their offsets
     ///   −1 and +2), giving θ_s-smoothed jumps at x₁ = −2 (+1), 1 (−1), 5 (−2) and 6 (+2).
     Saw { s: f64, reading: SawReading },
+    /// The tools of the U-O forming (§IV.2.4.7): the lower half of the circle of radius r about
+    /// (c₁, c₂) up to its right end x_e = c₁ + r, where the tangent is vertical, blended by
+    /// θ_s into the plateau h:
+    ///
+    /// b(x₁) = A(x₁) + θ_s(x₁ − x_e)·(h − A(x₁)),  A(x₁) = c₂ − √(max(0, r² − (x₁ − c₁)²)).
+    ///
+    /// The punch is c = (−16, 10), r = 8.8 (x_e = −7.2) with the plateau 1.2 + 10j/24, the die
+    /// c = (−16, 10j/24), r = 10 (x_e = −6) with the plateau 10j/24 (absolute heights; the
+    /// file gives them relative to the contact face like every b). |b'| is unbounded at x_e.
+    Arc {
+        center: [f64; 2],
+        radius: f64,
+        plateau: f64,
+        s: f64,
+    },
 }
 
 impl Shape {
+    /// The circle part A(x₁) of [`Shape::Arc`] and its slope A'(x₁) (infinite at the ends).
+    fn arc(center: [f64; 2], radius: f64, x1: f64) -> (f64, f64) {
+        let dx = x1 - center[0];
+        let root = (radius * radius - dx * dx).max(0.0).sqrt();
+        let slope = if dx.abs() >= radius {
+            if dx.abs() == radius {
+                f64::INFINITY.copysign(dx)
+            } else {
+                0.0
+            }
+        } else {
+            dx / root
+        };
+        (center[1] - root, slope)
+    }
+
     /// The saw of §IV.2.1.6 with the default s = 0.01.
     pub fn saw(reading: SawReading) -> Shape {
         Shape::Saw {
@@ -179,6 +210,15 @@ impl Shape {
                 at,
                 s,
             } => base + height * theta(s, x1 - at),
+            Shape::Arc {
+                center,
+                radius,
+                plateau,
+                s,
+            } => {
+                let (a, _) = Self::arc(center, radius, x1);
+                a + theta(s, x1 - center[0] - radius) * (plateau - a)
+            }
             Shape::Saw { s, reading } => (0..4)
                 .map(|k| {
                     let (a, e, m, c) = Self::saw_piece(k, reading);
@@ -199,6 +239,16 @@ impl Shape {
                 amplitude * k * (k * (x1 + 16.0)).cos()
             }
             Shape::Jump { height, at, s, .. } => height * theta_prime(s, x1 - at),
+            Shape::Arc {
+                center,
+                radius,
+                plateau,
+                s,
+            } => {
+                let (a, da) = Self::arc(center, radius, x1);
+                let x = x1 - center[0] - radius;
+                da * (1.0 - theta(s, x)) + theta_prime(s, x) * (plateau - a)
+            }
             Shape::Saw { s, reading } => (0..4)
                 .map(|k| {
                     let (a, e, m, c) = Self::saw_piece(k, reading);
@@ -226,6 +276,32 @@ impl Shape {
             } => (amplitude * Self::periodic_k(periods)).abs(),
             Shape::Jump { height, at, s, .. } => {
                 height.abs() * theta_prime_max(s, lo - at, hi - at)
+            }
+            Shape::Arc {
+                center,
+                radius,
+                plateau,
+                s,
+            } => {
+                // |A'| grows with |x₁ − c₁| inside the circle: its largest value on the
+                // interval is at the point farthest from c₁ within [c₁ − r, c₁ + r] (∞ where
+                // the interval reaches an end); |h − A| ≤ |h − c₂| + r.
+                let inside_lo = lo.max(center[0] - radius);
+                let inside_hi = hi.min(center[0] + radius);
+                let steepest = if inside_lo > inside_hi {
+                    0.0
+                } else {
+                    let far = if (inside_hi - center[0]).abs() >= (inside_lo - center[0]).abs() {
+                        inside_hi
+                    } else {
+                        inside_lo
+                    };
+                    Self::arc(center, radius, far).1.abs()
+                };
+                let x_e = center[0] + radius;
+                steepest
+                    + theta_prime_max(s, lo - x_e, hi - x_e)
+                        * ((plateau - center[1]).abs() + radius)
             }
             Shape::Saw { s, reading } => (0..4)
                 .map(|k| {
@@ -279,6 +355,17 @@ impl From<crate::experiment::ObstacleShape> for Shape {
             File::Saw { s, reading } => Shape::Saw {
                 s,
                 reading: reading.into(),
+            },
+            File::Arc {
+                center,
+                radius,
+                plateau,
+                s,
+            } => Shape::Arc {
+                center,
+                radius,
+                plateau,
+                s,
             },
         }
     }
@@ -1095,6 +1182,115 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// The tools of the U-O forming at load steps j = 0, 12, 24, relative to their faces (the
+    /// punch on the top face y = 1, the die on the bottom face y = 0).
+    fn forming_tools(j: f64) -> [ContactSide; 2] {
+        let lift = 10.0 * j / 24.0;
+        [
+            ContactSide::new(
+                Shape::Arc {
+                    center: [-16.0, 10.0 - 1.0],
+                    radius: 8.8,
+                    plateau: 1.2 + lift - 1.0,
+                    s: 0.01,
+                },
+                true,
+            ),
+            ContactSide::new(
+                Shape::Arc {
+                    center: [-16.0, lift],
+                    radius: 10.0,
+                    plateau: lift,
+                    s: 0.01,
+                },
+                false,
+            ),
+        ]
+    }
+
+    #[test]
+    fn arc_values_and_slopes() {
+        for j in [0.0, 12.0, 24.0] {
+            let [punch, die] = forming_tools(j);
+            let lift = 10.0 * j / 24.0;
+            // Absolute heights: the punch starts 0.2 above the body, the die touches it at
+            // the plateau; at j = 24 the circles are concentric, 1.2 apart. The algebraic
+            // tails of θ_s (s²/4x²) move the heights at the clamp by less than 1e-5.
+            assert!((punch.obstacle_point(-16.0)[1] - 1.2).abs() < 1e-5);
+            assert!((die.obstacle_point(-16.0)[1] - (lift - 10.0)).abs() < 1e-5);
+            assert!((die.obstacle_point(10.0)[1] - lift).abs() < 1e-12);
+            assert!((punch.obstacle_point(10.0)[1] - (1.2 + lift)).abs() < 1e-5);
+            for side in [punch, die] {
+                for x in [-15.0, -12.0, -9.0, -7.5, 0.0, 8.0] {
+                    let h = 1e-6;
+                    let fd = (side.shape.value(x + h) - side.shape.value(x - h)) / (2.0 * h);
+                    let exact = side.shape.slope(x);
+                    assert!((fd - exact).abs() <= 1e-5 * (1.0 + exact.abs()), "x = {x}");
+                    assert!(exact.abs() <= side.shape.slope_bound(x - 0.01, x + 0.01));
+                }
+                // Unbounded where an interval reaches the vertical end.
+                let Shape::Arc { center, radius, .. } = side.shape else {
+                    unreachable!()
+                };
+                let x_e = center[0] + radius;
+                assert_eq!(side.shape.slope_bound(x_e - 0.1, x_e + 0.1), f64::INFINITY);
+            }
+        }
+    }
+
+    /// Distances along tilted lines that meet the tools near the vertical ends of their arcs:
+    /// the root is correct to 1e-10 (a bisection of the residual to 1e-15 around it agrees) and
+    /// is the nearest one.
+    #[test]
+    fn arc_distances_near_the_vertical_ends() {
+        let mut checked = 0;
+        for j in [0.0, 12.0, 24.0] {
+            for side in forming_tools(j) {
+                let Shape::Arc { center, radius, .. } = side.shape else {
+                    unreachable!()
+                };
+                let x_e = center[0] + radius;
+                let toward = if side.upper { 1.0 } else { -1.0 };
+                for dx in [-0.5, -0.05, -1e-3, 0.0, 1e-3, 0.05] {
+                    for dy in [0.05, 0.5] {
+                        for deg in [-60.0_f64, -30.0, 0.0, 30.0, 60.0, 85.0] {
+                            let (sn, cs) = deg.to_radians().sin_cos();
+                            let n = [sn, toward * cs];
+                            let x1 = x_e + dx;
+                            let q = [x1, side.obstacle_point(x1)[1] - toward * dy];
+                            let t = side
+                                .signed_distance_along(q, n)
+                                .unwrap_or_else(|e| panic!("q = {q:?}, n = {n:?}: {e}"));
+                            let (mut a, mut b) = (t - 1e-9, t + 1e-9);
+                            let (fa, fb) = (side.residual(q, n, a), side.residual(q, n, b));
+                            assert!(
+                                fa.signum() != fb.signum() || fa == 0.0 || fb == 0.0,
+                                "j = {j}, q = {q:?}, n = {n:?}: no sign change around t = {t}"
+                            );
+                            for _ in 0..200 {
+                                let m = 0.5 * (a + b);
+                                if side.residual(q, n, m).signum() == fa.signum() {
+                                    a = m;
+                                } else {
+                                    b = m;
+                                }
+                                if b - a < 1e-15 {
+                                    break;
+                                }
+                            }
+                            assert!((t - 0.5 * (a + b)).abs() <= 1e-10, "q = {q:?}, n = {n:?}");
+                            if let Some(tb) = brute_nearest(&side, q, n, t.abs() + 1e-3) {
+                                assert!(t.abs() <= tb.abs() + 1e-4, "q = {q:?} n = {n:?}");
+                            }
+                            checked += 1;
+                        }
+                    }
+                }
+            }
+        }
+        assert_eq!(checked, 432);
     }
 
     #[test]
