@@ -1003,9 +1003,9 @@ fn huge_numbers_in_messages_are_short() {
     assert!(error.message.len() < 400, "{error}");
 }
 
-/// A model-adaptive contact file (§IV.2.3) built from `VALID`: Algorithm III.3, p_r = 2 %,
-/// p_c = 1 %, the mesh refined 3× at the contact side.
-fn model_adaptive() -> String {
+/// `VALID` with contact on the bottom face against a flat obstacle, the model chosen per face
+/// (`model = "model-adaptive"`); the study is still the grid study of `VALID`.
+fn model_adaptive_contact() -> String {
     contact_scene(
         "[{ side = \"bottom\", shape = { kind = \"constant\", level = -2.0 } }]",
         "[\"left\", \"right\"]",
@@ -1015,19 +1015,25 @@ fn model_adaptive() -> String {
         "model = \"model-adaptive\"\n",
         1,
     )
-    .replacen(
-        "coarse_cells = [64, 2]\n",
-        "coarse_cells = [64, 2]\ncontact_refinements = 3\n",
-        1,
-    )
-    .replacen(
-        "kind = \"grid-adaptive\"",
-        "kind = \"model-adaptive\"\nalgorithm = \"III.3\"",
-        1,
-    )
-    .replacen("refine_fraction = 0.3", "refine_fraction = 0.02", 1)
-    .replacen("coarsen_fraction = 0.03", "coarsen_fraction = 0.01", 1)
-    .replacen("convergence_window = [2, 5]\n", "", 1)
+}
+
+/// A model-adaptive contact file (§IV.2.3) built from `VALID`: Algorithm III.3, p_r = 2 %,
+/// p_c = 1 %, the mesh refined 3× at the contact side.
+fn model_adaptive() -> String {
+    model_adaptive_contact()
+        .replacen(
+            "coarse_cells = [64, 2]\n",
+            "coarse_cells = [64, 2]\ncontact_refinements = 3\n",
+            1,
+        )
+        .replacen(
+            "kind = \"grid-adaptive\"",
+            "kind = \"model-adaptive\"\nalgorithm = \"III.3\"",
+            1,
+        )
+        .replacen("refine_fraction = 0.3", "refine_fraction = 0.02", 1)
+        .replacen("coarsen_fraction = 0.03", "coarsen_fraction = 0.01", 1)
+        .replacen("convergence_window = [2, 5]\n", "", 1)
 }
 
 #[test]
@@ -1196,16 +1202,7 @@ fn model_adaptive_checks_name_file_and_field() {
 /// A model-and-grid-adaptive contact file (§IV.2.4, Algorithm III.25) built from `VALID`: grid
 /// marking 30 %/3 %, Algorithm III.3 with p_r = 2 %, p_c = 1 %, α = 0.5.
 fn model_and_grid() -> String {
-    contact_scene(
-        "[{ side = \"bottom\", shape = { kind = \"constant\", level = -2.0 } }]",
-        "[\"left\", \"right\"]",
-    )
-    .replacen(
-        "model = \"z\"\nestimator = \"z-code\"\n",
-        "model = \"model-adaptive\"\n",
-        1,
-    )
-    .replacen(
+    model_adaptive_contact().replacen(
         "kind = \"grid-adaptive\"",
         "kind = \"model-and-grid-adaptive\"\nalgorithm = \"III.3\"\nmodel_refine_fraction = 0.02\n\
          model_coarsen_fraction = 0.01\nbalance = 0.5",

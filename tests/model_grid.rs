@@ -19,6 +19,19 @@ fn value(r: &RunResult, cycle: usize, column: &str) -> f64 {
         .unwrap_or_else(|| panic!("{}: no {column} in cycle {cycle}", r.table))
 }
 
+/// Every row's dofs within 10 % of the printed row.
+fn assert_dofs_within_10_percent(t: &str, rows: &[tribo::results::Row], thesis: &ThesisTable) {
+    for row in rows {
+        let printed = thesis.value(row.cycle, "dofs").unwrap();
+        let dofs = row.value("dofs").unwrap();
+        assert!(
+            rel(dofs, printed).abs() <= 0.10,
+            "{t} cycle {}: {dofs} dofs, printed {printed}",
+            row.cycle
+        );
+    }
+}
+
 #[test]
 fn golden_snapshots() {
     crate::common::assert_golden(&TABLES);
@@ -35,15 +48,7 @@ fn start_on_z_faces_and_printed_dofs() {
         assert_eq!(value(&r, 0, "z_faces"), faces, "{t}");
         assert_eq!(value(&r, 0, "s_faces"), 0.0, "{t}");
         assert_eq!(r.rows.len(), 4, "{t}: quick tier = cycles 0–3");
-        for row in &r.rows {
-            let printed = thesis.value(row.cycle, "dofs").unwrap();
-            let dofs = row.value("dofs").unwrap();
-            assert!(
-                rel(dofs, printed).abs() <= 0.10,
-                "{t} cycle {}: {dofs} dofs, printed {printed}",
-                row.cycle
-            );
-        }
+        assert_dofs_within_10_percent(t, &r.rows, &thesis);
     }
 }
 
@@ -221,15 +226,7 @@ pub fn full_tier_rules(t: &str, r: &RunResult) {
     let thesis = ThesisTable::of(&spec(t));
     assert_eq!(r.rows.len(), 10, "{t}");
     let rows = if t == "IV.34" { 7 } else { 10 };
-    for row in r.rows.iter().take(rows) {
-        let printed = thesis.value(row.cycle, "dofs").unwrap();
-        let dofs = row.value("dofs").unwrap();
-        assert!(
-            rel(dofs, printed).abs() <= 0.10,
-            "{t} cycle {}: {dofs} dofs, printed {printed}",
-            row.cycle
-        );
-    }
+    assert_dofs_within_10_percent(t, &r.rows[..rows], &thesis);
     let last = r.rows.len() - 1;
     assert!(
         value(r, last, "model_error") <= value(r, last, "estimate"),
