@@ -687,6 +687,13 @@ impl Mesh {
         }
     }
 
+    /// The faces of active cell `c` that lie on the domain boundary.
+    pub fn boundary_faces_of(&self, c: CellId) -> impl Iterator<Item = BoundaryFace> + '_ {
+        FACES
+            .into_iter()
+            .filter_map(move |face| self.boundary_face(c, face))
+    }
+
     /// The boundary face of active cell `c` at `face`, if that face lies on the domain boundary.
     pub fn boundary_face(&self, c: CellId, face: Face) -> Option<BoundaryFace> {
         let Neighbor::Boundary(side) = self.neighbor(c, face) else {

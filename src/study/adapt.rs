@@ -9,7 +9,7 @@ use crate::adaptivity::model::{fixed_fraction, sorted_error, Partition};
 use crate::adaptivity::{mark_fixed_number, rounded_measure};
 use crate::estimators::FaceIndicators;
 use crate::experiment::ModelAlgorithm;
-use crate::mesh::{BoundaryFace, Face, Mesh, Side};
+use crate::mesh::{BoundaryFace, Mesh, Side};
 
 /// One adaptation step between two solves.
 pub trait Adaptation {
@@ -184,14 +184,12 @@ impl Adaptation for Balanced {
 /// The active cell (index into `mesh.active()`) of each face of `faces`, in their order, or the
 /// first face that is not a boundary face of the mesh.
 fn contact_cells(mesh: &Mesh, faces: &FaceIndicators) -> Result<Vec<usize>, String> {
-    let mut cell_of = HashMap::with_capacity(faces.len());
-    for (k, &c) in mesh.active().iter().enumerate() {
-        for face in [Face::Bottom, Face::Top, Face::Left, Face::Right] {
-            if let Some(f) = mesh.boundary_face(c, face) {
-                cell_of.insert(f, k);
-            }
-        }
-    }
+    let cell_of: HashMap<BoundaryFace, usize> = mesh
+        .active()
+        .iter()
+        .enumerate()
+        .flat_map(|(k, &c)| mesh.boundary_faces_of(c).map(move |f| (f, k)))
+        .collect();
     faces
         .iter()
         .map(|(f, _)| {
@@ -210,11 +208,7 @@ pub fn boundary_faces(mesh: &Mesh, sides: &BTreeSet<Side>) -> Vec<BoundaryFace> 
     let mut faces: Vec<BoundaryFace> = mesh
         .active()
         .iter()
-        .flat_map(|&c| {
-            [Face::Bottom, Face::Top, Face::Left, Face::Right]
-                .into_iter()
-                .filter_map(move |face| mesh.boundary_face(c, face))
-        })
+        .flat_map(|&c| mesh.boundary_faces_of(c))
         .filter(|f| sides.contains(&f.side))
         .collect();
     faces.sort();

@@ -35,6 +35,29 @@ pub struct CycleState {
     pub solution: ContactSolution,
 }
 
+impl CycleState {
+    /// Keep the constraints and the active-set solution of a cycle in `state` (the estimate and
+    /// the pictures use them) and return the loop's [`Solution`]: the displacement, `counters`
+    /// and the count of vertices in contact.
+    pub fn keep(
+        state: &mut Option<CycleState>,
+        constraints: Vec<ContactConstraint>,
+        solution: ContactSolution,
+        mut counters: Vec<(String, i64)>,
+    ) -> Solution {
+        counters.push((
+            columns::CONTACT_VERTICES.to_string(),
+            solution.active.iter().filter(|&&a| a).count() as i64,
+        ));
+        let u = solution.u.clone();
+        *state = Some(CycleState {
+            constraints,
+            solution,
+        });
+        Solution { u, counters }
+    }
+}
+
 /// The contact problem of one experiment.
 pub struct ContactProblem {
     pub model: Elasticity,
@@ -130,18 +153,6 @@ impl ContactProblem {
             &state.solution.active,
             self.estimator,
         )
-    }
-
-    /// The deformed body in true scale with the obstacle curves and the vertices in contact.
-    pub fn picture(
-        &self,
-        mesh: &Mesh,
-        dofs: &DofMap,
-        state: &CycleState,
-        cycle: usize,
-        label: &str,
-    ) -> DeformedPicture {
-        contact_picture(&self.boundaries, mesh, dofs, state, cycle, label)
     }
 }
 
@@ -250,22 +261,13 @@ impl Problem for ContactProblem {
         );
         self.solver.release_pattern();
         let solution = solution?;
-        let counters = vec![
-            (
-                "active_set_iterations".to_string(),
-                solution.iterations as i64,
-            ),
-            (
-                columns::CONTACT_VERTICES.to_string(),
-                solution.active.iter().filter(|&&a| a).count() as i64,
-            ),
-        ];
-        let u = solution.u.clone();
-        self.state = Some(CycleState {
-            constraints: std::mem::take(&mut self.constraints),
+        let iterations = solution.iterations as i64;
+        Ok(CycleState::keep(
+            &mut self.state,
+            std::mem::take(&mut self.constraints),
             solution,
-        });
-        Ok(Solution { u, counters })
+            vec![("active_set_iterations".to_string(), iterations)],
+        ))
     }
 
     fn estimate(
@@ -329,7 +331,14 @@ impl Problem for ContactProblem {
         } else {
             model_label(ContactModel::Z)
         };
-        let mut deformed = vec![self.picture(mesh, dofs, state, cycle, label)];
+        let mut deformed = vec![contact_picture(
+            &self.boundaries,
+            mesh,
+            dofs,
+            state,
+            cycle,
+            label,
+        )];
         if self.uses_signorini {
             // Side by side (thesis Figs. IV.20 and IV.32): the z-solution on the same mesh.
             let mut z = self.with_model(ContactModel::Z);
@@ -338,7 +347,8 @@ impl Problem for ContactProblem {
                 .assemble(disc, &mut z_system)
                 .and_then(|()| z.solve(disc, &mut z_system, &PhaseClock::default()));
             if let (Ok(_), Some(z_state)) = (solved, &z.state) {
-                deformed.push(z.picture(
+                deformed.push(contact_picture(
+                    &z.boundaries,
                     mesh,
                     &z_system.dofs,
                     z_state,

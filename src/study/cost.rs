@@ -17,14 +17,14 @@
 //! number of faces" ([`claim_of_section_iv_2_3`]).
 
 use std::collections::BTreeSet;
-use std::time::Instant;
 
 use super::adapt::{boundary_faces, Adaptation, ModelMarking};
 use super::model_contact::ModelAdaptiveContact;
 use super::problem::{Discretisation, Problem};
 use super::{PhaseClock, RunError};
 use crate::experiment::{self, Experiment, ModelAlgorithm, StudyKind};
-use crate::fe::DofMap;
+use crate::fe::quadrature::square_rule;
+use crate::fe::{CellValues, DofMap};
 use crate::mesh::Mesh;
 use crate::models::elasticity::Elasticity;
 use crate::results::{columns, CostRow};
@@ -91,14 +91,7 @@ pub fn accuracy_costs(experiment: &Experiment) -> Result<Vec<CostRow>, RunError>
             let (dofs, u, seconds, iterations, estimate) =
                 solve_cycle(&mut problem, &disc).map_err(|e| fail(cycle, e))?;
             let distance = energy_norm(&model, &disc.mesh, &dofs, &u, Some(&s_s)) / s_s_norm;
-            let column = |wanted: &str| {
-                estimate
-                    .columns
-                    .iter()
-                    .find(|(name, _)| name == wanted)
-                    .and_then(|(_, v)| v.as_f64())
-                    .unwrap_or(f64::NAN)
-            };
+            let column = |name: &str| estimate.value(name).unwrap_or(f64::NAN);
             rows.push(CostRow {
                 variant: variant.to_string(),
                 cycle,
@@ -122,30 +115,25 @@ pub fn accuracy_costs(experiment: &Experiment) -> Result<Vec<CostRow>, RunError>
 
 type Cycle = (DofMap, Vec<f64>, f64, i64, super::Estimate);
 
-/// One cycle of the model-adaptive problem: the solution, the seconds of the solve phase, the
-/// active-set iterations of both solves, and the estimate (face indicators, penetration).
+/// One cycle of the model-adaptive problem through the study loop's phases
+/// ([`super::solve_and_estimate`]): the solution, the seconds of the solve phase, the active-set
+/// iterations of both solves, and the estimate (face indicators, penetration).
 fn solve_cycle(problem: &mut ModelAdaptiveContact, disc: &Discretisation) -> Result<Cycle, String> {
-    let mut system = problem.setup(disc);
-    problem.assemble(disc, &mut system)?;
-    let started = Instant::now();
-    let solution = problem.solve(disc, &mut system, &PhaseClock::default())?;
-    let seconds = started.elapsed().as_secs_f64();
+    let clock = PhaseClock::default();
+    let (dofs, solution, estimate) = super::solve_and_estimate(problem, disc, &clock)?;
     let iterations = solution
         .counters
         .iter()
         .filter(|(name, _)| name.ends_with("_iterations"))
         .map(|(_, n)| n)
         .sum();
-    let solution = solution.finite()?;
-    let dofs = system.into_dofs();
-    let estimate = problem.estimate(disc, &dofs, &solution)?;
     let u = solution.u.clone();
     problem.finish_cycle(disc, dofs.clone(), solution);
-    Ok((dofs, u, seconds, iterations, estimate))
+    Ok((dofs, u, clock.seconds().solve, iterations, estimate))
 }
 
 /// ‖u − v‖_a = (∫_Ω σ(u − v) : ∇(u − v))^{1/2} (v = 0 when `minus` is None), with the 2×2
-/// Gauss rule per cell (exact for Q₁ on rectangles).
+/// Gauss rule on each cell's map ([`CellValues`]; exact for Q₁ on rectangles).
 fn energy_norm(
     model: &Elasticity,
     mesh: &Mesh,
@@ -157,20 +145,24 @@ fn energy_norm(
         Some(v) => u.iter().zip(v).map(|(a, b)| a - b).collect(),
         None => u.to_vec(),
     };
-    let g = 0.5 / 3f64.sqrt();
+    let rule = square_rule::<4>();
     let mut sum = 0.0;
     for (k, &c) in mesh.active().iter().enumerate() {
-        let [x0, y0, x1, y1] = mesh.cell_box(c);
-        let (xm, ym, w, h) = ((x0 + x1) / 2.0, (y0 + y1) / 2.0, x1 - x0, y1 - y0);
-        for (a, b) in [(-g, -g), (g, -g), (-g, g), (g, g)] {
-            let grad = Elasticity::gradient_at(mesh, dofs, &e, k, [xm + a * w, ym + b * h]);
+        let cv = CellValues::new(mesh.cell_shape(c), &rule);
+        let corners = [dofs.corner_values(&e, k, 0), dofs.corner_values(&e, k, 1)];
+        sum += cv.integrate(|q| {
+            let phi = cv.gradients(q);
+            let grad = corners.map(|ua| {
+                (0..4).fold([0.0; 2], |g, a| {
+                    [g[0] + ua[a] * phi[a][0], g[1] + ua[a] * phi[a][1]]
+                })
+            });
             let sigma = model.stress(grad);
-            let density: f64 = (0..2)
+            (0..2)
                 .flat_map(|i| (0..2).map(move |j| (i, j)))
                 .map(|(i, j)| sigma[i][j] * grad[i][j])
-                .sum();
-            sum += density * w * h / 4.0;
-        }
+                .sum()
+        });
     }
     sum.sqrt()
 }

@@ -29,6 +29,7 @@ pub use problem::{Discretisation, Estimate, Pictures, Problem, Solution};
 pub use readings::{alternative_readings, AlternativeReading};
 
 use crate::experiment::{self, Experiment, StudyKind};
+use crate::fe;
 use crate::results::RunResult;
 use record::Recorder;
 
@@ -228,6 +229,24 @@ pub fn build_adaptation(study: &experiment::Study) -> Box<dyn Adaptation> {
     }
 }
 
+/// One solve of the study loop on `disc`: setup → assemble → solve → estimate, each phase timed
+/// on `clock`; the solution and the estimate are finite or an error.
+pub fn solve_and_estimate(
+    problem: &mut dyn Problem,
+    disc: &Discretisation,
+    clock: &PhaseClock,
+) -> Result<(fe::DofMap, Solution, Estimate), String> {
+    let mut system = clock.time(Phase::Setup, || problem.setup(disc));
+    clock.time(Phase::Assemble, || problem.assemble(disc, &mut system))?;
+    let solution = clock
+        .time(Phase::Solve, || problem.solve(disc, &mut system, clock))
+        .and_then(Solution::finite)?;
+    let dofs = system.into_dofs();
+    let estimate = clock.time(Phase::Estimate, || problem.estimate(disc, &dofs, &solution))?;
+    estimate.finite_total()?;
+    Ok((dofs, solution, estimate))
+}
+
 /// The study loop: one row per printed solve.
 pub fn run_study(
     experiment: &Experiment,
@@ -250,21 +269,8 @@ pub fn run_study(
             .admit_cycle(experiment, disc.mesh.n_active())
             .map_err(fail)?;
         let clock = PhaseClock::default();
-        let mut system = clock.time(Phase::Setup, || problem.setup(&disc));
-        clock
-            .time(Phase::Assemble, || problem.assemble(&disc, &mut system))
-            .map_err(fail)?;
-        let solution = clock
-            .time(Phase::Solve, || problem.solve(&disc, &mut system, &clock))
-            .and_then(Solution::finite)
-            .map_err(fail)?;
-        let dofs = system.into_dofs();
-        let estimate = clock
-            .time(Phase::Estimate, || {
-                problem.estimate(&disc, &dofs, &solution)
-            })
-            .map_err(fail)?;
-        estimate.finite_total().map_err(fail)?;
+        let (dofs, solution, estimate) =
+            solve_and_estimate(problem, &disc, &clock).map_err(fail)?;
         record.cycle(&solve, &disc, &dofs, &solution, &estimate, problem);
         problem.finish_cycle(&disc, dofs, solution);
         if !solve.last {

@@ -37,7 +37,7 @@ use crate::estimators::FaceIndicators;
 use crate::experiment::{ContactData, ElasticityData, ModelErrorSolution};
 use crate::fe::{DofMap, System};
 use crate::linalg::DirectSolver;
-use crate::mesh::{BoundaryFace, Face, Mesh};
+use crate::mesh::{BoundaryFace, Mesh};
 use crate::models::contact::{
     contact_boundaries, contact_set, penetration, side_faces, solve_contact, ConstraintBuilder,
     ContactBoundary, ContactConstraint, ContactModel, ContactSolution,
@@ -144,9 +144,8 @@ impl ModelAdaptiveContact {
         // models (a one-cell-thick body) counts as Signorini.
         let mut groups = [0.0; 3];
         for (&c, &e) in mesh.active().iter().zip(&eta2) {
-            let contact_faces = [Face::Bottom, Face::Top]
-                .into_iter()
-                .filter_map(|face| mesh.boundary_face(c, face))
+            let contact_faces = mesh
+                .boundary_faces_of(c)
                 .filter(|f| self.boundaries.iter().any(|b| b.side == f.side));
             let mut group = 2;
             for f in contact_faces {
@@ -289,20 +288,15 @@ impl Problem for ModelAdaptiveContact {
         self.z_solution = self.keeps_z_solution().then(|| z.u.clone());
         let (constraints, solution) =
             mixed.unwrap_or_else(|| (std::mem::take(&mut self.z_constraints), z));
-        let counters = vec![
-            ("z_iterations".to_string(), z_iterations as i64),
-            ("mixed_iterations".to_string(), mixed_iterations as i64),
-            (
-                columns::CONTACT_VERTICES.to_string(),
-                solution.active.iter().filter(|&&a| a).count() as i64,
-            ),
-        ];
-        let u = solution.u.clone();
-        self.state = Some(CycleState {
+        Ok(CycleState::keep(
+            &mut self.state,
             constraints,
             solution,
-        });
-        Ok(Solution { u, counters })
+            vec![
+                ("z_iterations".to_string(), z_iterations as i64),
+                ("mixed_iterations".to_string(), mixed_iterations as i64),
+            ],
+        ))
     }
 
     fn estimate(

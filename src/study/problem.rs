@@ -114,6 +114,14 @@ impl Estimate {
         self
     }
 
+    /// The real value of the column `name`, if the estimate has it and it is defined.
+    pub fn value(&self, name: &str) -> Option<f64> {
+        self.columns
+            .iter()
+            .find(|(n, _)| n == name)
+            .and_then(|(_, v)| v.as_f64())
+    }
+
     /// √(Σ_Q η_Q²), or an error if it is not finite.
     pub fn finite_total(&self) -> Result<f64, String> {
         let total = crate::estimators::total(&self.cells);
