@@ -4,9 +4,9 @@
 //! ([`super::adapt::ModelMarking`], Algorithms III.2/III.3) changes between cycles.
 //!
 //! **Per cycle** — the two `calculate` lines of Algorithms III.2/III.3:
-//! 1. the z-solve on all faces (u ← u_c on Ω), its active set warm-started from the last
-//!    z-solve (on the fixed mesh the z-problem is the same every cycle; cold, Table IV.24's
-//!    scene needs 44 of the 50 iterations allowed);
+//! 1. the z-solve on all faces (u ← u_c on Ω), its active set warm-started from the contact
+//!    set of the last z-solution (on the fixed mesh the z-problem is the same every cycle;
+//!    cold, Table IV.24's scene needs 44 of the 50 iterations allowed);
 //! 2. the mixed solve (u ← u_a on 𝕋_a): the Signorini faces linearised once about this
 //!    z-solution (the "coarse solution as initial guess" of §III.1), the active set started
 //!    from the z-solution's contact set. A vertex between a z-face and a Signorini face takes
@@ -17,8 +17,8 @@
 //! `model_error` = (Σ_{f∈𝕋_c} ε^m(f)²)^{1/2} over the z-faces.
 //!
 //! **Model and grid (Tables IV.30–IV.35, Algorithm III.25).** The same two solves per cycle on
-//! a mesh that adapts too ([`super::adapt::Balanced`]): the z-solve is warm-started from the
-//! contact set of the previous z-solution transferred to the new mesh, and the estimate adds
+//! a mesh that adapts too ([`super::adapt::Balanced`]): the last z-solution is transferred to
+//! the new mesh for the warm start, and the estimate adds
 //! the discretisation indicators η_Q² of Theorem III.15 with the term set of the thesis's MGA
 //! code ([`ContactEstimator::MgaCode`]) for the mixed solution, printed as √Σ over three cell
 //! groups: cells with a z-face, cells with a Signorini face, cells without a contact face.
@@ -71,7 +71,7 @@ pub struct ModelAdaptiveContact {
     solver: DirectSolver,
     /// Constraints of the z-solve of the current cycle (all faces z).
     z_constraints: Vec<ContactConstraint>,
-    /// Active set of the last z-solve: the warm start of the next one.
+    /// The warm start of the current cycle's z-solve (after `assemble`).
     z_active: Option<Vec<bool>>,
     /// The Signorini faces of the current cycle.
     accurate: BTreeSet<BoundaryFace>,
@@ -79,14 +79,13 @@ pub struct ModelAdaptiveContact {
     history: Vec<BTreeSet<BoundaryFace>>,
     /// Which solution the model error is evaluated at.
     error_solution: ModelErrorSolution,
-    /// The z-solution of the current cycle (kept when the model error is evaluated at it).
+    /// The z-solution of the current cycle (after `solve`).
     z_solution: Option<Vec<f64>>,
     /// Constraints and active-set solution of the current cycle's mixed solve (after `solve`).
     pub state: Option<CycleState>,
     /// Whether the mesh adapts too (Algorithm III.25).
     adapts_grid: bool,
-    /// The last z-solution on its mesh: the warm start of the next z-solve when the mesh
-    /// adapts.
+    /// The last z-solution on its mesh: the warm start of the next z-solve.
     previous_z: Option<PreviousSolution>,
 }
 
@@ -114,11 +113,6 @@ impl ModelAdaptiveContact {
             adapts_grid: true,
             ..ModelAdaptiveContact::new(elasticity, contact)
         }
-    }
-
-    /// Whether the z-solution of the cycle is kept after the solve.
-    fn keeps_z_solution(&self) -> bool {
-        self.adapts_grid || self.error_solution == ModelErrorSolution::Z
     }
 
     /// The columns of the discretisation estimate (model-and-grid-adaptive): η_Q² of the
@@ -254,21 +248,15 @@ impl Problem for ModelAdaptiveContact {
             face_model: &|_| ContactModel::Z,
         };
         self.z_constraints = all_z.build(&system.dofs, &system.constraints, None)?;
-        if self.adapts_grid {
-            self.z_active = match &self.previous_z {
-                Some(previous) => {
-                    let z = previous.at_contact_vertices(&self.boundaries, &system.dofs)?;
-                    Some(contact_set(&self.z_constraints, &system.dofs, &z))
-                }
-                None => None,
-            };
-        } else if self
-            .z_active
-            .as_ref()
-            .is_some_and(|a| a.len() != self.z_constraints.len())
-        {
-            self.z_active = None;
-        }
+        // The warm start: the contact set of the last z-solution on this mesh (the same mesh
+        // on a fixed grid, the transferred solution when the grid adapts).
+        self.z_active = match &self.previous_z {
+            Some(previous) => {
+                let z = previous.at_contact_vertices(&self.boundaries, &system.dofs)?;
+                Some(contact_set(&self.z_constraints, &system.dofs, &z))
+            }
+            None => None,
+        };
         self.accurate = disc.accurate_faces.clone();
         Ok(())
     }
@@ -284,8 +272,7 @@ impl Problem for ModelAdaptiveContact {
         let (z, mixed) = solved?;
         let z_iterations = z.iterations;
         let mixed_iterations = mixed.as_ref().map_or(0, |(_, m)| m.iterations);
-        self.z_active = Some(z.active.clone());
-        self.z_solution = self.keeps_z_solution().then(|| z.u.clone());
+        self.z_solution = Some(z.u.clone());
         let (constraints, solution) =
             mixed.unwrap_or_else(|| (std::mem::take(&mut self.z_constraints), z));
         Ok(CycleState::keep(
@@ -356,14 +343,12 @@ impl Problem for ModelAdaptiveContact {
 
     fn finish_cycle(&mut self, disc: &Discretisation, dofs: DofMap, _solution: Solution) {
         self.history.push(std::mem::take(&mut self.accurate));
-        if self.adapts_grid {
-            if let Some(u) = self.z_solution.take() {
-                self.previous_z = Some(PreviousSolution {
-                    mesh: disc.mesh.clone(),
-                    dofs,
-                    u,
-                });
-            }
+        if let Some(u) = self.z_solution.take() {
+            self.previous_z = Some(PreviousSolution {
+                mesh: disc.mesh.clone(),
+                dofs,
+                u,
+            });
         }
     }
 
