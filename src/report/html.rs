@@ -609,6 +609,7 @@ fn cost_table(h: &mut String, costs: &[crate::results::CostRow]) {
         (summary("z"), summary("signorini"), summary("III.3"))
     {
         let speed = signorini.median / z.median;
+        let advantage = z.penetration > signorini.penetration + PENETRATION_NOISE;
         let _ = writeln!(
             h,
             "<p>The z-solver is ×{} faster per cycle than Signorini on every face, and its \
@@ -617,7 +618,7 @@ fn cost_table(h: &mut String, costs: &[crate::results::CostRow]) {
             fmt_short(speed),
             fmt_sig(z.penetration),
             fmt_sig(signorini.penetration),
-            if z.penetration > signorini.penetration + PENETRATION_NOISE {
+            if advantage {
                 "the Signorini model's advantage"
             } else {
                 "no advantage of the Signorini model here"
@@ -625,7 +626,7 @@ fn cost_table(h: &mut String, costs: &[crate::results::CostRow]) {
             fmt_short(iii3.median / z.median),
             fmt_sig(iii3.distance),
             iii3.faces,
-            if speed > 1.0 && z.penetration > signorini.penetration + PENETRATION_NOISE {
+            if speed > 1.0 && advantage {
                 "§IV.2.2's trade-off holds on this scene: accuracy against speed."
             } else {
                 "§IV.2.2's trade-off does not show on this scene."

@@ -276,7 +276,7 @@ fn write_figures(fig_dir: &Path, section: &Section) -> io::Result<Vec<Figure>> {
 
     if run.is_model_adaptive() {
         // Model-adaptive: a fixed mesh, so no convergence in dofs; the face split and the
-        // model error per cycle, and the partition itself.
+        // model error per cycle.
         let path = push(
             "model",
             format!(
@@ -286,15 +286,6 @@ fn write_figures(fig_dir: &Path, section: &Section) -> io::Result<Vec<Figure>> {
             ),
         );
         model_plots::model_adaptivity(&path, run, section.thesis)?;
-        let path = push(
-            "partition",
-            format!(
-                "{}: the contact faces per cycle, Signorini black and z light grey (cf. thesis \
-                 Figs IV.35–IV.45)",
-                run.table
-            ),
-        );
-        model_plots::partitions(&path, run, run.domain)?;
     } else {
         let path = push(
             "convergence",
@@ -304,20 +295,24 @@ fn write_figures(fig_dir: &Path, section: &Section) -> io::Result<Vec<Figure>> {
             ),
         );
         plots::convergence(&path, run, section.thesis)?;
-        if run.has_partitions() {
-            // Model and grid adaptivity: the faces change with the mesh.
-            let path = push(
-                "partition",
-                format!(
-                    "{}: the contact faces per cycle on the adapted mesh, Signorini black and z \
-                     light grey (cf. thesis Figs IV.46–IV.51)",
-                    run.table
-                ),
-            );
-            model_plots::partitions(&path, run, run.domain)?;
-        }
     }
-
+    if run.has_partitions() {
+        let (mesh, figures) = if run.is_model_adaptive() {
+            ("", "IV.35–IV.45")
+        } else {
+            // Model and grid adaptivity: the faces change with the mesh.
+            (" on the adapted mesh", "IV.46–IV.51")
+        };
+        let path = push(
+            "partition",
+            format!(
+                "{}: the contact faces per cycle{mesh}, Signorini black and z light grey (cf. \
+                 thesis Figs {figures})",
+                run.table
+            ),
+        );
+        model_plots::partitions(&path, run, run.domain)?;
+    }
     if !run.costs.is_empty() {
         let path = push(
             "accuracy",

@@ -235,9 +235,12 @@ pub fn convergence(path: &Path, run: &RunResult, thesis: &ThesisTable) -> io::Re
             columns::EST_INTERIOR,
         ];
         curves[1].label = "thesis √(z² + S² + interior²)".into();
-        curves[1].points = (0..thesis.rows.len().min(MAX_SHOWN_THESIS_ROWS))
-            .filter_map(|i| {
-                let cycle = thesis.rows[i].first().copied()? as usize;
+        curves[1].points = thesis
+            .rows
+            .iter()
+            .take(MAX_SHOWN_THESIS_ROWS)
+            .filter_map(|row| {
+                let cycle = *row.first()? as usize;
                 let total = groups
                     .iter()
                     .map(|g| thesis.value(cycle, g).map(|v| v * v))
@@ -285,105 +288,106 @@ pub fn convergence(path: &Path, run: &RunResult, thesis: &ThesisTable) -> io::Re
     } else {
         Vec::new()
     };
-    let svg = log_log_chart(
-        &format!("{} — convergence", run.table),
-        ("degrees of freedom", "estimate"),
-        &curves,
-        (&guide_pts, "slope −1/2"),
-        "no positive estimates to plot",
-    )?;
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (760, 520)).into_drawing_area();
+        log_log_chart(
+            &root,
+            &format!("{} — convergence", run.table),
+            ("degrees of freedom", "estimate"),
+            &curves,
+            (&guide_pts, "slope −1/2"),
+            "no positive estimates to plot",
+        )?;
+        root.present().map_err(plot_err)?;
+    }
     fs::write(path, svg)
 }
 
-/// A log–log chart of `curves` (solid with dots, or dashed with hollow triangles) with an
-/// optional dashed grey guide line, a legend, and `empty` written where there is nothing to draw.
+/// A log–log chart of `curves` (solid with dots, or dashed with hollow triangles) on `root`
+/// (760×520 pixels) with an optional dashed grey guide line, a legend, and `empty` written where
+/// there is nothing to draw.
 fn log_log_chart(
+    root: &DrawingArea<SVGBackend<'_>, Shift>,
     title: &str,
     (x_label, y_label): (&str, &str),
     curves: &[Curve],
     (guide_pts, guide_label): (&[(f64, f64)], &str),
     empty: &str,
-) -> io::Result<String> {
+) -> io::Result<()> {
     let all: Vec<(f64, f64)> = curves
         .iter()
         .flat_map(|c| c.points.iter().copied())
         .collect();
     let (x_lo, x_hi) = log_range(all.iter().map(|p| p.0));
     let (y_lo, y_hi) = log_range(all.iter().chain(guide_pts).map(|p| p.1));
-    let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, (760, 520)).into_drawing_area();
-        root.fill(&WHITE).map_err(plot_err)?;
-        let mut chart = ChartBuilder::on(&root)
-            .caption(title, ("sans-serif", 24))
-            .margin(12)
-            .x_label_area_size(48)
-            .y_label_area_size(70)
-            .build_cartesian_2d(NiceLog::new((x_lo, x_hi)), NiceLog::new((y_lo, y_hi)))
-            .map_err(plot_err)?;
-        log_log_grid(&mut chart, x_label, y_label)?;
+    root.fill(&WHITE).map_err(plot_err)?;
+    let mut chart = ChartBuilder::on(root)
+        .caption(title, ("sans-serif", 24))
+        .margin(12)
+        .x_label_area_size(48)
+        .y_label_area_size(70)
+        .build_cartesian_2d(NiceLog::new((x_lo, x_hi)), NiceLog::new((y_lo, y_hi)))
+        .map_err(plot_err)?;
+    log_log_grid(&mut chart, x_label, y_label)?;
 
-        if curves.is_empty() {
-            root.draw(&Text::new(
-                empty,
-                (280, 250),
-                ("sans-serif", 18).into_font().color(&GUIDE),
-            ))
-            .map_err(plot_err)?;
-        }
-        if !guide_pts.is_empty() {
-            let style = GUIDE.stroke_width(1);
+    if curves.is_empty() {
+        root.draw(&Text::new(
+            empty,
+            (280, 250),
+            ("sans-serif", 18).into_font().color(&GUIDE),
+        ))
+        .map_err(plot_err)?;
+    }
+    if !guide_pts.is_empty() {
+        let style = GUIDE.stroke_width(1);
+        chart
+            .draw_series(DashedLineSeries::new(guide_pts.to_vec(), 2, 4, style))
+            .map_err(plot_err)?
+            .label(guide_label)
+            .legend(move |(x, y)| DashedPathElement::new(vec![(x, y), (x + 22, y)], 2, 4, style));
+    }
+    for c in curves {
+        let style = c.color.stroke_width(2);
+        let color = c.color;
+        if c.dashed {
             chart
-                .draw_series(DashedLineSeries::new(guide_pts.to_vec(), 2, 4, style))
+                .draw_series(DashedLineSeries::new(c.points.clone(), 7, 4, style))
                 .map_err(plot_err)?
-                .label(guide_label)
+                .label(c.label.as_str())
                 .legend(move |(x, y)| {
-                    DashedPathElement::new(vec![(x, y), (x + 22, y)], 2, 4, style)
+                    DashedPathElement::new(vec![(x, y), (x + 22, y)], 7, 4, style)
                 });
-        }
-        for c in curves {
-            let style = c.color.stroke_width(2);
-            let color = c.color;
-            if c.dashed {
-                chart
-                    .draw_series(DashedLineSeries::new(c.points.clone(), 7, 4, style))
-                    .map_err(plot_err)?
-                    .label(c.label.as_str())
-                    .legend(move |(x, y)| {
-                        DashedPathElement::new(vec![(x, y), (x + 22, y)], 7, 4, style)
-                    });
-                // Hollow triangles, so thesis markers stay visible under coinciding tribo ones.
-                chart
-                    .draw_series(
-                        c.points
-                            .iter()
-                            .map(|p| TriangleMarker::new(*p, 6, color.stroke_width(2))),
-                    )
-                    .map_err(plot_err)?;
-            } else {
-                chart
-                    .draw_series(LineSeries::new(c.points.clone(), style))
-                    .map_err(plot_err)?
-                    .label(c.label.as_str())
-                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 22, y)], style));
-                chart
-                    .draw_series(c.points.iter().map(|p| Circle::new(*p, 3, color.filled())))
-                    .map_err(plot_err)?;
-            }
-        }
-        if !curves.is_empty() {
+            // Hollow triangles, so thesis markers stay visible under coinciding tribo ones.
             chart
-                .configure_series_labels()
-                .position(SeriesLabelPosition::UpperRight)
-                .background_style(WHITE.mix(0.9))
-                .border_style(RGBColor(160, 160, 160))
-                .label_font(("sans-serif", 16))
-                .draw()
+                .draw_series(
+                    c.points
+                        .iter()
+                        .map(|p| TriangleMarker::new(*p, 6, color.stroke_width(2))),
+                )
+                .map_err(plot_err)?;
+        } else {
+            chart
+                .draw_series(LineSeries::new(c.points.clone(), style))
+                .map_err(plot_err)?
+                .label(c.label.as_str())
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 22, y)], style));
+            chart
+                .draw_series(c.points.iter().map(|p| Circle::new(*p, 3, color.filled())))
                 .map_err(plot_err)?;
         }
-        root.present().map_err(plot_err)?;
     }
-    Ok(svg)
+    if !curves.is_empty() {
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperRight)
+            .background_style(WHITE.mix(0.9))
+            .border_style(RGBColor(160, 160, 160))
+            .label_font(("sans-serif", 16))
+            .draw()
+            .map_err(plot_err)?;
+    }
+    Ok(())
 }
 
 /// Cost of accuracy of a model-adaptive scene (`<table>.cost.csv`): per variant (z, Signorini on
@@ -423,33 +427,30 @@ pub fn accuracy(path: &Path, run: &RunResult) -> io::Result<()> {
             .filter(|c| !c.points.is_empty())
             .collect()
     };
-    let distance = log_log_chart(
-        &format!("{} — accuracy: energy distance to all-Signorini", run.table),
-        ("cumulative solve seconds", "‖s − s_S‖_a / ‖s_S‖_a"),
-        &panel(|c| c.energy_distance),
-        (&[], ""),
-        "no positive distances",
-    )?;
-    let penetration = log_log_chart(
-        &format!("{} — true penetration into the obstacle", run.table),
-        ("cumulative solve seconds", "penetration"),
-        &panel(|c| c.penetration),
-        (&[], ""),
-        "no penetration",
-    )?;
     // Two 760×520 charts side by side.
-    let strip = |svg: &str| -> String {
-        let start = svg.find('>').map_or(0, |i| i + 1);
-        let end = svg.rfind("</svg>").unwrap_or(svg.len());
-        svg[start..end].to_string()
-    };
-    let out = format!(
-        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"1520\" height=\"520\" \
-         viewBox=\"0 0 1520 520\">\n<g>{}</g>\n<g transform=\"translate(760,0)\">{}</g>\n</svg>\n",
-        strip(&distance),
-        strip(&penetration)
-    );
-    fs::write(path, out)
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (1520, 520)).into_drawing_area();
+        let (left, right) = root.split_horizontally(760);
+        log_log_chart(
+            &left,
+            &format!("{} — accuracy: energy distance to all-Signorini", run.table),
+            ("cumulative solve seconds", "‖s − s_S‖_a / ‖s_S‖_a"),
+            &panel(|c| c.energy_distance),
+            (&[], ""),
+            "no positive distances",
+        )?;
+        log_log_chart(
+            &right,
+            &format!("{} — true penetration into the obstacle", run.table),
+            ("cumulative solve seconds", "penetration"),
+            &panel(|c| c.penetration),
+            (&[], ""),
+            "no penetration",
+        )?;
+        root.present().map_err(plot_err)?;
+    }
+    fs::write(path, svg)
 }
 
 /// The five phases in drawing order, with their colours.
