@@ -218,8 +218,11 @@ pub enum ModelErrorSolution {
 }
 
 impl ContactData {
-    /// The term set of the grid estimator: as written, or the thesis's pairing with the model
-    /// (z-code for z and for the z-start of a model-adaptive run, Signorini-code for Signorini).
+    /// The term set of the grid estimator of a grid-adaptive study: as written, or the thesis's
+    /// pairing with the model (z-code for z, Signorini-code for Signorini). The model-adaptive
+    /// studies refuse an estimator: on a fixed mesh there is none, and the model-and-grid
+    /// study uses the MGA code's term set (`crate::estimators::contact::ContactEstimator::MgaCode`);
+    /// `model-adaptive` maps to the z-code only so that the pairing check has an answer.
     pub fn grid_estimator(&self) -> ContactEstimator {
         self.estimator.unwrap_or(match self.model {
             ContactModel::Z | ContactModel::ModelAdaptive => ContactEstimator::ZCode,

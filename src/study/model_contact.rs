@@ -25,7 +25,7 @@
 
 use std::collections::BTreeSet;
 
-use super::adapt::face_partition;
+use super::adapt::{boundary_faces, face_partition};
 use super::clock::PhaseClock;
 use super::elasticity::displacement_component;
 use super::problem::{setup_system, Discretisation, Estimate, Pictures, Problem, Solution};
@@ -46,17 +46,6 @@ use crate::models::elasticity::Elasticity;
 use crate::results::{columns, Value};
 
 use super::contact::{contact_picture, CycleState, PENETRATION_SAMPLES};
-
-/// The number of contact faces on the sides of `boundaries`.
-fn side_count(dofs: &DofMap, boundaries: &[ContactBoundary]) -> usize {
-    boundaries
-        .iter()
-        .map(|cb| {
-            let verts = dofs.vertices.side_vertices(cb.side);
-            side_faces(dofs, cb.side, &verts).len()
-        })
-        .sum()
-}
 
 /// η_Q² per cell and the estimate's columns of a model-and-grid cycle.
 type GridEstimate = (Vec<f64>, Vec<(String, Value)>);
@@ -367,7 +356,11 @@ impl Problem for ModelAdaptiveContact {
         let label = format!(
             "mixed contact, {} of {} faces Signorini",
             disc.accurate_faces.len(),
-            side_count(dofs, &self.boundaries)
+            boundary_faces(
+                &disc.mesh,
+                &self.boundaries.iter().map(|b| b.side).collect()
+            )
+            .len()
         );
         Pictures {
             deformed: vec![contact_picture(
