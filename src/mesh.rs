@@ -555,6 +555,27 @@ impl Mesh {
         Ok(mesh)
     }
 
+    /// The integer positions of the `(nx + 1) × (ny + 1)` coarse vertices, row by row, x fastest
+    /// (the order of [`Mesh::with_coarse_vertices`]).
+    pub fn coarse_vertex_keys(&self) -> Vec<VertexKey> {
+        let size = Self::width(0);
+        (0..=self.ny as u64)
+            .flat_map(|j| (0..=self.nx as u64).map(move |i| (i * size, j * size)))
+            .collect()
+    }
+
+    /// The integer positions of the two ends of a boundary face.
+    pub fn face_vertex_keys(&self, f: BoundaryFace) -> [VertexKey; 2] {
+        let (ex, ey) = self.extent();
+        let (a, b) = (f.start, f.end());
+        match f.side {
+            Side::Bottom => [(a, 0), (b, 0)],
+            Side::Top => [(a, ey), (b, ey)],
+            Side::Left => [(0, a), (0, b)],
+            Side::Right => [(ex, a), (ex, b)],
+        }
+    }
+
     /// Whether the coarse vertices are moved (cells are general quadrilaterals).
     pub fn is_moved(&self) -> bool {
         self.moved.is_some()

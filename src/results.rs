@@ -24,6 +24,17 @@ impl PhaseSeconds {
         self.setup + self.assemble + self.solve + self.estimate + self.refine
     }
 
+    /// The phase-wise sum of two cycles' seconds.
+    pub fn plus(&self, other: &PhaseSeconds) -> PhaseSeconds {
+        PhaseSeconds {
+            setup: self.setup + other.setup,
+            assemble: self.assemble + other.assemble,
+            solve: self.solve + other.solve,
+            estimate: self.estimate + other.estimate,
+            refine: self.refine + other.refine,
+        }
+    }
+
     /// The phases with the column names used in the CSV output (`seconds_<phase>`).
     pub fn named(&self) -> [(&'static str, f64); 5] {
         [
@@ -69,6 +80,10 @@ pub mod columns {
     /// How many cycles back the same face partition was used (0: new; 1: unchanged; 2: a flip
     /// between two partitions).
     pub const PARTITION_REPEAT: &str = "partition_repeat";
+    /// Load steps (the U-O forming, §IV.2.4.7): the position of the material point at the
+    /// lower right corner of the undeformed strip after the step's motion.
+    pub const TIP_X: &str = "tip_x";
+    pub const TIP_Y: &str = "tip_y";
     /// Model-and-grid-adaptive contact (Tables IV.30–IV.35): contact faces on the z-model.
     pub const Z_FACES: &str = "z_faces";
     /// Contact faces on the Signorini model.
@@ -252,6 +267,8 @@ pub struct DeformedPicture {
     pub obstacles: Vec<Vec<[f64; 2]>>,
     /// Deformed positions of contact vertices that are in contact (active constraints).
     pub contact_points: Vec<[f64; 2]>,
+    /// The contact faces on the Signorini model (model-adaptive contact), deformed ends.
+    pub accurate_faces: Vec<[[f64; 2]; 2]>,
     /// Short caption (e.g. penetration depth).
     pub caption: String,
 }
@@ -342,6 +359,26 @@ pub struct RunResult {
 }
 
 impl RunResult {
+    /// The result of a run before its first row: nothing computed, no notes.
+    pub fn new(table: &str, section: &str, title: &str, tier: &str, domain: [f64; 4]) -> RunResult {
+        RunResult {
+            table: table.into(),
+            section: section.into(),
+            title: title.into(),
+            tier: tier.into(),
+            rows: Vec::new(),
+            probes: Vec::new(),
+            meshes: Vec::new(),
+            deformed: Vec::new(),
+            fields: Vec::new(),
+            partitions: Vec::new(),
+            costs: Vec::new(),
+            domain,
+            notes: Vec::new(),
+            warnings: Vec::new(),
+        }
+    }
+
     /// Whether the run chose a contact model per face on a fixed mesh (the model-adaptive
     /// tables IV.18–IV.29): it has a partition per printed cycle and the columns
     /// `coarse_faces`/`accurate_faces` of a fixed mesh (the model-and-grid-adaptive tables
@@ -352,6 +389,14 @@ impl RunResult {
                 .rows
                 .first()
                 .is_some_and(|r| r.count_of(columns::COARSE_FACES).is_some())
+    }
+
+    /// Whether the run is a load-step study (the U-O forming, Fig. IV.54): one row per step with
+    /// the tip's position, and the body after every step among the deformed pictures.
+    pub fn is_load_steps(&self) -> bool {
+        self.rows
+            .first()
+            .is_some_and(|r| r.get(columns::TIP_Y).is_some())
     }
 
     /// Whether the run chose a contact model per face (model-adaptive, with or without grid

@@ -96,8 +96,19 @@ fn edit(from: &str, to: &str) -> String {
 /// Load `text` as `IV.1.toml` and return the error, checking that its message names the file
 /// and `field` and contains `needle`.
 fn expect_error(case: &str, text: &str, field: &str, needle: &str) -> ExperimentError {
+    expect_error_in("IV.1.toml", case, text, field, needle)
+}
+
+/// [`expect_error`] with the file named `file_name`.
+fn expect_error_in(
+    file_name: &str,
+    case: &str,
+    text: &str,
+    field: &str,
+    needle: &str,
+) -> ExperimentError {
     let dir = scratch_dir(case);
-    let path = write(&dir, "IV.1.toml", text);
+    let path = write(&dir, file_name, text);
     let error = match load(&path) {
         Ok(_) => panic!("{case}: expected an error, the file loaded"),
         Err(error) => error,
@@ -133,15 +144,36 @@ fn every_shipped_experiment_loads() {
         "no experiment files in {}",
         dir.display()
     );
-    let numbers: Vec<u32> = specs
-        .iter()
-        .map(|s| s.table["IV.".len()..].parse().expect("validated table id"))
-        .collect();
-    assert!(
-        numbers.windows(2).all(|w| w[0] < w[1]),
-        "not in numeric order: {numbers:?}"
+    // Tables in numeric order, then the figure experiments (`fig-IV.<n>`), in numeric order.
+    let (tables, figures): (Vec<_>, Vec<_>) =
+        specs.iter().partition(|s| s.table.starts_with("IV."));
+    assert_eq!(
+        specs.iter().map(|s| &s.table).collect::<Vec<_>>(),
+        tables
+            .iter()
+            .chain(&figures)
+            .map(|s| &s.table)
+            .collect::<Vec<_>>(),
+        "tables before figures"
     );
-    for spec in &specs {
+    for (group, prefix) in [(&tables, "IV."), (&figures, "fig-IV.")] {
+        let numbers: Vec<u32> = group
+            .iter()
+            .map(|s| s.table[prefix.len()..].parse().expect("validated id"))
+            .collect();
+        assert!(
+            numbers.windows(2).all(|w| w[0] < w[1]),
+            "not in numeric order: {numbers:?}"
+        );
+    }
+    assert_eq!(
+        figures.iter().map(|s| s.table.as_str()).collect::<Vec<_>>(),
+        ["fig-IV.54"]
+    );
+    for spec in figures {
+        assert!(spec.thesis.rows.is_empty() && spec.thesis.columns.is_empty());
+    }
+    for spec in tables {
         assert_eq!(
             spec.thesis.rows.len(),
             spec.study.rows,
@@ -1355,5 +1387,119 @@ fn model_and_grid_checks_name_file_and_field() {
         ),
         "study.balance",
         "model-and-grid-adaptive",
+    );
+}
+
+/// The load steps of the U-O forming (§IV.2.4.7, `experiments/fig-IV.54.toml`): steps, cycles,
+/// lift, the rising tools, and the figure id without thesis rows.
+#[test]
+fn forming_checks_name_file_and_field() {
+    let base = fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments/fig-IV.54.toml"),
+    )
+    .expect("the shipped forming experiment");
+    let dir = scratch_dir("forming-valid");
+    let e = load(&write(&dir, "fig-IV.54.toml", &base)).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(e.study.cycles_per_row(), 4);
+    assert!(e.thesis.rows.is_empty());
+    let with = |from: &str, to: &str| {
+        assert!(base.contains(from), "test setup: `{from}`");
+        base.replacen(from, to, 1)
+    };
+    let cases = [
+        ("no steps", with("rows = 25", "rows = 0"), "study.rows", "at least 1"),
+        (
+            "no cycles",
+            with("cycles_per_step = 4", "cycles_per_step = 0"),
+            "study.cycles_per_step",
+            "between 1 and",
+        ),
+        (
+            "cycles missing",
+            with("cycles_per_step = 4\n", ""),
+            "study.cycles_per_step",
+            "cycles of model and grid adaptivity",
+        ),
+        (
+            "lift missing",
+            with("lift_per_step = 0.4166666666666667\n", ""),
+            "study.lift_per_step",
+            "rise",
+        ),
+        (
+            "lift nan",
+            with("lift_per_step = 0.4166666666666667", "lift_per_step = nan"),
+            "study.lift_per_step",
+            "finite",
+        ),
+        (
+            "a convergence window",
+            with("balance = 0.5", "balance = 0.5\nconvergence_window = [1, 2]"),
+            "study.convergence_window",
+            "restarts",
+        ),
+        (
+            "radius 0",
+            with("radius = 8.8", "radius = 0.0"),
+            "scene.contact.obstacles[0].shape.radius",
+            "> 0",
+        ),
+        (
+            "a rising constant",
+            with(
+                "shape = { kind = \"arc\", center = [-16.0, 9.0], radius = 8.8, plateau = 0.2, \
+                 s = 0.01 }",
+                "shape = { kind = \"constant\", level = 0.2 }",
+            ),
+            "scene.contact.obstacles[0].rises",
+            "arc",
+        ),
+        (
+            "no model fractions",
+            with("model_refine_fraction = 0.02\n", ""),
+            "study.model_refine_fraction",
+            "model marking",
+        ),
+        (
+            "a fixed contact model",
+            with("model = \"model-adaptive\"", "model = \"signorini\""),
+            "scene.contact.model",
+            "model-adaptive",
+        ),
+        (
+            "thesis rows for a figure",
+            format!("{base}\n[thesis]\ncolumns = [\"cycle\"]\nrows = [[0]]\n"),
+            "thesis",
+            "figure experiment",
+        ),
+    ];
+    for (case, text, field, needle) in cases {
+        expect_error_in("fig-IV.54.toml", case, &text, field, needle);
+    }
+    // A figure id needs a figure number of Chapter IV; a table id needs its printed rows.
+    let renamed = with("table = \"fig-IV.54\"", "table = \"fig-IV.999\"");
+    expect_error_in("fig-IV.999.toml", "figure 999", &renamed, "table", "fig-IV.<n>");
+    let as_table = with("table = \"fig-IV.54\"", "table = \"IV.1\"");
+    expect_error("a table without rows", &as_table, "thesis", "printed table");
+    // Load-step fields and rising tools belong to load-step studies.
+    expect_error(
+        "cycles in a grid study",
+        &edit(
+            "kind = \"grid-adaptive\"",
+            "kind = \"grid-adaptive\"\ncycles_per_step = 4",
+        ),
+        "study.cycles_per_step",
+        "load-steps",
+    );
+    let mga = with("kind = \"load-steps\"", "kind = \"model-and-grid-adaptive\"")
+        .replacen("cycles_per_step = 4\n", "", 1)
+        .replacen("lift_per_step = 0.4166666666666667\n", "", 1)
+        .replacen("balance = 0.5", "balance = 0.5\nconvergence_window = [1, 2]", 1);
+    expect_error_in(
+        "fig-IV.54.toml",
+        "rises outside load steps",
+        &mga,
+        "scene.contact.obstacles[0].rises",
+        "load-steps",
     );
 }

@@ -149,7 +149,7 @@ fn active_set_iterations_are_recorded() {
 fn quick_with_state(t: &str) -> (ContactProblem, RunResult) {
     let s = spec(t);
     let mut model = contact_problem(t);
-    let mut adaptation = study::build_adaptation(&s.study);
+    let mut adaptation = study::build_adaptation(&s.study, &s.scene);
     let r = study::run_study(
         &s,
         Tier::Quick,

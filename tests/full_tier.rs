@@ -35,6 +35,21 @@ fn model_grid() {
     );
 }
 
+/// The U-O forming: all 25 load steps finish, Signorini faces appear, the tip rests on the
+/// die's plateau after every step.
+#[test]
+#[ignore]
+fn forming() {
+    full_tier(&[crate::forming::FORMING], |_, r| {
+        assert_eq!(r.rows.len(), 25, "fig-IV.54: 25 load steps");
+        crate::forming::assert_forming_rules(r);
+        assert!(
+            r.rows.iter().any(|row| row.count_of("s_faces") > Some(0)),
+            "fig-IV.54: no Signorini face in any step"
+        );
+    });
+}
+
 #[test]
 #[ignore]
 fn reynolds() {

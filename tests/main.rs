@@ -5,6 +5,8 @@ mod cli;
 mod common;
 mod contact;
 mod elasticity;
+mod forming;
+mod forming_report;
 mod full_tier;
 mod mesh;
 mod mesh_limits;

@@ -169,6 +169,7 @@ fn balance_separates_model_and_grid_refinement() {
             faces: faces.clone(),
             columns: Vec::new(),
             noise_floor: None,
+            body_motion: None,
         };
         let mut balanced = Balanced {
             model: ModelMarking {

@@ -50,16 +50,14 @@ fn out_dir(name: &str) -> PathBuf {
     d
 }
 
-/// Run the report on `experiments` at the quick tier into a fresh folder and return it.
-fn quick_report(experiments: &Path, name: &str) -> PathBuf {
+/// Run the report on `experiments` at the quick tier into a fresh folder and return it;
+/// `only` limits it to those tables.
+pub fn quick_report(experiments: &Path, name: &str, only: Option<&str>) -> PathBuf {
     let out = out_dir(name);
     let output = Command::new(env!("CARGO_BIN_EXE_report"))
-        .args([
-            "--quick",
-            "--no-progress",
-            "--no-alternatives",
-            "--experiments",
-        ])
+        .args(["--quick", "--no-progress", "--no-alternatives"])
+        .args(only.map(|only| ["--only", only]).into_iter().flatten())
+        .arg("--experiments")
         .arg(experiments)
         .arg("--out")
         .arg(&out)
@@ -83,7 +81,7 @@ fn assert_finite(out: &Path) {
 #[test]
 fn the_quick_tier_writes_no_non_finite_value() {
     let experiments = Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments");
-    let out = quick_report(&experiments, "quick");
+    let out = quick_report(&experiments, "quick", None);
     assert_finite(&out);
     let _ = fs::remove_dir_all(&out);
 }
@@ -121,7 +119,7 @@ fn hard_cases_write_no_non_finite_value() {
     copy("IV.1", &[("amplitude = 0.0004", "amplitude = 0.0")]);
     copy("IV.38", &[]);
     copy("IV.12", &[("level = -2.0", "level = -100.0")]);
-    let out = quick_report(&dir, "hard-cases");
+    let out = quick_report(&dir, "hard-cases", None);
     assert_finite(&out);
     let _ = fs::remove_dir_all(&out);
     let _ = fs::remove_dir_all(&dir);

@@ -56,10 +56,14 @@ fn no_shipped_quick_run_warns() {
     }
 }
 
+/// A warning case: its name, the shipped table it edits, the edits (from, to), the field warned
+/// about, a word of the message.
+type Case<'a> = (&'a str, &'a str, &'a [(&'a str, &'a str)], &'a str, &'a str);
+
 /// Each suspicious field gives exactly one warning, naming the field.
 #[test]
 fn suspicious_fields_warn_naming_the_field() {
-    let cases: [(&str, &str, &[(&str, &str)], &str, &str); 10] = [
+    let cases: [Case; 10] = [
         (
             "locking",
             "IV.1",

@@ -20,6 +20,10 @@ use super::{Experiment, Problem, Scene};
 
 /// Highest table number of Chapter IV (Table IV.75).
 const LAST_TABLE: u32 = 75;
+/// Most cycles of one load step (§IV.2.4.7 runs 4).
+const MAX_CYCLES_PER_STEP: usize = 12;
+/// The last figure of Chapter IV (Fig. IV.143).
+const LAST_FIGURE: u32 = 143;
 
 /// Most printed rows of a study (and of a thesis table); Chapter IV prints at most 26.
 pub const MAX_ROWS: usize = 200;
@@ -94,7 +98,7 @@ pub fn load(path: &Path) -> Result<Experiment, ExperimentError> {
         study,
         probes,
         notes,
-        thesis,
+        thesis: thesis.unwrap_or_default(),
     })
 }
 
@@ -236,9 +240,20 @@ fn file_kind(file_type: &fs::FileType) -> &'static str {
     }
 }
 
-/// Sort key of a file stem: tables in numeric order, anything else after them by name.
+/// Sort key of a file stem: tables in numeric order, then figures in numeric order, anything
+/// else after them by name.
 fn table_order(stem: &str) -> (u32, String) {
-    (table_number(stem).unwrap_or(u32::MAX), stem.to_owned())
+    let figure = figure_number(stem).map(|n| LAST_TABLE + n);
+    (
+        table_number(stem).or(figure).unwrap_or(u32::MAX),
+        stem.to_owned(),
+    )
+}
+
+/// `fig-IV.<n>` with 1 ≤ n ≤ 143 (the figures of Chapter IV), without leading zeros → n.
+fn figure_number(id: &str) -> Option<u32> {
+    let n: u32 = id.strip_prefix("fig-IV.")?.parse().ok()?;
+    (format!("fig-IV.{n}") == id && (1..=LAST_FIGURE).contains(&n)).then_some(n)
 }
 
 /// `IV.<n>` with 1 ≤ n ≤ 75, written without leading zeros → n.
@@ -518,16 +533,38 @@ impl Check<'_> {
         self.identity(spec)?;
         self.scene(&spec.scene)?;
         self.study(&spec.study, &spec.scene)?;
+        self.rising_tools(&spec.scene, &spec.study)?;
         self.probes(&spec.probes, &spec.scene)?;
-        self.thesis(&spec.thesis, &spec.table)
+        let figure = figure_number(&spec.table).is_some();
+        match &spec.thesis {
+            Some(thesis) => {
+                self.ensure(
+                    !figure,
+                    "thesis",
+                    "no printed table in a figure experiment (`fig-IV.<n>`: the thesis shows \
+                     the result as a figure only)",
+                    "a [thesis] table",
+                )?;
+                self.thesis(thesis, &spec.table)
+            }
+            None => self.ensure(
+                figure,
+                "thesis",
+                "the printed table ([thesis] with columns and rows) of a table experiment",
+                "no such table",
+            ),
+        }
     }
 
     /// Table id, section and title (Chapter IV numbering).
     fn identity(&self, spec: &ExperimentFile) -> Checked {
         self.ensure(
-            table_number(&spec.table).is_some(),
+            table_number(&spec.table).is_some() || figure_number(&spec.table).is_some(),
             "table",
-            &format!("a Chapter IV table id `IV.<n>` with 1 ≤ n ≤ {LAST_TABLE}"),
+            &format!(
+                "a Chapter IV table id `IV.<n>` with 1 ≤ n ≤ {LAST_TABLE}, or a figure id \
+                 `fig-IV.<n>` with 1 ≤ n ≤ {LAST_FIGURE}"
+            ),
             format!("`{}`", spec.table),
         )?;
         let stem = self
@@ -1009,16 +1046,13 @@ impl Check<'_> {
             StudyKind::GridAdaptive => {
                 self.refused(
                     study,
-                    "\"model-adaptive\" or \"model-and-grid-adaptive\"",
+                    "\"model-adaptive\", \"model-and-grid-adaptive\" or \"load-steps\"",
                     &[
-                        &[
-                            ("study.algorithm", study.algorithm.is_some()),
-                            ("study.model_tolerance", study.model_tolerance.is_some()),
-                        ],
-                        &balance_fields(study)[..],
-                    ]
-                    .concat(),
+                        ("study.algorithm", study.algorithm.is_some()),
+                        ("study.model_tolerance", study.model_tolerance.is_some()),
+                    ],
                 )?;
+                self.refused_model_and_grid_fields(study)?;
                 let model = scene.contact.as_ref().map(|c| c.model);
                 self.ensure(
                     model != Some(ContactModel::ModelAdaptive),
@@ -1030,7 +1064,7 @@ impl Check<'_> {
                 self.grid_marking(study)
             }
             StudyKind::ModelAdaptive => {
-                self.refused(study, "\"model-and-grid-adaptive\"", &balance_fields(study))?;
+                self.refused_model_and_grid_fields(study)?;
                 self.model_marking(
                     study,
                     scene,
@@ -1046,7 +1080,7 @@ impl Check<'_> {
                 }
                 Ok(())
             }
-            StudyKind::ModelAndGridAdaptive => {
+            StudyKind::ModelAndGridAdaptive | StudyKind::LoadSteps => {
                 for (field, given) in [
                     ("study.model_refine_fraction", study.model_refine_fraction),
                     ("study.model_coarsen_fraction", study.model_coarsen_fraction),
@@ -1076,9 +1110,88 @@ impl Check<'_> {
                         alpha,
                     )?;
                 }
-                self.grid_marking(study)
+                if study.kind == StudyKind::LoadSteps {
+                    self.grid_fractions(study)?;
+                    self.load_steps(study)
+                } else {
+                    self.refused(study, "\"load-steps\"", &load_step_fields(study))?;
+                    self.grid_marking(study)
+                }
             }
         }
+    }
+
+    /// `rises` of an obstacle: only the `arc` tools of a load-step study rise (§IV.2.4.7).
+    fn rising_tools(&self, scene: &SceneFile, study: &Study) -> Checked {
+        let Some(contact) = &scene.contact else {
+            return Ok(());
+        };
+        for (i, obstacle) in contact.obstacles.iter().enumerate() {
+            if obstacle.rises.is_none() {
+                continue;
+            }
+            let field = format!("scene.contact.obstacles[{i}].rises");
+            self.ensure(
+                study.kind == StudyKind::LoadSteps,
+                &field,
+                "no such field outside a study.kind = \"load-steps\" (tools rise between load \
+                 steps)",
+                format!("a value in a {} study", study.kind.name()),
+            )?;
+            self.ensure(
+                matches!(obstacle.shape, ObstacleShape::Arc { .. }),
+                &field,
+                "a tool of kind = \"arc\" (the U-O forming's punch and die; other shapes do \
+                 not rise)",
+                "another shape",
+            )?;
+        }
+        Ok(())
+    }
+
+    /// The load steps of a forming study (§IV.2.4.7): at least one cycle per step, a finite
+    /// lift, and no convergence window (every step restarts from the coarse cells).
+    fn load_steps(&self, study: &Study) -> Checked {
+        let Some(cycles) = study.cycles_per_step else {
+            return Err(self.fail(
+                "study.cycles_per_step",
+                "the cycles of model and grid adaptivity in every load step (4 in §IV.2.4.7)",
+                "no such field",
+            ));
+        };
+        self.ensure(
+            (1..=MAX_CYCLES_PER_STEP).contains(&cycles),
+            "study.cycles_per_step",
+            &format!("between 1 and {MAX_CYCLES_PER_STEP} cycles per load step"),
+            cycles,
+        )?;
+        let Some(lift) = study.lift_per_step else {
+            return Err(self.fail(
+                "study.lift_per_step",
+                "how far the rising tools rise in every load step (10/24 in §IV.2.4.7)",
+                "no such field",
+            ));
+        };
+        self.finite("study.lift_per_step", lift)?;
+        if let Some([first, last]) = study.convergence_window {
+            return Err(self.fail(
+                "study.convergence_window",
+                "no convergence window in a load-step study (every step restarts from the \
+                 coarse cells of its body: there is no sequence of meshes that converges)",
+                format!("[{first}, {last}]"),
+            ));
+        }
+        Ok(())
+    }
+
+    /// The fields of the model-and-grid and the load-step studies, in a study of another kind.
+    fn refused_model_and_grid_fields(&self, study: &Study) -> Checked {
+        self.refused(
+            study,
+            "\"model-and-grid-adaptive\" or \"load-steps\"",
+            &balance_fields(study),
+        )?;
+        self.refused(study, "\"load-steps\"", &load_step_fields(study))
     }
 
     /// Fields a study kind does not have, each given or not; they belong to the kinds `owners`.
@@ -1099,18 +1212,7 @@ impl Check<'_> {
 
     /// Fixed-number grid marking: the fractions and the convergence window.
     fn grid_marking(&self, study: &Study) -> Checked {
-        self.non_negative("study.coarsen_fraction", study.coarsen_fraction)?;
-        self.positive("study.refine_fraction", study.refine_fraction)?;
-        let total = study.refine_fraction + study.coarsen_fraction;
-        self.ensure(
-            total <= 1.0,
-            "study.refine_fraction",
-            "refine_fraction + coarsen_fraction ≤ 1",
-            format!(
-                "{:?} + {:?} = {total:?}",
-                study.refine_fraction, study.coarsen_fraction
-            ),
-        )?;
+        self.grid_fractions(study)?;
         let Some([first, last]) = study.convergence_window else {
             return Err(self.fail(
                 "study.convergence_window",
@@ -1132,6 +1234,22 @@ impl Check<'_> {
                 study.rows - 1
             ),
             last,
+        )
+    }
+
+    /// The fractions θ_r, θ_c of fixed-number grid marking.
+    fn grid_fractions(&self, study: &Study) -> Checked {
+        self.non_negative("study.coarsen_fraction", study.coarsen_fraction)?;
+        self.positive("study.refine_fraction", study.refine_fraction)?;
+        let total = study.refine_fraction + study.coarsen_fraction;
+        self.ensure(
+            total <= 1.0,
+            "study.refine_fraction",
+            "refine_fraction + coarsen_fraction ≤ 1",
+            format!(
+                "{:?} + {:?} = {total:?}",
+                study.refine_fraction, study.coarsen_fraction
+            ),
         )
     }
 
@@ -1410,6 +1528,14 @@ fn names(effects: &[Effect]) -> Vec<&'static str> {
 }
 
 /// The fields only a model-and-grid-adaptive study has, each given or not.
+/// The fields of a load-step study, each given or not.
+fn load_step_fields(study: &Study) -> [(&'static str, bool); 2] {
+    [
+        ("study.cycles_per_step", study.cycles_per_step.is_some()),
+        ("study.lift_per_step", study.lift_per_step.is_some()),
+    ]
+}
+
 fn balance_fields(study: &Study) -> [(&'static str, bool); 3] {
     [
         (

@@ -19,7 +19,8 @@ pub use crate::mesh::Side;
 #[derive(Clone, Debug, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct ExperimentFile {
-    /// Table id, `IV.1` … `IV.75`.
+    /// Table id, `IV.1` … `IV.75`, or the id of a figure experiment, `fig-IV.<n>` (a result the
+    /// thesis shows as a figure only, e.g. the U-O forming of Fig. IV.54).
     pub table: String,
     /// Thesis section, e.g. `IV.1.1`.
     pub section: String,
@@ -32,7 +33,9 @@ pub struct ExperimentFile {
     /// Readings of the thesis and known differences, shown in the report for this table.
     #[serde(default)]
     pub notes: Vec<String>,
-    pub thesis: ThesisRows,
+    /// The printed table; a figure experiment has none.
+    #[serde(default)]
+    pub thesis: Option<ThesisRows>,
 }
 
 /// An effect a scene asks the pipeline to simulate. Only the named effects are built.
@@ -231,11 +234,41 @@ impl ContactData {
     }
 }
 
+impl ContactData {
+    /// The tools of load step j: every obstacle that rises ([`Obstacle::rises`]) raised by
+    /// `by` = j · `study.lift_per_step`.
+    pub fn raised(&self, by: f64) -> ContactData {
+        let mut raised = self.clone();
+        for o in &mut raised.obstacles {
+            if let Some(rise) = o.rises {
+                o.shape = o.shape.raised(rise, by);
+            }
+        }
+        raised
+    }
+}
+
 #[derive(Clone, Debug, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct Obstacle {
     pub side: Side,
     pub shape: ObstacleShape,
+    /// Load steps (§IV.2.4.7): which part of the tool rises by `study.lift_per_step` in every
+    /// step; left out, the tool stays where it is.
+    #[serde(default)]
+    pub rises: Option<Rise>,
+}
+
+/// What of an `arc` tool rises in every load step of the U-O forming (§IV.2.4.7): "the
+/// complete lower obstacle and the plain part of the higher obstacle rises in each step by
+/// 10/24" (`c^L_j = (−16, j·10/24)`, `H^U_j = 1.2 + j·10/24`, `H^L_j = j·10/24`).
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum Rise {
+    /// The whole tool: its circle's center and its plateau (the die).
+    Whole,
+    /// Only the plateau; the circle stays (the punch).
+    Plateau,
 }
 
 /// Obstacle function b(x₁) (`crate::models::obstacle::Shape`, thesis §IV.2.1).
@@ -268,6 +301,30 @@ pub enum ObstacleShape {
         plateau: f64,
         s: f64,
     },
+}
+
+impl ObstacleShape {
+    /// The tool raised by `by`: an `arc` with its plateau, and with [`Rise::Whole`] its
+    /// circle's center too. Other shapes do not rise (the loader allows `rises` on arcs only).
+    pub fn raised(self, rise: Rise, by: f64) -> ObstacleShape {
+        match self {
+            ObstacleShape::Arc {
+                center,
+                radius,
+                plateau,
+                s,
+            } => ObstacleShape::Arc {
+                center: match rise {
+                    Rise::Whole => [center[0], center[1] + by],
+                    Rise::Plateau => center,
+                },
+                radius,
+                plateau: plateau + by,
+                s,
+            },
+            other => other,
+        }
+    }
 }
 
 /// How the printed saw formula of §IV.2.1.6 is read (`crate::models::obstacle::SawReading`).
@@ -402,6 +459,11 @@ pub enum StudyKind {
     /// marking on the balanced model indicators ε̃_m and the fixed-number grid marking on the
     /// balanced discretisation indicators ε̃_d of (III.93).
     ModelAndGridAdaptive,
+    /// Load steps of the U-O forming (§IV.2.4.7): per step `cycles_per_step` cycles of model and
+    /// grid adaptivity (Algorithm III.25) on the body of the step, then every vertex moves by
+    /// its displacement, the tools rise and the moved, stress-free body is the next step's
+    /// domain, restarted from its coarse cells. One printed row per step (`rows` steps).
+    LoadSteps,
 }
 
 impl StudyKind {
@@ -411,6 +473,7 @@ impl StudyKind {
             StudyKind::GridAdaptive => "grid-adaptive",
             StudyKind::ModelAdaptive => "model-adaptive",
             StudyKind::ModelAndGridAdaptive => "model-and-grid-adaptive",
+            StudyKind::LoadSteps => "load-steps",
         }
     }
 
@@ -418,7 +481,7 @@ impl StudyKind {
     pub fn adapts_model(self) -> bool {
         matches!(
             self,
-            StudyKind::ModelAdaptive | StudyKind::ModelAndGridAdaptive
+            StudyKind::ModelAdaptive | StudyKind::ModelAndGridAdaptive | StudyKind::LoadSteps
         )
     }
 
@@ -426,7 +489,7 @@ impl StudyKind {
     pub fn adapts_grid(self) -> bool {
         matches!(
             self,
-            StudyKind::GridAdaptive | StudyKind::ModelAndGridAdaptive
+            StudyKind::GridAdaptive | StudyKind::ModelAndGridAdaptive | StudyKind::LoadSteps
         )
     }
 }
@@ -491,9 +554,23 @@ pub struct Study {
     /// Model-adaptive: ε₀ of Algorithms III.2/III.3 (default [`DEFAULT_MODEL_TOLERANCE`]).
     #[serde(default)]
     pub model_tolerance: Option<f64>,
+    /// Load steps: the cycles of model and grid adaptivity in every step (4 in §IV.2.4.7).
+    #[serde(default)]
+    pub cycles_per_step: Option<usize>,
+    /// Load steps: how far the rising tools ([`Obstacle::rises`]) rise per step (10/24).
+    #[serde(default)]
+    pub lift_per_step: Option<f64>,
 }
 
 impl Study {
+    /// The solves of one printed row: `cycles_per_step` in a load-step study, 1 otherwise.
+    pub fn cycles_per_row(&self) -> usize {
+        match self.kind {
+            StudyKind::LoadSteps => self.cycles_per_step.unwrap_or(1),
+            _ => 1,
+        }
+    }
+
     /// ε₀ of the model marking.
     pub fn model_tolerance(&self) -> f64 {
         self.model_tolerance.unwrap_or(DEFAULT_MODEL_TOLERANCE)
@@ -509,7 +586,7 @@ impl Study {
     /// given there).
     pub fn model_fractions(&self) -> (f64, f64) {
         match self.kind {
-            StudyKind::ModelAndGridAdaptive => (
+            StudyKind::ModelAndGridAdaptive | StudyKind::LoadSteps => (
                 self.model_refine_fraction.unwrap_or(f64::NAN),
                 self.model_coarsen_fraction.unwrap_or(f64::NAN),
             ),
@@ -531,8 +608,9 @@ pub struct Probes {
     pub components: Vec<String>,
 }
 
-/// The printed thesis table (reference data only).
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+/// The printed thesis table (reference data only); empty (no columns, no rows) for a figure
+/// experiment.
+#[derive(Clone, Debug, Default, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct ThesisRows {
     /// Column names as in `tables.csv`, the first is always `cycle`.

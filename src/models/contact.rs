@@ -245,7 +245,11 @@ pub struct ContactSolution {
     pub iterations: usize,
 }
 
-/// Most active-set iterations allowed before the solve counts as failed.
+/// Most active-set iterations allowed before the solve counts as failed, or one per contact
+/// constraint where there are more: the contact zone of a thin body can move by one vertex per
+/// iteration (in the first load step of the U-O forming the die lifts a clamped strip, and the
+/// zone walks from the free end back to the die's edge one vertex at a time, 64 iterations for
+/// 128 constraints from a cold start).
 pub const MAX_ACTIVE_SET_ITERATIONS: usize = 50;
 
 /// Solve min ½uᵀKu − Fᵀu subject to n_i·u(σ_i) ≤ bound_i at every contact constraint and the
@@ -253,8 +257,8 @@ pub const MAX_ACTIVE_SET_ITERATIONS: usize = 50;
 /// ([`primal_dual_active_set`]) in the rotated frame of the constrained vertices: with
 /// λ_i = (F − K u)·n_i, an active constraint stays active while λ_i > 0, an inactive one becomes
 /// active when n_i·u − bound_i exceeds 1e-13·(1 + |bound_i|). `initial` is the first active set
-/// (the warm start from the previous cycle). More than [`MAX_ACTIVE_SET_ITERATIONS`] solves is an
-/// error that states the count.
+/// (the warm start from the previous cycle). More than [`MAX_ACTIVE_SET_ITERATIONS`] solves (or
+/// one per constraint, where there are more) is an error that states the count.
 pub fn solve_contact(
     system: &System,
     solver: &mut DirectSolver,
@@ -277,7 +281,7 @@ pub fn solve_contact(
         eliminated: &eliminated,
     };
     let options = ActiveSetOptions {
-        max_iterations: MAX_ACTIVE_SET_ITERATIONS,
+        max_iterations: MAX_ACTIVE_SET_ITERATIONS.max(constraints.len()),
         multiplier_tolerance: 0.0,
         violation: ViolationTolerance::PerBound(1e-13),
     };

@@ -13,6 +13,9 @@ use crate::results::{CostRow, PhaseSeconds, RunResult, Value};
 /// (`active_cells, dofs, estimate, ratio` and the family's further columns for the
 /// grid-adaptive tables), then `seconds_<phase>`. Count columns are integers, real columns
 /// floats; a value a row does not have, or that is undefined (the first `ratio`), is empty.
+///
+/// A load-step run (the forming of §IV.2.4.7, Fig. IV.54) has one row per load step, so its
+/// first column is `step` ([`first_column`]).
 pub fn rows_frame(run: &RunResult) -> PolarsResult<DataFrame> {
     let rows = &run.rows;
     let mut names: Vec<(&str, bool)> = Vec::new();
@@ -24,7 +27,7 @@ pub fn rows_frame(run: &RunResult) -> PolarsResult<DataFrame> {
         }
     }
     let mut columns = vec![Column::new(
-        "cycle".into(),
+        first_column(run).into(),
         rows.iter().map(|r| r.cycle as u64).collect::<Vec<_>>(),
     )];
     for (name, count) in names {
@@ -42,6 +45,16 @@ pub fn rows_frame(run: &RunResult) -> PolarsResult<DataFrame> {
         columns.push(Column::new((*name).into(), v));
     }
     DataFrame::new(rows.len(), columns)
+}
+
+/// The name of a run's row index: `step` for a load-step run (its rows are load steps j, each
+/// of several cycles), `cycle` for every other run.
+pub fn first_column(run: &RunResult) -> &'static str {
+    if run.is_load_steps() {
+        "step"
+    } else {
+        "cycle"
+    }
 }
 
 /// Solution probes: `x, y, component, value`.

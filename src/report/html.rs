@@ -129,6 +129,17 @@ fn anchor(table: &str) -> String {
     format!("t-{}", super::file_stem(table))
 }
 
+/// How the page names an entry: `Table IV.1`, or `Fig. IV.54` for a figure experiment
+/// (`fig-IV.54`: the thesis shows that result as a figure only).
+fn entry_name(table: &str) -> String {
+    thesis_figure(table).unwrap_or_else(|| format!("Table {table}"))
+}
+
+/// The thesis figure a figure experiment's id names (`fig-IV.54` → `Fig. IV.54`).
+fn thesis_figure(table: &str) -> Option<String> {
+    table.strip_prefix("fig-").map(|f| format!("Fig. {f}"))
+}
+
 const CSS: &str = r#"
 :root { --ink: #1d2430; --muted: #6b7280; --rule: #d7dce3; --band: #f5f7fa; --off: #fde2dd; --offink: #a1271b; --ok: #1b7a3a; }
 * { box-sizing: border-box; }
@@ -250,17 +261,17 @@ fn contents(h: &mut String, entries: &[Entry]) {
         let _ = match entry {
             Entry::Done(s) => writeln!(
                 h,
-                "<li><a href=\"#{}\">Table {} ({})</a> — {}</li>",
+                "<li><a href=\"#{}\">{} ({})</a> — {}</li>",
                 anchor(&s.run.table),
-                escape(&s.run.table),
+                escape(&entry_name(&s.run.table)),
                 escape(&s.run.section),
                 escape(&s.run.title)
             ),
             Entry::Failed(f) => writeln!(
                 h,
-                "<li><a href=\"#{}\">Table {}</a> — {} <b>({})</b></li>",
+                "<li><a href=\"#{}\">{}</a> — {} <b>({})</b></li>",
                 anchor(&f.table),
-                escape(&f.table),
+                escape(&entry_name(&f.table)),
                 escape(f.title.as_deref().unwrap_or("")),
                 f.kind.name()
             ),
@@ -292,8 +303,9 @@ fn summary(h: &mut String, entries: &[Entry]) {
         "<section id=\"summary\">\n<h2>Summary</h2>\n\
          <p class=\"legend\">Status: ok, error (the run stopped with an error), panic (a bug in \
          tribo, caught) or not loaded (the experiment file was rejected); a failed table's \
-         section has the message. Geometric mean of the estimate ratio over the cycles that have \
-         one (the mean reduction per cycle). Largest relative difference to the thesis over the \
+         section has the message; figure: no printed table (the thesis shows the result as a \
+         figure only, so tribo's rows are shown alone). Geometric mean of the estimate ratio over \
+         the cycles that have one (the mean reduction per cycle). Largest relative difference to the thesis over the \
          computed cycles; <span class=\"swatch\"></span> beyond 3 % (dofs) or 5 % (estimate).</p>\n\
          <div class=\"scroll\"><table>\n<thead><tr><th class=\"text\">table</th><th class=\"text\">section</th>\
          <th class=\"text\">title</th><th class=\"text\">status</th><th>rows (tribo / thesis)</th>\
@@ -324,7 +336,11 @@ fn summary(h: &mut String, entries: &[Entry]) {
             escape(&s.run.title),
             status_cell(s),
             sm.rows,
-            s.thesis.len(),
+            if s.is_figure() {
+                "—".to_string()
+            } else {
+                s.thesis.len().to_string()
+            },
             opt_cell(sm.last_dofs.map(|d| d.to_string())),
             opt_cell(sm.last_estimate.map(fmt_sig)),
             opt_cell(sm.geo_mean_ratio.map(fmt_sig)),
@@ -336,16 +352,22 @@ fn summary(h: &mut String, entries: &[Entry]) {
     h.push_str("</tbody></table></div>\n</section>\n");
 }
 
-/// The status cell of a table that ran: `ok`, or how its first failed alternative reading failed.
+/// The status cell of a table that ran: `ok` (`figure: no printed table` for a figure
+/// experiment), or how its first failed alternative reading failed.
 fn status_cell(s: &Section) -> String {
     let warnings = s.run.warnings.len();
+    let ok = if s.is_figure() {
+        "figure: no printed table"
+    } else {
+        "ok"
+    };
     match s.alternatives.iter().find_map(|a| a.outcome.as_ref().err()) {
         None if warnings > 0 => format!(
             "<td class=\"status warned\" title=\"the table ran; its section says what is \
-             suspicious\">ok, {warnings} warning{}</td>",
+             suspicious\">{ok}, {warnings} warning{}</td>",
             if warnings == 1 { "" } else { "s" }
         ),
-        None => "<td class=\"status ok\">ok</td>".into(),
+        None => format!("<td class=\"status ok\">{ok}</td>"),
         Some(f) => format!(
             "<td class=\"status failed\" title=\"the table ran; an alternative reading failed\">\
              {} (alternative reading)</td>",
@@ -385,9 +407,9 @@ fn failed_section(h: &mut String, f: &Failure) {
         .map_or_else(String::new, |t| format!(" — {}", escape(t)));
     let _ = write!(
         h,
-        "<section id=\"{}\" class=\"failed\">\n<h2>Table {}{title}</h2>\n<p class=\"meta\">",
+        "<section id=\"{}\" class=\"failed\">\n<h2>{}{title}</h2>\n<p class=\"meta\">",
         anchor(&f.table),
-        escape(&f.table),
+        escape(&entry_name(&f.table)),
     );
     if let Some(section) = &f.section {
         let _ = write!(h, "Section {} · ", escape(section));
@@ -444,17 +466,28 @@ fn tribo_only_columns(rows: &[Row], thesis_columns: &[String]) -> Vec<(String, b
 fn table_section(h: &mut String, s: &Section, figs: &SectionFigures) {
     let run = s.run;
     let thesis = s.thesis;
+    let computed = if s.is_figure() {
+        format!(
+            "{} {} computed, no printed table",
+            run.rows.len(),
+            row_noun(run)
+        )
+    } else {
+        format!(
+            "{} cycles computed, {} printed",
+            run.rows.len(),
+            thesis.len()
+        )
+    };
     let _ = write!(
         h,
-        "<section id=\"{}\">\n<h2>Table {} — {}</h2>\n<p class=\"meta\">Section {} · tier {} · \
-         {} cycles computed, {} printed</p>\n",
+        "<section id=\"{}\">\n<h2>{} — {}</h2>\n<p class=\"meta\">Section {} · tier {} · \
+         {computed}</p>\n",
         anchor(&run.table),
-        escape(&run.table),
+        escape(&entry_name(&run.table)),
         escape(&run.title),
         escape(&run.section),
         escape(&run.tier),
-        run.rows.len(),
-        thesis.len()
     );
     if let Some(orig) = &thesis.duplicate_of {
         let _ = writeln!(
@@ -474,7 +507,11 @@ fn table_section(h: &mut String, s: &Section, figs: &SectionFigures) {
         }
         h.push_str("</ul></div>\n");
     }
-    comparison_table(h, s);
+    if s.is_figure() {
+        figure_rows(h, run);
+    } else {
+        comparison_table(h, s);
+    }
     for alt in s.alternatives {
         match &alt.outcome {
             Ok(alt_run) => alternative_table(h, run, thesis, &alt.label, alt_run),
@@ -511,17 +548,31 @@ fn table_section(h: &mut String, s: &Section, figs: &SectionFigures) {
         h.push_str("<h3>Figures</h3>\n<div class=\"figures\">\n");
         for f in &figs.figures {
             // Pictures of the whole domain get the full page width; plots keep their own size.
-            let wide = ["-mesh", "-deformed", "-field"]
+            let wide = ["-mesh", "-deformed", "-field", "-animation"]
                 .iter()
                 .any(|k| f.file.contains(k));
-            let _ = writeln!(
+            let _ = write!(
                 h,
-                "<figure{}><img src=\"figures/{}\" alt=\"{}\" loading=\"lazy\"><figcaption>{}</figcaption></figure>",
+                "<figure{}><img src=\"figures/{}\" alt=\"{}\" loading=\"lazy\"><figcaption>{}</figcaption>",
                 if wide { " class=\"wide\"" } else { " class=\"plot\"" },
                 escape(&f.file),
                 escape(&f.caption),
                 escape(&f.caption)
             );
+            if !f.links.is_empty() {
+                h.push_str("<p class=\"legend\">Files: ");
+                for (i, (file, label)) in f.links.iter().enumerate() {
+                    let _ = write!(
+                        h,
+                        "{}<a href=\"figures/{}\">{}</a>",
+                        if i == 0 { "" } else { " · " },
+                        escape(file),
+                        escape(label)
+                    );
+                }
+                h.push_str("</p>");
+            }
+            h.push_str("</figure>\n");
         }
         h.push_str("</div>\n");
     }
@@ -544,6 +595,87 @@ fn table_section(h: &mut String, s: &Section, figs: &SectionFigures) {
         h.push_str("</tbody></table>\n");
     }
     h.push_str("</section>\n");
+}
+
+/// What one row of a run is: a load step of the forming (§IV.2.4.7), or a cycle.
+fn row_noun(run: &RunResult) -> &'static str {
+    if run.is_load_steps() {
+        "load steps"
+    } else {
+        "cycles"
+    }
+}
+
+/// The columns of a load-step run that its section shows, in this order and where the run has
+/// them (`data/<table>.csv` has every column).
+const LOAD_STEP_COLUMNS: [&str; 9] = [
+    columns::Z_FACES,
+    columns::S_FACES,
+    columns::DOFS,
+    columns::MODEL_ERROR,
+    columns::PENETRATION,
+    columns::TIP_X,
+    columns::TIP_Y,
+    "z_iterations",
+    "mixed_iterations",
+];
+
+/// The rows of a figure experiment, which the thesis prints no table for (the forming of
+/// §IV.2.4.7 shows only the pictures of Fig. IV.54): tribo's values alone, no thesis columns,
+/// no ratio to the thesis and no convergence verdict. A load-step run shows one row per step
+/// with [`LOAD_STEP_COLUMNS`], any other run every column; then the seconds of the row.
+fn figure_rows(h: &mut String, run: &RunResult) {
+    let figure = thesis_figure(&run.table).unwrap_or_else(|| "a figure".into());
+    let _ = writeln!(
+        h,
+        "<p>The thesis prints no table for this result, only the pictures of {}, so these rows \
+         have nothing to compare with: they are tribo's alone. Every column is in \
+         <code>data/{}.csv</code>.</p>",
+        escape(&figure),
+        escape(&super::data::csv_stem(&run.table))
+    );
+    let shown: Vec<String> = if run.is_load_steps() {
+        LOAD_STEP_COLUMNS
+            .iter()
+            .filter(|c| run.rows.iter().any(|r| r.get(c).is_some()))
+            .map(|c| c.to_string())
+            .collect()
+    } else {
+        tribo_only_columns(&run.rows, &[])
+            .into_iter()
+            .map(|(n, _)| n)
+            .collect()
+    };
+    let _ = write!(
+        h,
+        "<div class=\"scroll\"><table>\n<thead><tr><th>{}</th>",
+        super::data::first_column(run)
+    );
+    for c in &shown {
+        let _ = write!(h, "<th>{}</th>", escape(c));
+    }
+    h.push_str("<th>seconds</th></tr></thead>\n<tbody>\n");
+    for r in &run.rows {
+        let _ = write!(h, "<tr><td>{}</td>", r.cycle);
+        for c in &shown {
+            h.push_str(&match r.get(c) {
+                Some(Value::Count(n)) => format!("<td>{n}</td>"),
+                Some(Value::Real(Some(v))) if v.is_finite() => format!("<td>{}</td>", fmt_sig(v)),
+                _ => "<td class=\"na\">—</td>".into(),
+            });
+        }
+        let total = r.seconds.total();
+        let _ = writeln!(
+            h,
+            "{}</tr>",
+            if total.is_finite() {
+                format!("<td>{total:.3}</td>")
+            } else {
+                "<td class=\"na\">—</td>".into()
+            }
+        );
+    }
+    h.push_str("</tbody></table></div>\n");
 }
 
 /// The cost-of-accuracy study of a model-adaptive scene: per variant the median solve seconds

@@ -8,9 +8,11 @@
 //! stale files of a table that failed today.
 //!
 //! The module is split by job: this file decides *what* is compared and which figures a section
-//! gets, `plots` draws the figures, `html` lays out the page.
+//! gets, `plots` draws the figures (`model_plots` those of the model-adaptive tables, `forming`
+//! those of a load-step run, Fig. IV.54), `html` lays out the page.
 
 pub mod data;
+mod forming;
 mod html;
 mod model_plots;
 mod plots;
@@ -36,10 +38,20 @@ pub enum Entry<'a> {
 /// One table of the report: what tribo computed, and the printed thesis table beside it.
 pub struct Section<'a> {
     pub run: &'a RunResult,
+    /// The printed table; empty (no rows) for a figure experiment (`fig-IV.<n>`), whose result
+    /// the thesis shows only as a figure.
     pub thesis: &'a ThesisTable,
     /// Runs of alternative readings of the same scene (computed by the caller),
     /// shown as differences against `run`.
     pub alternatives: &'a [Alternative],
+}
+
+impl Section<'_> {
+    /// Whether the thesis prints no table for this result (a figure experiment such as
+    /// `fig-IV.54`): the section has nothing to compare with, so it shows tribo's rows alone.
+    pub fn is_figure(&self) -> bool {
+        self.thesis.is_empty()
+    }
 }
 
 /// A run of an alternative reading, with what it changes; or why it has no run.
@@ -155,7 +167,10 @@ pub fn write_report(out_dir: &Path, entries: &[Entry], meta: &ReportMeta) -> io:
         if let Some(error) = &figures.error {
             figure_failures.push(format!("{}: {error}", section.run.table));
         }
-        files.extend(figures.figures.iter().map(|f| fig_dir.join(&f.file)));
+        for f in &figures.figures {
+            files.push(fig_dir.join(&f.file));
+            files.extend(f.links.iter().map(|(file, _)| fig_dir.join(file)));
+        }
         rendered.push(figures);
     }
     let index = out_dir.join("index.html");
@@ -260,17 +275,30 @@ pub(crate) struct Figure {
     pub file: String,
     /// Alternative text and caption.
     pub caption: String,
+    /// Further files of the figure inside `figures/`, listed as links under it with their
+    /// labels (the frames of a load-step animation); usually none.
+    pub links: Vec<(String, String)>,
 }
 
 /// Draw every figure one section has data for.
+///
+/// A load-step run (the forming of §IV.2.4.7, Fig. IV.54) moves its body, so the convergence
+/// and cost plots (one mesh hierarchy refined cycle after cycle), the mesh figure (axis-parallel
+/// cell boxes) and the partition figure (faces on the undeformed strip) do not apply; it gets the
+/// per-step chart, a frame per step and their animation instead.
 fn write_figures(fig_dir: &Path, section: &Section) -> io::Result<Vec<Figure>> {
     let run = section.run;
     let stem = file_stem(&run.table);
+    let load_steps = run.is_load_steps();
     let mut figures = Vec::new();
     let mut push = |kind: &str, caption: String| -> PathBuf {
         let file = format!("{stem}-{kind}.svg");
         let path = fig_dir.join(&file);
-        figures.push(Figure { file, caption });
+        figures.push(Figure {
+            file,
+            caption,
+            links: Vec::new(),
+        });
         path
     };
 
@@ -286,6 +314,18 @@ fn write_figures(fig_dir: &Path, section: &Section) -> io::Result<Vec<Figure>> {
             ),
         );
         model_plots::model_adaptivity(&path, run, section.thesis)?;
+    } else if load_steps {
+        let path = push(
+            "steps",
+            format!(
+                "{}: per load step, the position of the tip (the lower right corner of the \
+                 undeformed body), the contact faces on the z-model and on the Signorini \
+                 model, and the penetration and model error (log axis; steps where they are 0 \
+                 are not drawn)",
+                run.table
+            ),
+        );
+        forming::steps(&path, run)?;
     } else {
         let path = push(
             "convergence",
@@ -296,7 +336,7 @@ fn write_figures(fig_dir: &Path, section: &Section) -> io::Result<Vec<Figure>> {
         );
         plots::convergence(&path, run, section.thesis)?;
     }
-    if run.has_partitions() {
+    if run.has_partitions() && !load_steps {
         let (mesh, figures) = if run.is_model_adaptive() {
             ("", "IV.35–IV.45")
         } else {
@@ -325,7 +365,7 @@ fn write_figures(fig_dir: &Path, section: &Section) -> io::Result<Vec<Figure>> {
         );
         plots::accuracy(&path, run)?;
     }
-    if !run.rows.is_empty() && !run.is_model_adaptive() {
+    if !run.rows.is_empty() && !run.is_model_adaptive() && !load_steps {
         let path = push(
             "cost",
             format!(
@@ -335,7 +375,7 @@ fn write_figures(fig_dir: &Path, section: &Section) -> io::Result<Vec<Figure>> {
         );
         plots::cost(&path, run)?;
     }
-    if !run.meshes.is_empty() {
+    if !run.meshes.is_empty() && !load_steps {
         let cycles: Vec<String> = run.meshes.iter().map(|m| m.cycle.to_string()).collect();
         // The Signorini faces on the adapted meshes of the model-and-grid tables.
         let partitions: &[_] = if run.is_model_adaptive() {
@@ -359,18 +399,31 @@ fn write_figures(fig_dir: &Path, section: &Section) -> io::Result<Vec<Figure>> {
         plots::meshes(&path, &run.meshes, run.domain, partitions)?;
     }
 
-    for (i, pic) in run.deformed.iter().enumerate() {
-        let kind = indexed("deformed", i, run.deformed.len());
-        let path = push(
-            &kind,
-            format!(
-                "{}: deformed body after cycle {}, displacement × {}",
-                run.table,
-                pic.cycle,
-                html::fmt_short(pic.scale)
-            ),
-        );
-        plots::deformed(&path, &run.table, pic)?;
+    // The animation of a load-step run and its frames, listed under it once `push` is done.
+    let mut animation = None;
+    if load_steps && !run.deformed.is_empty() {
+        let path = push("animation", animation_caption(run));
+        let frames = forming::frames(fig_dir, &stem, run, &path)?;
+        animation = Some((path, frames));
+    } else {
+        for (i, pic) in run.deformed.iter().enumerate() {
+            let kind = indexed("deformed", i, run.deformed.len());
+            let path = push(
+                &kind,
+                format!(
+                    "{}: deformed body after cycle {}, displacement × {}{}",
+                    run.table,
+                    pic.cycle,
+                    html::fmt_short(pic.scale),
+                    if pic.accurate_faces.is_empty() {
+                        ""
+                    } else {
+                        "; Signorini faces thick black"
+                    }
+                ),
+            );
+            plots::deformed(&path, &run.table, pic)?;
+        }
     }
 
     for (i, pic) in run.fields.iter().enumerate() {
@@ -389,7 +442,33 @@ fn write_figures(fig_dir: &Path, section: &Section) -> io::Result<Vec<Figure>> {
         plots::field(&path, &run.table, pic, run.domain)?;
     }
 
+    if let Some((path, frames)) = animation {
+        if let Some(figure) = figures.iter_mut().find(|f| fig_dir.join(&f.file) == path) {
+            figure.links = frames
+                .into_iter()
+                .map(|f| (f.file, format!("step {:02}", f.step)))
+                .collect();
+        }
+    }
     Ok(figures)
+}
+
+/// The caption of a load-step run's animation.
+fn animation_caption(run: &RunResult) -> String {
+    let steps = run.deformed.len();
+    let signorini = if run.deformed.iter().any(|p| !p.accurate_faces.is_empty()) {
+        ", Signorini faces thick black"
+    } else {
+        ""
+    };
+    format!(
+        "{}: the body after each of the {steps} load step{} in one fixed view, {} s per step \
+         and a pause on the last (an SVG animation); obstacles brown{signorini}, vertices in \
+         contact red",
+        run.table,
+        if steps == 1 { "" } else { "s" },
+        html::fmt_short(forming::FRAME_SECONDS)
+    )
 }
 
 /// `kind` when a run has one picture of that kind, `kind-i` when it has several.
@@ -445,7 +524,8 @@ pub(crate) struct Summary {
     pub rows: usize,
     pub last_dofs: Option<usize>,
     pub last_estimate: Option<f64>,
-    /// Geometric mean of the per-cycle estimate ratios (the mean reduction per cycle).
+    /// Geometric mean of the per-cycle estimate ratios (the mean reduction per cycle); none for
+    /// a load-step run, whose rows are load steps on a moving body, not refinements.
     pub geo_mean_ratio: Option<f64>,
     /// Largest |tribo/thesis − 1| over the cycles both have, with its signed value.
     pub max_dofs_diff: Option<f64>,
@@ -462,7 +542,7 @@ impl Summary {
             .filter_map(|r| r.ratio())
             .filter(|r| r.is_finite() && *r > 0.0)
             .collect();
-        let geo_mean_ratio = (!ratios.is_empty())
+        let geo_mean_ratio = (!ratios.is_empty() && !run.is_load_steps())
             .then(|| (ratios.iter().map(|r| r.ln()).sum::<f64>() / ratios.len() as f64).exp());
         Summary {
             rows: run.rows.len(),

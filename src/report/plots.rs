@@ -28,7 +28,7 @@ use crate::thesis::ThesisTable;
 
 /// Turn a plotters error into an `io::Error` (plotters' SVG backend draws into a `String`, so
 /// these are layout errors, not file errors).
-fn plot_err<E: std::fmt::Debug>(e: E) -> io::Error {
+pub(super) fn plot_err<E: std::fmt::Debug>(e: E) -> io::Error {
     io::Error::other(format!("plotting failed: {e:?}"))
 }
 
@@ -62,7 +62,7 @@ fn loggable(p: &(f64, f64)) -> bool {
 
 /// A log-axis range around the given positive values, padded so markers do not sit on the frame;
 /// a single value (or none) still gives a non-empty range.
-fn log_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
+pub(super) fn log_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
     let (lo, hi) = values
         .filter(|v| v.is_finite() && *v > 0.0)
         .fold((f64::INFINITY, 0.0_f64), |(lo, hi), v| {
@@ -83,13 +83,13 @@ fn log_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
 /// decades itself: labelled ticks at mantissas 1, 2, 5 (or 1 only, or every few decades, as space
 /// allows), grid lines at every integer mantissa.
 #[derive(Clone)]
-struct NiceLog {
+pub(super) struct NiceLog {
     lo: f64,
     hi: f64,
 }
 
 impl NiceLog {
-    fn new((lo, hi): (f64, f64)) -> NiceLog {
+    pub(super) fn new((lo, hi): (f64, f64)) -> NiceLog {
         NiceLog { lo, hi }
     }
 
@@ -155,7 +155,7 @@ impl Ranged for NiceLog {
 }
 
 /// Tick label for a log axis: plain numbers in the human range, `1e5` style beyond it.
-fn log_tick(v: &f64) -> String {
+pub(super) fn log_tick(v: &f64) -> String {
     let a = v.abs();
     if a == 0.0 || !a.is_finite() {
         return String::new();
@@ -171,16 +171,16 @@ fn log_tick(v: &f64) -> String {
 
 const TRIBO: RGBColor = RGBColor(31, 119, 180);
 const THESIS: RGBColor = RGBColor(214, 39, 40);
-const TRIBO_ME: RGBColor = RGBColor(44, 160, 44);
+pub(super) const TRIBO_ME: RGBColor = RGBColor(44, 160, 44);
 const THESIS_ME: RGBColor = RGBColor(148, 103, 189);
-const GUIDE: RGBColor = RGBColor(120, 120, 120);
+pub(super) const GUIDE: RGBColor = RGBColor(120, 120, 120);
 
-/// One curve of the convergence plot.
-struct Curve {
-    label: String,
-    color: RGBColor,
-    dashed: bool,
-    points: Vec<(f64, f64)>,
+/// One curve of a chart (the convergence plot, the per-step chart of a load-step run).
+pub(super) struct Curve {
+    pub label: String,
+    pub color: RGBColor,
+    pub dashed: bool,
+    pub points: Vec<(f64, f64)>,
 }
 
 /// (x, y) pairs of two thesis columns, in printed order, skipping rows without both; only the
@@ -367,26 +367,58 @@ fn log_log_chart(
                 )
                 .map_err(plot_err)?;
         } else {
-            chart
-                .draw_series(LineSeries::new(c.points.clone(), style))
-                .map_err(plot_err)?
-                .label(c.label.as_str())
-                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 22, y)], style));
-            chart
-                .draw_series(c.points.iter().map(|p| Circle::new(*p, 3, color.filled())))
-                .map_err(plot_err)?;
+            solid_curve(&mut chart, c, &[&c.points])?;
         }
     }
     if !curves.is_empty() {
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
-            .background_style(WHITE.mix(0.9))
-            .border_style(RGBColor(160, 160, 160))
-            .label_font(("sans-serif", 16))
-            .draw()
-            .map_err(plot_err)?;
+        series_legend(&mut chart, SeriesLabelPosition::UpperRight, 16)?;
     }
+    Ok(())
+}
+
+/// A solid curve: a line through each of `runs` (pieces of the curve's points; the legend
+/// entry is the first piece's) and a dot at every point of the curve.
+pub(super) fn solid_curve<X, Y>(
+    chart: &mut ChartContext<'_, SVGBackend<'_>, Cartesian2d<X, Y>>,
+    c: &Curve,
+    runs: &[&[(f64, f64)]],
+) -> io::Result<()>
+where
+    X: Ranged<ValueType = f64>,
+    Y: Ranged<ValueType = f64>,
+{
+    let style = c.color.stroke_width(2);
+    for (k, run) in runs.iter().enumerate() {
+        let series = chart
+            .draw_series(LineSeries::new(run.iter().copied(), style))
+            .map_err(plot_err)?;
+        if k == 0 {
+            series
+                .label(c.label.as_str())
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 22, y)], style));
+        }
+    }
+    let color = c.color;
+    chart
+        .draw_series(c.points.iter().map(|p| Circle::new(*p, 3, color.filled())))
+        .map_err(plot_err)?;
+    Ok(())
+}
+
+/// The legend of a chart's labelled series: a framed, nearly opaque box at `position`.
+pub(super) fn series_legend<'a, CT: CoordTranslate>(
+    chart: &mut ChartContext<'a, SVGBackend<'a>, CT>,
+    position: SeriesLabelPosition,
+    font_size: u32,
+) -> io::Result<()> {
+    chart
+        .configure_series_labels()
+        .position(position)
+        .background_style(WHITE.mix(0.9))
+        .border_style(RGBColor(160, 160, 160))
+        .label_font(("sans-serif", font_size))
+        .draw()
+        .map_err(plot_err)?;
     Ok(())
 }
 
@@ -606,15 +638,7 @@ fn phase_bars(area: &DrawingArea<SVGBackend, Shift>, run: &RunResult) -> io::Res
             .label(*name)
             .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 12, y + 5)], color.filled()));
     }
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperLeft)
-        .background_style(WHITE.mix(0.9))
-        .border_style(RGBColor(160, 160, 160))
-        .label_font(("sans-serif", 17))
-        .draw()
-        .map_err(plot_err)?;
-    Ok(())
+    series_legend(&mut chart, SeriesLabelPosition::UpperLeft, 17)
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -628,7 +652,7 @@ const SUB: f64 = 10.0;
 /// Maps a rectangle of the domain onto a pixel rectangle, y pointing up in the domain and down in
 /// the SVG. Integer output is in [`SUB`] units.
 #[derive(Clone, Copy)]
-struct Frame {
+pub(super) struct Frame {
     /// Domain window `[x0, x1, y0, y1]`.
     win: [f64; 4],
     /// Pixel origin (left, top) and pixels per domain unit.
@@ -678,7 +702,7 @@ fn finite_box(c: &CellBox) -> bool {
 }
 
 /// Bounding box `[x0, x1, y0, y1]` of finite points, `None` if there are none or it has no area.
-fn bbox(points: impl Iterator<Item = (f64, f64)>) -> Option<[f64; 4]> {
+pub(super) fn bbox(points: impl Iterator<Item = (f64, f64)>) -> Option<[f64; 4]> {
     let mut b = [
         f64::INFINITY,
         f64::NEG_INFINITY,
@@ -825,7 +849,7 @@ pub(super) fn text(svg: &mut String, x: f64, y: f64, size: f64, anchor: &str, s:
     );
 }
 
-fn placeholder(path: &Path, title: &str, why: &str) -> io::Result<()> {
+pub(super) fn placeholder(path: &Path, title: &str, why: &str) -> io::Result<()> {
     let mut svg = svg_open(600.0, 80.0);
     text(&mut svg, 10.0, 28.0, 16.0, "start", title);
     text(&mut svg, 10.0, 58.0, 14.0, "start", why);
@@ -998,26 +1022,54 @@ pub fn meshes(
 }
 
 /// The deformed body (thesis Fig. IV.2): displaced quadrilaterals filled light and outlined,
-/// obstacles as thick polylines, active contact vertices as dots.
+/// obstacles as thick polylines, the Signorini faces of a model-adaptive run as thick black
+/// segments (thesis Figs IV.35–IV.51 mark them so), active contact vertices as dots.
 ///
-/// The view is the body's extent plus a margin, so an obstacle curve that runs far from the body
-/// is clipped instead of shrinking the body to a sliver.
+/// The view is the body's extent plus a margin ([`deformed_window`]), so an obstacle curve that
+/// runs far from the body is clipped instead of shrinking the body to a sliver.
 pub fn deformed(path: &Path, table: &str, pic: &DeformedPicture) -> io::Result<()> {
     let title = format!(
         "{table} — deformed body after cycle {}, displacement × {}",
         pic.cycle,
         fmt_short(pic.scale)
     );
-    let finite_quad = |q: &&[[f64; 2]; 4]| q.iter().flatten().all(|v| v.is_finite());
-    let Some(body) = bbox(
+    match deformed_window(pic) {
+        Some(win) => deformed_in(path, &title, pic, win),
+        None => placeholder(path, &title, "no finite cells to draw"),
+    }
+}
+
+/// A deformed-body picture of `pic` showing the domain window `win` (the load-step frames of
+/// Fig. IV.54 share one window, so that stepping through them shows the motion).
+pub(super) fn deformed_in(
+    path: &Path,
+    title: &str,
+    pic: &DeformedPicture,
+    win: [f64; 4],
+) -> io::Result<()> {
+    let canvas = DeformedCanvas::new(win);
+    let mut svg = svg_open(canvas.width, canvas.height);
+    deformed_drawing(&mut svg, title, pic, &canvas.frame, true);
+    svg.push_str("</svg>\n");
+    fs::write(path, svg)
+}
+
+/// Whether every corner of a quadrilateral is finite (the others are not drawn).
+fn finite_quad(q: &&[[f64; 2]; 4]) -> bool {
+    q.iter().flatten().all(|v| v.is_finite())
+}
+
+/// The view of one deformed body: the extent of its finite quadrilaterals plus a margin,
+/// extended to the obstacles and contact points within that margin, with a little air; `None`
+/// when no quadrilateral is finite.
+pub(super) fn deformed_window(pic: &DeformedPicture) -> Option<[f64; 4]> {
+    let body = bbox(
         pic.quads
             .iter()
             .filter(finite_quad)
             .flatten()
             .map(|p| (p[0], p[1])),
-    ) else {
-        return placeholder(path, &title, "no finite cells to draw");
-    };
+    )?;
     let (bw, bh) = (body[1] - body[0], body[3] - body[2]);
     let (mx, my) = (0.03 * bw, 0.35 * bh.max(bw / 40.0));
     let reach = [body[0] - mx, body[1] + mx, body[2] - my, body[3] + my];
@@ -1037,25 +1089,69 @@ pub fn deformed(path: &Path, table: &str, pic: &DeformedPicture) -> io::Result<(
     ];
     // A little air around the drawing.
     let pad = 0.02 * (win[3] - win[2]).max((win[1] - win[0]) / 60.0);
-    let win = [win[0] - pad, win[1] + pad, win[2] - pad, win[3] + pad];
+    Some([win[0] - pad, win[1] + pad, win[2] - pad, win[3] + pad])
+}
 
-    let margin = 12.0;
-    let aspect = (win[1] - win[0]) / (win[3] - win[2]);
-    // Keep tall pictures at a readable height.
-    let plot_w = (WIDE - 2.0 * margin).min(820.0 * aspect);
-    let f = Frame::new(win, margin, 40.0, plot_w);
-    let width = (plot_w + 2.0 * margin).max(640.0);
-    let height = f.top + f.height() + 60.0;
+/// The canvas of a deformed-body picture: where the window is drawn, and the picture's size in
+/// pixels (room for the title above and the legend and caption below).
+pub(super) struct DeformedCanvas {
+    pub frame: Frame,
+    pub width: f64,
+    pub height: f64,
+}
 
-    let mut svg = svg_open(width, height);
-    text(&mut svg, margin, 26.0, 17.0, "start", &title);
-    let _ = writeln!(
-        svg,
-        "<clipPath id=\"c\"><rect x=\"{:.1}\" y=\"{:.1}\" width=\"{:.1}\" height=\"{:.1}\"/></clipPath>\n<g clip-path=\"url(#c)\"><g transform=\"scale({})\">",
+impl DeformedCanvas {
+    /// Left and right margin in pixels.
+    pub const MARGIN: f64 = 12.0;
+
+    pub fn new(win: [f64; 4]) -> DeformedCanvas {
+        let margin = Self::MARGIN;
+        let aspect = (win[1] - win[0]) / (win[3] - win[2]);
+        // Keep tall pictures at a readable height.
+        let plot_w = (WIDE - 2.0 * margin).min(820.0 * aspect);
+        let frame = Frame::new(win, margin, 40.0, plot_w);
+        DeformedCanvas {
+            width: (plot_w + 2.0 * margin).max(640.0),
+            height: frame.top + frame.height() + 60.0,
+            frame,
+        }
+    }
+}
+
+/// Id of the clip path of a deformed-body picture's window.
+pub(super) const DEFORMED_CLIP: &str = "c";
+
+/// The clip path [`DEFORMED_CLIP`] of the window `f`.
+pub(super) fn deformed_clip(f: &Frame) -> String {
+    format!(
+        "<clipPath id=\"{DEFORMED_CLIP}\"><rect x=\"{:.1}\" y=\"{:.1}\" width=\"{:.1}\" height=\"{:.1}\"/></clipPath>",
         f.left,
         f.top,
         f.width(),
         f.height(),
+    )
+}
+
+/// Everything of one deformed-body picture inside an open `<svg>`: the title, the body, the
+/// obstacles, the Signorini faces and the contact points clipped to the window `f`, the window's
+/// frame, the legend and the picture's caption. With `define_clip` the clip path
+/// ([`deformed_clip`]) is written here; an animation of several pictures defines it once.
+pub(super) fn deformed_drawing(
+    svg: &mut String,
+    title: &str,
+    pic: &DeformedPicture,
+    f: &Frame,
+    define_clip: bool,
+) {
+    let margin = f.left;
+    text(svg, margin, 26.0, 17.0, "start", title);
+    if define_clip {
+        svg.push_str(&deformed_clip(f));
+        svg.push('\n');
+    }
+    let _ = writeln!(
+        svg,
+        "<g clip-path=\"url(#{DEFORMED_CLIP})\"><g transform=\"scale({})\">",
         1.0 / SUB
     );
     let mut d = String::new();
@@ -1085,10 +1181,11 @@ pub fn deformed(path: &Path, table: &str, pic: &DeformedPicture) -> io::Result<(
         "<path fill=\"#d6e4f2\" stroke=\"#4a6a8a\" stroke-width=\"{}\" stroke-linejoin=\"round\" d=\"{d}\"/>",
         0.5 * SUB
     );
+    let finite = |p: &&[f64; 2]| p[0].is_finite() && p[1].is_finite();
     let mut d = String::new();
     for line in &pic.obstacles {
         let mut first = true;
-        for p in line.iter().filter(|p| p[0].is_finite() && p[1].is_finite()) {
+        for p in line.iter().filter(finite) {
             let (x, y) = f.sub(p[0], p[1]);
             let _ = write!(d, "{}{x} {y}", if first { "M" } else { "L" });
             first = false;
@@ -1099,13 +1196,32 @@ pub fn deformed(path: &Path, table: &str, pic: &DeformedPicture) -> io::Result<(
         "<path fill=\"none\" stroke=\"#5b3a1a\" stroke-width=\"{}\" stroke-linejoin=\"round\" d=\"{d}\"/>",
         3.0 * SUB
     );
+    // The Signorini faces on top of the body and the obstacles, under the contact points.
+    if !pic.accurate_faces.is_empty() {
+        // A face that starts where the previous one ended continues its line.
+        let mut d = String::new();
+        let mut end = None;
+        for [a, b] in pic
+            .accurate_faces
+            .iter()
+            .filter(|[a, b]| finite(&a) && finite(&b))
+        {
+            let (start, to) = (f.sub(a[0], a[1]), f.sub(b[0], b[1]));
+            if end != Some(start) {
+                let _ = write!(d, "M{} {}", start.0, start.1);
+            }
+            let _ = write!(d, "L{} {}", to.0, to.1);
+            end = Some(to);
+        }
+        let _ = writeln!(
+            svg,
+            "<path class=\"{SIGNORINI_CLASS}\" fill=\"none\" stroke=\"#000\" stroke-width=\"{}\" stroke-linejoin=\"round\" d=\"{d}\"/>",
+            SIGNORINI_WIDTH * SUB
+        );
+    }
     // Dots as zero-length segments with round caps: one path for any number of points.
     let mut d = String::new();
-    for p in pic
-        .contact_points
-        .iter()
-        .filter(|p| p[0].is_finite() && p[1].is_finite())
-    {
+    for p in pic.contact_points.iter().filter(finite) {
         let (x, y) = f.sub(p[0], p[1]);
         let _ = write!(d, "M{x} {y}h0");
     }
@@ -1123,7 +1239,8 @@ pub fn deformed(path: &Path, table: &str, pic: &DeformedPicture) -> io::Result<(
         f.height()
     );
 
-    // Legend (only for pictures with an obstacle) and caption under the picture.
+    // Legend (only for pictures with an obstacle or Signorini faces) and caption under the
+    // picture.
     let y = f.top + f.height() + 22.0;
     if !pic.obstacles.is_empty() {
         let _ = writeln!(
@@ -1132,9 +1249,9 @@ pub fn deformed(path: &Path, table: &str, pic: &DeformedPicture) -> io::Result<(
              <path d=\"M{:.1} {y}h0\" stroke=\"#e31a1c\" stroke-width=\"5\" stroke-linecap=\"round\"/>",
             margin + 150.0
         );
-        text(&mut svg, margin + 34.0, y + 5.0, 13.0, "start", "obstacle");
+        text(svg, margin + 34.0, y + 5.0, 13.0, "start", "obstacle");
         text(
-            &mut svg,
+            svg,
             margin + 158.0,
             y + 5.0,
             13.0,
@@ -1142,10 +1259,28 @@ pub fn deformed(path: &Path, table: &str, pic: &DeformedPicture) -> io::Result<(
             &format!("contact points ({})", pic.contact_points.len()),
         );
     }
-    text(&mut svg, margin, y + 28.0, 14.0, "start", &pic.caption);
-    svg.push_str("</svg>\n");
-    fs::write(path, svg)
+    if !pic.accurate_faces.is_empty() {
+        let _ = writeln!(
+            svg,
+            "<path d=\"M{:.1} {y:.1}h28\" stroke=\"#000\" stroke-width=\"{SIGNORINI_WIDTH}\"/>",
+            margin + 330.0
+        );
+        text(
+            svg,
+            margin + 364.0,
+            y + 5.0,
+            13.0,
+            "start",
+            &format!("Signorini faces ({})", pic.accurate_faces.len()),
+        );
+    }
+    text(svg, margin, y + 28.0, 14.0, "start", &pic.caption);
 }
+
+/// Class of the path of the Signorini faces in a deformed-body picture (what the tests look for).
+pub(super) const SIGNORINI_CLASS: &str = "signorini-faces";
+/// Width in pixels of the Signorini faces, as in the mesh figure of Tables IV.30–IV.35.
+const SIGNORINI_WIDTH: f64 = 4.0;
 
 /// Viridis colormap (matplotlib's perceptually uniform map), sampled at nine points and
 /// interpolated linearly: close enough for a report and free of dependencies.
@@ -1375,6 +1510,21 @@ pub fn field(path: &Path, table: &str, pic: &FieldPicture, domain: [f64; 4]) -> 
     fs::write(path, svg)
 }
 
+/// A run of table `T` with the given rows, deformed pictures and domain and nothing else, for the
+/// tests of the figures.
+#[cfg(test)]
+pub(super) fn test_run(
+    rows: Vec<crate::results::Row>,
+    deformed: Vec<DeformedPicture>,
+    domain: [f64; 4],
+) -> RunResult {
+    RunResult {
+        rows,
+        deformed,
+        ..RunResult::new("T", "S", "t", "quick", domain)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -1434,22 +1584,7 @@ mod tests {
             vec![row(f64::NAN), row(-1.0)],
             vec![row(0.5)],
         ] {
-            let run = RunResult {
-                table: "T".into(),
-                section: "S".into(),
-                title: "t".into(),
-                tier: "quick".into(),
-                rows,
-                probes: vec![],
-                meshes: vec![],
-                deformed: vec![],
-                fields: vec![],
-                partitions: vec![],
-                costs: vec![],
-                domain: [0.0, 1.0, 0.0, 1.0],
-                notes: vec![],
-                warnings: vec![],
-            };
+            let run = test_run(rows, vec![], [0.0, 1.0, 0.0, 1.0]);
             convergence(&dir.join("c.svg"), &run, &thesis).unwrap();
             cost(&dir.join("k.svg"), &run).unwrap();
         }
@@ -1464,6 +1599,7 @@ mod tests {
             quads: vec![[[f64::NAN; 2]; 4]],
             obstacles: vec![vec![]],
             contact_points: vec![],
+            accurate_faces: vec![],
             caption: String::new(),
         };
         deformed(&dir.join("d.svg"), "T", &pic).unwrap();

@@ -8,7 +8,7 @@ use super::problem::{Discretisation, Estimate};
 use crate::adaptivity::model::{fixed_fraction, sorted_error, Partition};
 use crate::adaptivity::{mark_fixed_number, rounded_measure};
 use crate::estimators::FaceIndicators;
-use crate::experiment::ModelAlgorithm;
+use crate::experiment::{ModelAlgorithm, Scene};
 use crate::mesh::{BoundaryFace, Mesh, Side};
 
 /// One adaptation step between two solves.
@@ -236,4 +236,47 @@ pub fn inherit_models(
                     .any(|a| accurate.contains(&a))
         })
         .collect()
+}
+
+/// The load steps of the U-O forming (§IV.2.4.7): "for each step we perform 4 (model- and
+/// grid-) refinement cycles. After this we add to each vertex of the grid the local deformation
+/// and use this deformed grid for the next step". Between the cycles of a step the model and
+/// the grid adapt by [`Balanced`]; after the step's last cycle the body moves by the
+/// displacement of its coarse vertices ([`Estimate::body_motion`]) and the next step starts
+/// from the moved coarse cells ([`Discretisation::next_load_step`]; kept meshes would grow
+/// without bound).
+pub struct LoadSteps {
+    /// The cycles of one step.
+    pub cycles: usize,
+    pub model_and_grid: Balanced,
+    /// The scene's refinements of the coarse cells, applied to every moved body.
+    pub scene: Scene,
+    /// Cycles done so far.
+    done: usize,
+}
+
+impl LoadSteps {
+    pub fn new(cycles: usize, model_and_grid: Balanced, scene: Scene) -> LoadSteps {
+        LoadSteps {
+            cycles,
+            model_and_grid,
+            scene,
+            done: 0,
+        }
+    }
+}
+
+impl Adaptation for LoadSteps {
+    fn adapt(&mut self, disc: &mut Discretisation, estimate: &Estimate) -> Result<(), String> {
+        self.done += 1;
+        if !self.done.is_multiple_of(self.cycles) {
+            return self.model_and_grid.adapt(disc, estimate);
+        }
+        let motion = estimate
+            .body_motion
+            .as_deref()
+            .ok_or("a load step needs the displacement of the body's coarse vertices")?;
+        *disc = disc.next_load_step(&self.scene, motion)?;
+        Ok(())
+    }
 }

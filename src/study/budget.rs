@@ -80,9 +80,10 @@ impl Budget {
     /// Check the predicted size of the whole run before its first solve.
     pub fn admit_run(&self, experiment: &Experiment, schedule: Schedule) -> Result<(), RunError> {
         let c = components(experiment);
-        let mut cells = initial_cells(experiment);
+        let initial = initial_cells(experiment);
+        let mut cells = initial;
         let growth = match experiment.study.kind {
-            StudyKind::GridAdaptive | StudyKind::ModelAndGridAdaptive => {
+            StudyKind::GridAdaptive | StudyKind::ModelAndGridAdaptive | StudyKind::LoadSteps => {
                 CLOSURE
                     * (1.0 + 3.0 * experiment.study.refine_fraction
                         - 0.75 * experiment.study.coarsen_fraction)
@@ -91,6 +92,10 @@ impl Budget {
             StudyKind::ModelAdaptive => 1.0,
         };
         for solve in schedule.solves() {
+            // A load step restarts from the coarse cells of the moved body.
+            if let Some((_, 0)) = solve.step {
+                cells = initial;
+            }
             if memory(cells, c) > self.bytes {
                 return Err(solve.error(
                     &experiment.table,

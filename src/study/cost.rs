@@ -49,10 +49,12 @@ pub fn accuracy_costs(experiment: &Experiment) -> Result<Vec<CostRow>, RunError>
     else {
         return Ok(Vec::new());
     };
-    let fail = |cycle: usize, message: String| RunError {
-        table: experiment.table.clone(),
-        cycle,
-        message: format!("cost of accuracy: {message}"),
+    let fail = |cycle: usize, message: String| {
+        RunError::at_cycle(
+            &experiment.table,
+            cycle,
+            format!("cost of accuracy: {message}"),
+        )
     };
     let disc = Discretisation::initial(&experiment.scene).map_err(|e| fail(0, e.to_string()))?;
     let model = Elasticity::from(elasticity);

@@ -143,6 +143,7 @@ pub fn deformed_picture(
         quads,
         obstacles: Vec::new(),
         contact_points: Vec::new(),
+        accurate_faces: Vec::new(),
         caption: format!("largest displacement component {}", sig4(max)),
     }
 }

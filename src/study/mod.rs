@@ -22,7 +22,7 @@ pub mod thin_film;
 pub mod transfer;
 pub mod warnings;
 
-pub use adapt::{Adaptation, Balanced, FixedNumber, ModelMarking};
+pub use adapt::{Adaptation, Balanced, FixedNumber, LoadSteps, ModelMarking};
 pub use budget::Budget;
 pub use clock::{Phase, PhaseClock};
 pub use problem::{Discretisation, Estimate, Pictures, Problem, Solution};
@@ -49,13 +49,31 @@ impl Tier {
     }
 }
 
-/// A run that could not finish: names the table, the cycle and the reason.
+/// A run that could not finish: names the table, the cycle (and the load step) and the reason.
 #[derive(Debug, thiserror::Error)]
-#[error("table {table}, cycle {cycle}: {message}")]
+#[error(
+    "table {table}, {}cycle {cycle}: {message}",
+    step.map_or(String::new(), |j| format!("load step {j}, "))
+)]
 pub struct RunError {
     pub table: String,
+    /// The printed cycle; in a load-step study the cycle within the step.
     pub cycle: usize,
+    /// The load step of a load-step study.
+    pub step: Option<usize>,
     pub message: String,
+}
+
+impl RunError {
+    /// An error of `table` in printed cycle `cycle` (no load steps).
+    pub fn at_cycle(table: &str, cycle: usize, message: String) -> RunError {
+        RunError {
+            table: table.to_string(),
+            cycle,
+            step: None,
+            message,
+        }
+    }
 }
 
 /// Progress callback: (table, solves done, solves in total).
@@ -78,31 +96,43 @@ pub fn solves(experiment: &Experiment, tier: Tier) -> usize {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Solve {
     pub index: usize,
-    /// Printed cycle (row) of this solve; `None` for the unprinted solves before row 0.
+    /// Printed cycle (row) of this solve; `None` for the unprinted solves before row 0 and, in
+    /// a load-step study, for every cycle of a step but its last.
     pub row: Option<usize>,
     /// Whether it is the last solve (no adaptation after it).
     pub last: bool,
+    /// In a load-step study: the step and the cycle within it.
+    pub step: Option<(usize, usize)>,
 }
 
 impl Solve {
-    /// The error of this solve in `table`, named by its cycle (0 for the unprinted solves).
-    fn error(&self, table: &str, message: String) -> RunError {
-        RunError {
-            table: table.to_string(),
-            cycle: self.row.unwrap_or(0),
-            message: match self.row {
-                Some(_) => message,
-                None => format!("unprinted solve {} before row 0: {message}", self.index + 1),
-            },
+    /// The error of this solve in `table`, named by its cycle (0 for the unprinted solves) and
+    /// its load step.
+    pub fn error(&self, table: &str, message: String) -> RunError {
+        if let Some((step, cycle)) = self.step {
+            return RunError {
+                step: Some(step),
+                ..RunError::at_cycle(table, cycle, message)
+            };
+        }
+        match self.row {
+            Some(cycle) => RunError::at_cycle(table, cycle, message),
+            None => RunError::at_cycle(
+                table,
+                0,
+                format!("unprinted solve {} before row 0: {message}", self.index + 1),
+            ),
         }
     }
 }
 
-/// The solves of a study: `unprinted` silent ones, then one per printed row of the tier.
+/// The solves of a study: `unprinted` silent ones, then `per_row` solves for each printed row
+/// of the tier (the cycles of a load step; 1 in every other study), the row made by the last.
 #[derive(Clone, Copy, Debug)]
 pub struct Schedule {
     pub unprinted: usize,
     pub printed: usize,
+    pub per_row: usize,
 }
 
 impl Schedule {
@@ -110,12 +140,13 @@ impl Schedule {
         Schedule {
             unprinted: experiment.study.unprinted_cycles,
             printed: printed_rows(experiment, tier),
+            per_row: experiment.study.cycles_per_row(),
         }
     }
 
     /// Number of solves.
     pub fn len(&self) -> usize {
-        self.unprinted + self.printed
+        self.unprinted + self.printed * self.per_row
     }
 
     pub fn is_empty(&self) -> bool {
@@ -123,10 +154,23 @@ impl Schedule {
     }
 
     pub fn solves(self) -> impl Iterator<Item = Solve> {
-        (0..self.len()).map(move |index| Solve {
-            index,
-            row: index.checked_sub(self.unprinted),
-            last: index + 1 == self.len(),
+        (0..self.len()).map(move |index| {
+            let printed = index.checked_sub(self.unprinted);
+            let (row, step) = match printed {
+                None => (None, None),
+                Some(k) if self.per_row == 1 => (Some(k), None),
+                Some(k) => {
+                    let (step, cycle) = (k / self.per_row, k % self.per_row);
+                    let row = (cycle + 1 == self.per_row).then_some(step);
+                    (row, Some((step, cycle)))
+                }
+            };
+            Solve {
+                index,
+                row,
+                last: index + 1 == self.len(),
+                step,
+            }
         })
     }
 }
@@ -146,7 +190,7 @@ pub fn run_within(
     feasible(experiment)?;
     budget.admit_run(experiment, Schedule::of(experiment, tier))?;
     let mut problem = build_problem(experiment);
-    let mut adaptation = build_adaptation(&experiment.study);
+    let mut adaptation = build_adaptation(&experiment.study, &experiment.scene);
     run_study(
         experiment,
         tier,
@@ -169,11 +213,11 @@ fn feasible(experiment: &Experiment) -> Result<(), RunError> {
         experiment::Problem::Elasticity(_) | experiment::Problem::Reynolds(_) => None,
     };
     match problem {
-        Some(message) => Err(RunError {
-            table: experiment.table.clone(),
-            cycle: 0,
-            message: format!("before the first solve: {message}"),
-        }),
+        Some(message) => Err(RunError::at_cycle(
+            &experiment.table,
+            0,
+            format!("before the first solve: {message}"),
+        )),
         None => Ok(()),
     }
 }
@@ -196,13 +240,21 @@ pub fn build_problem(experiment: &Experiment) -> Box<dyn Problem> {
             StudyKind::ModelAndGridAdaptive => Box::new(
                 model_contact::ModelAdaptiveContact::with_grid(elasticity, contact),
             ),
+            StudyKind::LoadSteps => Box::new(model_contact::ModelAdaptiveContact::forming(
+                elasticity,
+                contact,
+                experiment.study.lift_per_step.unwrap_or(0.0),
+            )),
         },
         experiment::Problem::Reynolds(data) => Box::new(reynolds::ReynoldsFilm::new(data, domain)),
     }
 }
 
 /// The adaptation strategy of a study: one match arm per `[study] kind`.
-pub fn build_adaptation(study: &experiment::Study) -> Box<dyn Adaptation> {
+pub fn build_adaptation(
+    study: &experiment::Study,
+    scene: &experiment::Scene,
+) -> Box<dyn Adaptation> {
     let grid = FixedNumber {
         refine: study.refine_fraction,
         coarsen: study.coarsen_fraction,
@@ -218,14 +270,20 @@ pub fn build_adaptation(study: &experiment::Study) -> Box<dyn Adaptation> {
         coarsen,
         tolerance: study.model_tolerance(),
     };
+    let balanced = Balanced {
+        model,
+        grid,
+        alpha: study.balance(),
+    };
     match study.kind {
-        StudyKind::GridAdaptive => Box::new(grid),
-        StudyKind::ModelAdaptive => Box::new(model),
-        StudyKind::ModelAndGridAdaptive => Box::new(Balanced {
-            model,
-            grid,
-            alpha: study.balance(),
-        }),
+        StudyKind::GridAdaptive => Box::new(balanced.grid),
+        StudyKind::ModelAdaptive => Box::new(balanced.model),
+        StudyKind::ModelAndGridAdaptive => Box::new(balanced),
+        StudyKind::LoadSteps => Box::new(LoadSteps::new(
+            study.cycles_per_row(),
+            balanced,
+            scene.clone(),
+        )),
     }
 }
 
@@ -257,10 +315,12 @@ pub fn run_study(
     adaptation: &mut dyn Adaptation,
 ) -> Result<RunResult, RunError> {
     let schedule = Schedule::of(experiment, tier);
-    let mut disc = Discretisation::initial(&experiment.scene).map_err(|e| RunError {
-        table: experiment.table.clone(),
-        cycle: 0,
-        message: format!("the initial mesh cannot be built: {e}"),
+    let mut disc = Discretisation::initial(&experiment.scene).map_err(|e| {
+        RunError::at_cycle(
+            &experiment.table,
+            0,
+            format!("the initial mesh cannot be built: {e}"),
+        )
     })?;
     let mut record = Recorder::new(experiment, tier, schedule.printed);
     for solve in schedule.solves() {

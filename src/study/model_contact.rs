@@ -22,6 +22,14 @@
 //! the discretisation indicators η_Q² of Theorem III.15 with the term set of the thesis's MGA
 //! code ([`ContactEstimator::MgaCode`]) for the mixed solution, printed as √Σ over three cell
 //! groups: cells with a z-face, cells with a Signorini face, cells without a contact face.
+//!
+//! **Load steps (the U-O forming of §IV.2.4.7, Fig. IV.54).** The same cycles on the body of
+//! each step ([`super::adapt::LoadSteps`] moves it between the steps), the tools of step j
+//! raised by j times the lift ([`ContactData::raised`]). Each step starts afresh: a cold
+//! z-solve and every face z, since the previous step's solution belongs to another body. The
+//! estimate adds the displacement of the coarse vertices (the motion of the body) and the tip
+//! (the material point at the lower right corner of the undeformed strip, (16, 0)) after the
+//! step's motion.
 
 use std::collections::BTreeSet;
 
@@ -37,7 +45,7 @@ use crate::estimators::FaceIndicators;
 use crate::experiment::{ContactData, ElasticityData, ModelErrorSolution};
 use crate::fe::{DofMap, System};
 use crate::linalg::DirectSolver;
-use crate::mesh::{BoundaryFace, Mesh};
+use crate::mesh::{BoundaryFace, Mesh, VertexKey};
 use crate::models::contact::{
     contact_boundaries, contact_set, penetration, side_faces, solve_contact, ConstraintBuilder,
     ContactBoundary, ContactConstraint, ContactModel, ContactSolution,
@@ -76,6 +84,20 @@ pub struct ModelAdaptiveContact {
     adapts_grid: bool,
     /// The last z-solution on its mesh: the warm start of the next z-solve.
     previous_z: Option<PreviousSolution>,
+    /// The load steps of a forming study.
+    forming: Option<Forming>,
+}
+
+/// The tools of a forming study and the step the problem is at.
+struct Forming {
+    /// The tools of step 0, as the file gives them.
+    tools: ContactData,
+    /// How far the rising tools rise per step.
+    lift: f64,
+    step: usize,
+    /// The vertices (integer positions: the same material points in every step's body) in
+    /// contact in the last z-solve: the warm start of the next step's first z-solve.
+    z_contact: BTreeSet<VertexKey>,
 }
 
 impl ModelAdaptiveContact {
@@ -93,7 +115,64 @@ impl ModelAdaptiveContact {
             state: None,
             adapts_grid: false,
             previous_z: None,
+            forming: None,
         }
+    }
+
+    /// The problem of a load-step study (the U-O forming, §IV.2.4.7): model and grid
+    /// adaptivity on each step's body, the rising tools raised by `lift` per step.
+    pub fn forming(
+        elasticity: &ElasticityData,
+        contact: &ContactData,
+        lift: f64,
+    ) -> ModelAdaptiveContact {
+        ModelAdaptiveContact {
+            forming: Some(Forming {
+                tools: contact.clone(),
+                lift,
+                step: 0,
+                z_contact: BTreeSet::new(),
+            }),
+            ..ModelAdaptiveContact::with_grid(elasticity, contact)
+        }
+    }
+
+    /// Start load step `step` if the problem is not at it: the tools of the step, and nothing
+    /// kept from the previous body but which material points were in contact (no transfer of
+    /// the displacement, no partition history).
+    fn start_load_step(&mut self, step: usize) {
+        let Some(forming) = &mut self.forming else {
+            return;
+        };
+        if forming.step == step {
+            return;
+        }
+        forming.step = step;
+        self.boundaries = contact_boundaries(&forming.tools.raised(step as f64 * forming.lift));
+        self.previous_z = None;
+        self.history.clear();
+    }
+
+    /// The displacement of the body's coarse vertices and the columns `tip_x`, `tip_y`: the
+    /// position of the material point at the lower right corner of the undeformed body (the
+    /// coarse vertex (n_x, 0)) moved by its displacement.
+    fn body_motion(mesh: &Mesh, dofs: &DofMap, u: &[f64]) -> (Vec<[f64; 2]>, [f64; 2]) {
+        let keys = mesh.coarse_vertex_keys();
+        let motion: Vec<[f64; 2]> = keys
+            .iter()
+            .map(|k| {
+                let v = dofs
+                    .vertices
+                    .keys
+                    .binary_search(k)
+                    .expect("a coarse vertex is a vertex of every refinement") as u32;
+                [u[dofs.dof(v, 0)], u[dofs.dof(v, 1)]]
+            })
+            .collect();
+        let corner = mesh.coarse_cells()[0];
+        let p = mesh.point(keys[corner]);
+        let d = motion[corner];
+        (motion, [p[0] + d[0], p[1] + d[1]])
     }
 
     /// The problem of a model-and-grid-adaptive study (Algorithm III.25).
@@ -231,6 +310,7 @@ impl Problem for ModelAdaptiveContact {
     }
 
     fn assemble(&mut self, disc: &Discretisation, system: &mut System) -> Result<(), String> {
+        self.start_load_step(disc.load_step);
         self.model.assemble(&disc.mesh, system);
         let all_z = ConstraintBuilder {
             boundaries: &self.boundaries,
@@ -238,13 +318,24 @@ impl Problem for ModelAdaptiveContact {
         };
         self.z_constraints = all_z.build(&system.dofs, &system.constraints, None)?;
         // The warm start: the contact set of the last z-solution on this mesh (the same mesh
-        // on a fixed grid, the transferred solution when the grid adapts).
-        self.z_active = match &self.previous_z {
-            Some(previous) => {
+        // on a fixed grid, the transferred solution when the grid adapts). The first z-solve
+        // of a load step starts from the material points in contact at the end of the step
+        // before (cold, the 64×2 body of the forming needs 40–64 iterations in every step).
+        self.z_active = match (&self.previous_z, &self.forming) {
+            (Some(previous), _) => {
                 let z = previous.at_contact_vertices(&self.boundaries, &system.dofs)?;
                 Some(contact_set(&self.z_constraints, &system.dofs, &z))
             }
-            None => None,
+            (None, Some(forming)) if !forming.z_contact.is_empty() => {
+                let keys = &system.dofs.vertices.keys;
+                Some(
+                    self.z_constraints
+                        .iter()
+                        .map(|c| forming.z_contact.contains(&keys[c.vertex as usize]))
+                        .collect(),
+                )
+            }
+            _ => None,
         };
         self.accurate = disc.accurate_faces.clone();
         Ok(())
@@ -259,6 +350,16 @@ impl Problem for ModelAdaptiveContact {
         let solved = self.solve_models(system);
         self.solver.release_pattern();
         let (z, mixed) = solved?;
+        if let Some(forming) = &mut self.forming {
+            let keys = &system.dofs.vertices.keys;
+            forming.z_contact = self
+                .z_constraints
+                .iter()
+                .zip(&z.active)
+                .filter(|(_, &active)| active)
+                .map(|(c, _)| keys[c.vertex as usize])
+                .collect();
+        }
         let z_iterations = z.iterations;
         let mixed_iterations = mixed.as_ref().map_or(0, |(_, m)| m.iterations);
         self.z_solution = Some(z.u.clone());
@@ -322,11 +423,19 @@ impl Problem for ModelAdaptiveContact {
             columns.extend(grid);
             columns.extend(tail);
         }
+        let mut body_motion = None;
+        if self.forming.is_some() {
+            let (motion, tip) = Self::body_motion(&disc.mesh, dofs, u);
+            body_motion = Some(motion);
+            columns.push((columns::TIP_X.to_string(), Value::real(Some(tip[0]))));
+            columns.push((columns::TIP_Y.to_string(), Value::real(Some(tip[1]))));
+        }
         Ok(Estimate {
             cells,
             faces,
             columns,
             noise_floor: None,
+            body_motion,
         })
     }
 
@@ -341,8 +450,9 @@ impl Problem for ModelAdaptiveContact {
         }
     }
 
-    /// The deformed body of the last printed cycle with the mixed solution (thesis Figs IV.35–IV.51
-    /// show the partitions; the deformed body is tribo's addition).
+    /// The deformed body of the last printed cycle with the mixed solution and its Signorini
+    /// faces (thesis Figs IV.35–IV.51 show the partitions; the deformed body is tribo's
+    /// addition); in a load-step study the body after every step (the frames of Fig. IV.54).
     fn pictures(
         &mut self,
         disc: &Discretisation,
@@ -353,24 +463,36 @@ impl Problem for ModelAdaptiveContact {
         let Some(state) = &self.state else {
             return Pictures::default();
         };
-        let label = format!(
-            "mixed contact, {} of {} faces Signorini",
-            disc.accurate_faces.len(),
-            boundary_faces(
-                &disc.mesh,
-                &self.boundaries.iter().map(|b| b.side).collect()
-            )
-            .len()
+        let faces = boundary_faces(
+            &disc.mesh,
+            &self.boundaries.iter().map(|b| b.side).collect(),
         );
+        let mut label = format!(
+            "mixed contact, {} of {} faces Signorini (thick)",
+            disc.accurate_faces.len(),
+            faces.len()
+        );
+        if self.forming.is_some() {
+            label = format!("load step {}, {label}", disc.load_step);
+        }
+        let mut picture = contact_picture(&self.boundaries, &disc.mesh, dofs, state, cycle, &label);
+        let u = &state.solution.u;
+        let keys = &dofs.vertices.keys;
+        picture.accurate_faces = disc
+            .accurate_faces
+            .iter()
+            .map(|&f| {
+                disc.mesh.face_vertex_keys(f).map(|k| {
+                    let v = keys
+                        .binary_search(&k)
+                        .expect("the ends of a face are vertices") as u32;
+                    let x = dofs.vertices.coords[v as usize];
+                    [x[0] + u[dofs.dof(v, 0)], x[1] + u[dofs.dof(v, 1)]]
+                })
+            })
+            .collect();
         Pictures {
-            deformed: vec![contact_picture(
-                &self.boundaries,
-                &disc.mesh,
-                dofs,
-                state,
-                cycle,
-                &label,
-            )],
+            deformed: vec![picture],
             fields: Vec::new(),
         }
     }

@@ -13,14 +13,17 @@ use crate::results::{columns, DeformedPicture, FieldPicture, Value};
 
 use super::clock::PhaseClock;
 
-/// What changes from cycle to cycle: the mesh and, in the model-adaptive families, the model
-/// of each contact face (the load step of a forming run will join them).
+/// What changes from cycle to cycle: the mesh, in the model-adaptive families the model of
+/// each contact face, and in a load-step study the step (the body and the tools).
 #[derive(Clone, Debug)]
 pub struct Discretisation {
     pub mesh: Mesh,
     /// The contact faces that use the accurate (Signorini) model, 𝕋_a of Algorithms
     /// III.1–III.3; every other contact face uses the z-model (𝕋_c). Empty at the start.
     pub accurate_faces: BTreeSet<BoundaryFace>,
+    /// The load step j of a load-step study (0 in every other study): the body is the one
+    /// moved by the steps before, the rising tools have risen j times.
+    pub load_step: usize,
 }
 
 impl Discretisation {
@@ -29,6 +32,7 @@ impl Discretisation {
         Discretisation {
             mesh,
             accurate_faces: BTreeSet::new(),
+            load_step: 0,
         }
     }
 
@@ -37,12 +41,53 @@ impl Discretisation {
     /// built (a grid too large to number, more refinements than [`crate::mesh::MAX_LEVEL`]).
     pub fn initial(scene: &Scene) -> Result<Discretisation, MeshError> {
         let d = &scene.domain;
-        let mut mesh = Mesh::try_new(d.x, d.y, scene.coarse_cells[0], scene.coarse_cells[1])?;
+        let mesh = Mesh::try_new(d.x, d.y, scene.coarse_cells[0], scene.coarse_cells[1])?;
+        Discretisation::refined(scene, mesh)
+    }
+
+    /// The scene's refinements of a coarse grid, every face on the z-model.
+    fn refined(scene: &Scene, mut mesh: Mesh) -> Result<Discretisation, MeshError> {
         for _ in 0..scene.global_refinements {
             mesh.refine_global()?;
         }
         mesh.refine_at_sides(&scene.refined_sides, scene.side_refinements)?;
         Ok(Discretisation::of_mesh(mesh))
+    }
+
+    /// The next load step (§IV.2.4.7): "we add to each vertex of the grid the local
+    /// deformation and use this deformed grid for the next step". Every coarse vertex moves
+    /// by `motion` (its displacement, [`Mesh::coarse_vertex_keys`] order); the moved,
+    /// stress-free body restarts from its coarse cells with the scene's refinements, every
+    /// face on the z-model. A coarse cell folded by the motion is an error naming it.
+    pub fn next_load_step(
+        &self,
+        scene: &Scene,
+        motion: &[[f64; 2]],
+    ) -> Result<Discretisation, String> {
+        let keys = self.mesh.coarse_vertex_keys();
+        if motion.len() != keys.len() {
+            return Err(format!(
+                "the body's motion has {} vertices, the coarse grid {}",
+                motion.len(),
+                keys.len()
+            ));
+        }
+        let moved = keys
+            .iter()
+            .zip(motion)
+            .map(|(&k, d)| {
+                let p = self.mesh.point(k);
+                [p[0] + d[0], p[1] + d[1]]
+            })
+            .collect();
+        let [nx, ny] = self.mesh.coarse_cells();
+        let next = self.load_step + 1;
+        let mesh = Mesh::with_coarse_vertices(nx, ny, moved).map_err(|e| {
+            format!("the body moved by the displacement of load step {} cannot start load step {next}: {e}", self.load_step)
+        })?;
+        let mut disc = Discretisation::refined(scene, mesh).map_err(|e| e.to_string())?;
+        disc.load_step = next;
+        Ok(disc)
     }
 }
 
@@ -88,6 +133,9 @@ pub struct Estimate {
     /// Indicators η_Q² at or below this are rounding noise for the marking (kept in the
     /// printed estimate).
     pub noise_floor: Option<f64>,
+    /// The displacement of the coarse vertices ([`Mesh::coarse_vertex_keys`] order), for the
+    /// adaptation that moves the body at the end of a load step; `None` where the body stays.
+    pub body_motion: Option<Vec<[f64; 2]>>,
 }
 
 impl Estimate {
@@ -100,6 +148,7 @@ impl Estimate {
             faces: FaceIndicators::new(),
             columns: vec![(columns::ESTIMATE.to_string(), Value::real(Some(total)))],
             noise_floor: None,
+            body_motion: None,
         }
     }
 

@@ -3,7 +3,7 @@
 //! share the readings of the cavitation source ([`super::thin_film::source_readings`]).
 
 use super::thin_film::source_readings;
-use crate::experiment::{ContactModel, Experiment, ModelErrorSolution, Problem};
+use crate::experiment::{ContactModel, Experiment, ModelErrorSolution, Problem, StudyKind};
 
 /// An experiment with one reading changed.
 pub struct AlternativeReading {
@@ -17,7 +17,9 @@ pub struct AlternativeReading {
 /// The alternative readings the report compares an experiment with: for Reynolds with
 /// cavitation and the printed γ₃c of (I.61), two readings of the source term R₃c
 /// ([`source_readings`]); for model-adaptive contact the model error at the z-solution instead
-/// of the mixed one ([`ModelErrorSolution`]); none for the other problems.
+/// of the mixed one ([`ModelErrorSolution`]), except in a load-step study (the thesis prints
+/// no numbers for the forming, so there is no printed value a reading could be closer to);
+/// none for the other problems.
 pub fn alternative_readings(experiment: &Experiment) -> Vec<AlternativeReading> {
     match &experiment.problem {
         Problem::Reynolds(data) => source_readings(data.cavitation, data.cavitation_source)
@@ -36,7 +38,8 @@ pub fn alternative_readings(experiment: &Experiment) -> Vec<AlternativeReading> 
             .collect(),
         Problem::Contact { contact, .. }
             if contact.model == ContactModel::ModelAdaptive
-                && contact.model_error_solution == ModelErrorSolution::Mixed =>
+                && contact.model_error_solution == ModelErrorSolution::Mixed
+                && experiment.study.kind != StudyKind::LoadSteps =>
         {
             let mut alt = experiment.clone();
             if let Problem::Contact { contact, .. } = &mut alt.problem {

@@ -5,7 +5,7 @@
 use super::problem::{Discretisation, Estimate, Problem, Solution};
 use super::transfer::evaluate;
 use super::{Solve, Tier};
-use crate::experiment::Experiment;
+use crate::experiment::{Experiment, StudyKind};
 use crate::fe::DofMap;
 use crate::mesh::{Mesh, Side};
 use crate::results::{
@@ -19,6 +19,8 @@ pub struct Recorder<'a> {
     result: RunResult,
     /// Printed rows of the tier.
     printed: usize,
+    /// The seconds of the cycles of the current load step before its printed one.
+    step_seconds: PhaseSeconds,
 }
 
 impl<'a> Recorder<'a> {
@@ -27,22 +29,17 @@ impl<'a> Recorder<'a> {
         Recorder {
             experiment,
             result: RunResult {
-                table: experiment.table.clone(),
-                section: experiment.section.clone(),
-                title: experiment.title.clone(),
-                tier: tier.name().to_string(),
-                rows: Vec::new(),
-                probes: Vec::new(),
-                meshes: Vec::new(),
-                deformed: Vec::new(),
-                fields: Vec::new(),
-                partitions: Vec::new(),
-                costs: Vec::new(),
-                domain: [d.x[0], d.x[1], d.y[0], d.y[1]],
                 notes: experiment.notes.clone(),
-                warnings: Vec::new(),
+                ..RunResult::new(
+                    &experiment.table,
+                    &experiment.section,
+                    &experiment.title,
+                    tier.name(),
+                    [d.x[0], d.x[1], d.y[0], d.y[1]],
+                )
             },
             printed,
+            step_seconds: PhaseSeconds::default(),
         }
     }
 
@@ -64,8 +61,12 @@ impl<'a> Recorder<'a> {
         if cycle + 4 >= self.printed {
             self.result.meshes.push(mesh_picture(&disc.mesh, cycle));
         }
-        if cycle + 1 == self.printed {
+        let last = cycle + 1 == self.printed;
+        if last {
             self.result.probes = self.probes(disc, dofs, solution, &*problem);
+        }
+        // A load-step study draws the body after every step (the frames of its animation).
+        if last || self.experiment.study.kind == StudyKind::LoadSteps {
             let pictures = problem.pictures(disc, dofs, solution, cycle);
             self.result.deformed.extend(pictures.deformed);
             self.result.fields.extend(pictures.fields);
@@ -80,7 +81,8 @@ impl<'a> Recorder<'a> {
             .count(columns::DOFS, dofs.n_dofs());
         for (name, value) in &estimate.columns {
             row.columns.push((name.clone(), value.defined()));
-            if name == columns::ESTIMATE {
+            // The ratio of successive estimates: not between load steps, whose bodies differ.
+            if name == columns::ESTIMATE && self.experiment.study.kind != StudyKind::LoadSteps {
                 let before = self.result.rows.last().and_then(|r| r.estimate());
                 let ratio = match (value, before) {
                     (Value::Real(Some(now)), Some(before)) => Some(now / before),
@@ -95,8 +97,19 @@ impl<'a> Recorder<'a> {
         self.result.rows.push(row);
     }
 
-    /// The seconds per phase of a printed solve.
+    /// The seconds per phase of a printed solve; in a load-step study the sums over the cycles
+    /// of the step.
     pub fn seconds(&mut self, solve: &Solve, seconds: PhaseSeconds) {
+        let seconds = match solve.step {
+            Some(_) => {
+                self.step_seconds = self.step_seconds.plus(&seconds);
+                if solve.row.is_none() {
+                    return;
+                }
+                std::mem::take(&mut self.step_seconds)
+            }
+            None => seconds,
+        };
         if let (Some(cycle), Some(row)) = (solve.row, self.result.rows.last_mut()) {
             if row.cycle == cycle {
                 row.seconds = seconds;
