@@ -4,4 +4,5 @@ pub mod contact;
 pub mod elasticity;
 pub mod obstacle;
 pub mod reynolds;
+pub mod substokes;
 pub mod thin_film;
