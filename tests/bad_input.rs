@@ -1407,7 +1407,12 @@ fn forming_checks_name_file_and_field() {
         base.replacen(from, to, 1)
     };
     let cases = [
-        ("no steps", with("rows = 25", "rows = 0"), "study.rows", "at least 1"),
+        (
+            "no steps",
+            with("rows = 25", "rows = 0"),
+            "study.rows",
+            "at least 1",
+        ),
         (
             "no cycles",
             with("cycles_per_step = 4", "cycles_per_step = 0"),
@@ -1434,7 +1439,10 @@ fn forming_checks_name_file_and_field() {
         ),
         (
             "a convergence window",
-            with("balance = 0.5", "balance = 0.5\nconvergence_window = [1, 2]"),
+            with(
+                "balance = 0.5",
+                "balance = 0.5\nconvergence_window = [1, 2]",
+            ),
             "study.convergence_window",
             "restarts",
         ),
@@ -1478,7 +1486,13 @@ fn forming_checks_name_file_and_field() {
     }
     // A figure id needs a figure number of Chapter IV; a table id needs its printed rows.
     let renamed = with("table = \"fig-IV.54\"", "table = \"fig-IV.999\"");
-    expect_error_in("fig-IV.999.toml", "figure 999", &renamed, "table", "fig-IV.<n>");
+    expect_error_in(
+        "fig-IV.999.toml",
+        "figure 999",
+        &renamed,
+        "table",
+        "fig-IV.<n>",
+    );
     let as_table = with("table = \"fig-IV.54\"", "table = \"IV.1\"");
     expect_error("a table without rows", &as_table, "thesis", "printed table");
     // Load-step fields and rising tools belong to load-step studies.
@@ -1491,10 +1505,17 @@ fn forming_checks_name_file_and_field() {
         "study.cycles_per_step",
         "load-steps",
     );
-    let mga = with("kind = \"load-steps\"", "kind = \"model-and-grid-adaptive\"")
-        .replacen("cycles_per_step = 4\n", "", 1)
-        .replacen("lift_per_step = 0.4166666666666667\n", "", 1)
-        .replacen("balance = 0.5", "balance = 0.5\nconvergence_window = [1, 2]", 1);
+    let mga = with(
+        "kind = \"load-steps\"",
+        "kind = \"model-and-grid-adaptive\"",
+    )
+    .replacen("cycles_per_step = 4\n", "", 1)
+    .replacen("lift_per_step = 0.4166666666666667\n", "", 1)
+    .replacen(
+        "balance = 0.5",
+        "balance = 0.5\nconvergence_window = [1, 2]",
+        1,
+    );
     expect_error_in(
         "fig-IV.54.toml",
         "rises outside load steps",

@@ -53,7 +53,10 @@ fn the_tip_rests_on_the_die() {
     // Step 1: the die has risen by 10/24 and lifted the sheet, whose free end tilts up to the
     // punch's plateau 0.2 above it (the sheet is 1 thick): the largest tip of the range.
     let tip = r.rows[1].value("tip_y").unwrap();
-    assert!((tip - (10.0 / 24.0 + 0.2)).abs() < 1e-3, "step 1: tip_y = {tip}");
+    assert!(
+        (tip - (10.0 / 24.0 + 0.2)).abs() < 1e-3,
+        "step 1: tip_y = {tip}"
+    );
 }
 
 /// The rising tools of step j: the die (rises = "whole") with its circle and plateau raised by
@@ -131,7 +134,10 @@ fn a_folded_body_is_an_error_naming_step_and_cell() {
     let next = disc.next_load_step(&scene, &vec![[0.0, 0.5]; n]).unwrap();
     assert_eq!(next.load_step, 1);
     assert!(next.mesh.is_moved());
-    assert_eq!(next.mesh.point(next.mesh.coarse_vertex_keys()[0]), [-16.0, 0.5]);
+    assert_eq!(
+        next.mesh.point(next.mesh.coarse_vertex_keys()[0]),
+        [-16.0, 0.5]
+    );
     // The top vertex of coarse column 10 pushed down through its cell's bottom.
     let mut motion = vec![[0.0, 0.0]; n];
     motion[2 * 65 + 10] = [0.0, -1.5];

@@ -11,10 +11,8 @@
 //! bilinear field ([`crate::fe::cell_values::hessian`]): on a rectangle only ∂₁∂₂s_h is non-zero,
 //! so div σ(s_h) = (μ + 2λ)(∂₁₂s₂, ∂₁₂s₁) there.
 
-use rayon::prelude::*;
-
-use super::face_segments;
-use crate::fe::cell_values::{hessian, CellValues};
+use super::{face_segments, per_cell};
+use crate::fe::cell_values::hessian;
 use crate::fe::quadrature::{self, square_rule};
 use crate::fe::DofMap;
 use crate::mesh::{Mesh, Side, FACES};
@@ -50,69 +48,63 @@ pub fn indicators(
     let rule = square_rule::<9>();
     let (fp, fw) = quadrature::gauss(2);
     let (mu, lambda) = (problem.mu, problem.lambda);
-    mesh.active()
-        .par_iter()
-        .enumerate()
-        .map(|(k, &c)| {
-            let cv = CellValues::new(mesh.cell_shape(c), &rule);
-            let shape = cv.shape();
-            let h = shape.diameter();
-            let u0 = dofs.corner_values(u, k, 0);
-            let u1 = dofs.corner_values(u, k, 1);
-            let mut cell = 0.0;
-            for (q, &(xi, eta, _)) in rule.iter().enumerate() {
-                // div σ(s_h) = μΔs_h + (μ + 2λ)∇div s_h
-                let (h0, h1) = (hessian(shape, u0, xi, eta), hessian(shape, u1, xi, eta));
-                let div_sigma = [
-                    mu * (h0[0][0] + h0[1][1]) + (mu + 2.0 * lambda) * (h0[0][0] + h1[0][1]),
-                    mu * (h1[0][0] + h1[1][1]) + (mu + 2.0 * lambda) * (h0[0][1] + h1[1][1]),
-                ];
-                let f = problem.volume_load(cv.point(q));
-                let res = [f[0] + div_sigma[0], f[1] + div_sigma[1]];
-                cell += (res[0] * res[0] + res[1] * res[1]) * cv.weight(q) * cv.det(q);
-            }
-            let mut faces = 0.0;
-            for face in FACES {
-                let n = shape.face_normal(face);
-                let (side, segments) = face_segments(mesh, c, face);
-                if let Some(side) = side {
-                    if problem.is_dirichlet(side)
-                        || terms.contact_sides.contains(&side)
-                        || !terms.neumann
-                    {
-                        continue;
-                    }
-                }
-                for seg in &segments {
-                    let len = seg.length();
-                    for (t, w) in fp.iter().zip(fw) {
-                        let p = seg.at(*t);
-                        let s = problem.stress(Elasticity::gradient_at(mesh, dofs, u, k, p));
-                        let sn = [
-                            s[0][0] * n[0] + s[0][1] * n[1],
-                            s[1][0] * n[0] + s[1][1] * n[1],
-                        ];
-                        let j = match (side, seg.neighbor) {
-                            (Some(side), _) => {
-                                let t = problem.traction(side);
-                                [sn[0] - t[0], sn[1] - t[1]]
-                            }
-                            (None, Some(nb)) => {
-                                let so =
-                                    problem.stress(Elasticity::gradient_at(mesh, dofs, u, nb, p));
-                                let son = [
-                                    so[0][0] * n[0] + so[0][1] * n[1],
-                                    so[1][0] * n[0] + so[1][1] * n[1],
-                                ];
-                                [0.5 * (sn[0] - son[0]), 0.5 * (sn[1] - son[1])]
-                            }
-                            (None, None) => unreachable!("interior face without neighbour"),
-                        };
-                        faces += (j[0] * j[0] + j[1] * j[1]) * w * len;
-                    }
+    per_cell(mesh, &rule, |k, c, cv| {
+        let shape = cv.shape();
+        let h = shape.diameter();
+        let u0 = dofs.corner_values(u, k, 0);
+        let u1 = dofs.corner_values(u, k, 1);
+        let mut cell = 0.0;
+        for (q, &(xi, eta, _)) in rule.iter().enumerate() {
+            // div σ(s_h) = μΔs_h + (μ + 2λ)∇div s_h
+            let (h0, h1) = (hessian(shape, u0, xi, eta), hessian(shape, u1, xi, eta));
+            let div_sigma = [
+                mu * (h0[0][0] + h0[1][1]) + (mu + 2.0 * lambda) * (h0[0][0] + h1[0][1]),
+                mu * (h1[0][0] + h1[1][1]) + (mu + 2.0 * lambda) * (h0[0][1] + h1[1][1]),
+            ];
+            let f = problem.volume_load(cv.point(q));
+            let res = [f[0] + div_sigma[0], f[1] + div_sigma[1]];
+            cell += (res[0] * res[0] + res[1] * res[1]) * cv.weight(q) * cv.det(q);
+        }
+        let mut faces = 0.0;
+        for face in FACES {
+            let n = shape.face_normal(face);
+            let (side, segments) = face_segments(mesh, c, face);
+            if let Some(side) = side {
+                if problem.is_dirichlet(side)
+                    || terms.contact_sides.contains(&side)
+                    || !terms.neumann
+                {
+                    continue;
                 }
             }
-            h * h * cell + h * faces
-        })
-        .collect()
+            for seg in &segments {
+                let len = seg.length();
+                for (t, w) in fp.iter().zip(fw) {
+                    let p = seg.at(*t);
+                    let s = problem.stress(Elasticity::gradient_at(mesh, dofs, u, k, p));
+                    let sn = [
+                        s[0][0] * n[0] + s[0][1] * n[1],
+                        s[1][0] * n[0] + s[1][1] * n[1],
+                    ];
+                    let j = match (side, seg.neighbor) {
+                        (Some(side), _) => {
+                            let t = problem.traction(side);
+                            [sn[0] - t[0], sn[1] - t[1]]
+                        }
+                        (None, Some(nb)) => {
+                            let so = problem.stress(Elasticity::gradient_at(mesh, dofs, u, nb, p));
+                            let son = [
+                                so[0][0] * n[0] + so[0][1] * n[1],
+                                so[1][0] * n[0] + so[1][1] * n[1],
+                            ];
+                            [0.5 * (sn[0] - son[0]), 0.5 * (sn[1] - son[1])]
+                        }
+                        (None, None) => unreachable!("interior face without neighbour"),
+                    };
+                    faces += (j[0] * j[0] + j[1] * j[1]) * w * len;
+                }
+            }
+        }
+        h * h * cell + h * faces
+    })
 }

@@ -7,8 +7,27 @@ pub mod contact;
 pub mod contact_model;
 pub mod elasticity;
 pub mod reynolds;
+pub mod substokes;
 
+use rayon::prelude::*;
+
+use crate::fe::cell_values::CellValues;
 use crate::mesh::{BoundaryFace, CellId, Face, Mesh, Neighbor, Side};
+
+/// The loop of every residual estimator: `cell(k, c, values)` for each active cell (k its index
+/// in `mesh.active()`, c its id), Q₁ on the cell at the points of `rule`, in parallel; the
+/// results in the order of the active cells.
+pub fn per_cell<T: Send, const N: usize>(
+    mesh: &Mesh,
+    rule: &[(f64, f64, f64); N],
+    cell: impl Fn(usize, CellId, &CellValues<N>) -> T + Sync + Send,
+) -> Vec<T> {
+    mesh.active()
+        .par_iter()
+        .enumerate()
+        .map(|(k, &c)| cell(k, c, &CellValues::new(mesh.cell_shape(c), rule)))
+        .collect()
+}
 
 /// A straight piece of a cell face with what lies on its other side.
 #[derive(Clone, Copy, Debug)]

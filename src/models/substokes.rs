@@ -279,13 +279,15 @@ pub fn solve_system(system: &System, solver: &mut DirectSolver) -> Result<(Vec<f
     Ok((u, relative))
 }
 
+/// Meshes and problems shared by the SubStokes tests of the model and of its estimator.
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::models::thin_film::{example, EXAMPLES};
+pub(crate) mod fixtures {
+    use super::SubStokesProblem;
+    use crate::mesh::Mesh;
+    use crate::models::thin_film::example;
 
     /// [0, 1]² as one cell refined globally `times` times (8×8 for 3, 32×32 for 5).
-    fn uniform(times: usize) -> Mesh {
+    pub(crate) fn uniform(times: usize) -> Mesh {
         let mut mesh = Mesh::new([0.0, 1.0], [0.0, 1.0], 1, 1);
         for _ in 0..times {
             mesh.refine_global().unwrap();
@@ -295,7 +297,7 @@ mod tests {
 
     /// The 8×8 grid with the cells whose centre lies in [0.25, 0.5]² ∪ the corner cell at the
     /// origin refined once more: hanging nodes inside and next to the boundary.
-    fn with_hanging() -> Mesh {
+    pub(crate) fn with_hanging() -> Mesh {
         let mut mesh = uniform(3);
         let refine: Vec<bool> = mesh
             .active()
@@ -312,9 +314,16 @@ mod tests {
         mesh
     }
 
-    fn problem(eq: &str) -> SubStokesProblem {
+    pub(crate) fn problem(eq: &str) -> SubStokesProblem {
         SubStokesProblem::new(example(eq).unwrap(), 200.0)
     }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::fixtures::{problem, uniform, with_hanging};
+    use super::*;
+    use crate::models::thin_film::EXAMPLES;
 
     fn centre_psi(p: &SubStokesProblem, mesh: &Mesh) -> f64 {
         let s = p.solve(mesh).unwrap();

@@ -165,7 +165,8 @@ impl ModelAdaptiveContact {
                     .vertices
                     .keys
                     .binary_search(k)
-                    .expect("a coarse vertex is a vertex of every refinement") as u32;
+                    .expect("a coarse vertex is a vertex of every refinement")
+                    as u32;
                 [u[dofs.dof(v, 0)], u[dofs.dof(v, 1)]]
             })
             .collect();
@@ -485,7 +486,8 @@ impl Problem for ModelAdaptiveContact {
                 disc.mesh.face_vertex_keys(f).map(|k| {
                     let v = keys
                         .binary_search(&k)
-                        .expect("the ends of a face are vertices") as u32;
+                        .expect("the ends of a face are vertices")
+                        as u32;
                     let x = dofs.vertices.coords[v as usize];
                     [x[0] + u[dofs.dof(v, 0)], x[1] + u[dofs.dof(v, 1)]]
                 })
