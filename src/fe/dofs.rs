@@ -48,7 +48,7 @@ impl Vertices {
                     .map(|k| keys.binary_search(&k).expect("corner is a vertex") as u32)
             })
             .collect();
-        let lookup = |k: VertexKey| keys.binary_search(&k).ok().map(|v| v as u32);
+        let lookup = |k: VertexKey| find_key(&keys, k);
         let mut hanging: Vec<Hanging> = active
             .par_iter()
             .enumerate()
@@ -92,6 +92,11 @@ impl Vertices {
 
     pub fn len(&self) -> usize {
         self.keys.len()
+    }
+
+    /// The vertex at the integer position `key`, if the mesh has one there.
+    pub fn find(&self, key: VertexKey) -> Option<u32> {
+        find_key(&self.keys, key)
     }
 
     pub fn is_empty(&self) -> bool {
@@ -163,6 +168,11 @@ fn vertex_keys(mesh: &Mesh) -> Vec<VertexKey> {
         .collect()
 }
 
+/// The index of `key` in the sorted `keys`.
+fn find_key(keys: &[VertexKey], key: VertexKey) -> Option<u32> {
+    keys.binary_search(&key).ok().map(|v| v as u32)
+}
+
 /// Degrees of freedom: `n_components` per vertex.
 #[derive(Clone, Debug)]
 pub struct DofMap {
@@ -195,6 +205,21 @@ impl DofMap {
         self.vertices.cell_vertices[k]
             .into_iter()
             .flat_map(move |v| (0..nc).map(move |c| v as usize * nc + c))
+    }
+
+    /// Components 0 and 1 of the field `u` at `vertex` (the displacement of an elasticity field).
+    #[inline]
+    pub fn vector(&self, u: &[f64], vertex: u32) -> [f64; 2] {
+        [u[self.dof(vertex, 0)], u[self.dof(vertex, 1)]]
+    }
+
+    /// The position of `vertex` moved by `scale` times the displacement `u` there, x + scale·u
+    /// (scale 1: the deformed position).
+    #[inline]
+    pub fn displaced(&self, u: &[f64], vertex: u32, scale: f64) -> [f64; 2] {
+        let x = self.vertices.coords[vertex as usize];
+        let d = self.vector(u, vertex);
+        [x[0] + scale * d[0], x[1] + scale * d[1]]
     }
 
     /// Corner values of component `c` of the field `u` on active cell `k`.

@@ -310,10 +310,7 @@ pub fn penetration(
     let mut depth = 0.0f64;
     for cb in boundaries {
         let verts = v.side_vertices(cb.side);
-        let p = |vert: u32| {
-            let x = v.coords[vert as usize];
-            [x[0] + u[dofs.dof(vert, 0)], x[1] + u[dofs.dof(vert, 1)]]
-        };
+        let p = |vert: u32| dofs.displaced(u, vert, 1.0);
         for w in verts.windows(2) {
             depth = depth.max(cb.obstacle.penetration(p(w[0]), p(w[1]), samples));
         }

@@ -215,15 +215,9 @@ pub(super) fn steps(path: &Path, run: &RunResult) -> io::Result<()> {
     for c in &mut errors {
         c.points.retain(|(_, v)| *v > 0.0);
     }
-    let (first, last) = run
-        .rows
-        .iter()
-        .map(|r| r.cycle as f64)
-        .fold(None, |acc: Option<(f64, f64)>, s| {
-            Some(acc.map_or((s, s), |(a, b)| (a.min(s), b.max(s))))
-        })
-        .unwrap_or((0.0, 1.0));
-    let x = (first - 0.5)..(last + 0.5);
+    // The steps of a run are 0, 1, …, its last.
+    let last = run.rows.iter().map(|r| r.cycle).max().unwrap_or(1) as f64;
+    let x = -0.5..(last + 0.5);
 
     let mut svg = String::new();
     {

@@ -658,21 +658,17 @@ fn figure_rows(h: &mut String, run: &RunResult) {
     for r in &run.rows {
         let _ = write!(h, "<tr><td>{}</td>", r.cycle);
         for c in &shown {
-            h.push_str(&match r.get(c) {
-                Some(Value::Count(n)) => format!("<td>{n}</td>"),
-                Some(Value::Real(Some(v))) if v.is_finite() => format!("<td>{}</td>", fmt_sig(v)),
-                _ => "<td class=\"na\">—</td>".into(),
-            });
+            h.push_str(&opt_cell(match r.get(c) {
+                Some(Value::Count(n)) => Some(n.to_string()),
+                Some(Value::Real(Some(v))) if v.is_finite() => Some(fmt_sig(v)),
+                _ => None,
+            }));
         }
         let total = r.seconds.total();
         let _ = writeln!(
             h,
             "{}</tr>",
-            if total.is_finite() {
-                format!("<td>{total:.3}</td>")
-            } else {
-                "<td class=\"na\">—</td>".into()
-            }
+            opt_cell(total.is_finite().then(|| format!("{total:.3}")))
         );
     }
     h.push_str("</tbody></table></div>\n");

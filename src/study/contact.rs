@@ -192,13 +192,7 @@ pub fn contact_picture(
         .iter()
         .zip(&state.solution.active)
         .filter(|(_, &a)| a)
-        .map(|(c, _)| {
-            let x = dofs.vertices.coords[c.vertex as usize];
-            [
-                x[0] + u[dofs.dof(c.vertex, 0)],
-                x[1] + u[dofs.dof(c.vertex, 1)],
-            ]
-        })
+        .map(|(c, _)| dofs.displaced(u, c.vertex, 1.0))
         .collect();
     let depth = penetration(boundaries, dofs, u, PENETRATION_SAMPLES);
     pic.caption = format!(

@@ -128,13 +128,7 @@ pub fn deformed_picture(
         .map(|k| {
             let cv = dofs.vertices.cell_vertices[k];
             // counter-clockwise from the lower-left corner
-            [cv[0], cv[1], cv[3], cv[2]].map(|v| {
-                let x = dofs.vertices.coords[v as usize];
-                [
-                    x[0] + scale * u[dofs.dof(v, 0)],
-                    x[1] + scale * u[dofs.dof(v, 1)],
-                ]
-            })
+            [cv[0], cv[1], cv[3], cv[2]].map(|v| dofs.displaced(u, v, scale))
         })
         .collect();
     DeformedPicture {

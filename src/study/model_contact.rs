@@ -25,11 +25,12 @@
 //!
 //! **Load steps (the U-O forming of §IV.2.4.7, Fig. IV.54).** The same cycles on the body of
 //! each step ([`super::adapt::LoadSteps`] moves it between the steps), the tools of step j
-//! raised by j times the lift ([`ContactData::raised`]). Each step starts afresh: a cold
-//! z-solve and every face z, since the previous step's solution belongs to another body. The
-//! estimate adds the displacement of the coarse vertices (the motion of the body) and the tip
-//! (the material point at the lower right corner of the undeformed strip, (16, 0)) after the
-//! step's motion.
+//! raised by j times the lift ([`ContactData::raised`]). Each step starts with every face z and
+//! keeps nothing of the previous body's solution but which material points were in contact
+//! (the warm start of its first z-solve; integer vertex positions name the same material
+//! points in every step). The estimate adds the displacement of the coarse vertices (the
+//! motion of the body) and the tip (the material point at the lower right corner of the
+//! undeformed strip, (16, 0)) after the step's motion.
 
 use std::collections::BTreeSet;
 
@@ -160,14 +161,12 @@ impl ModelAdaptiveContact {
         let keys = mesh.coarse_vertex_keys();
         let motion: Vec<[f64; 2]> = keys
             .iter()
-            .map(|k| {
+            .map(|&k| {
                 let v = dofs
                     .vertices
-                    .keys
-                    .binary_search(k)
-                    .expect("a coarse vertex is a vertex of every refinement")
-                    as u32;
-                [u[dofs.dof(v, 0)], u[dofs.dof(v, 1)]]
+                    .find(k)
+                    .expect("a coarse vertex is a vertex of every refinement");
+                dofs.vector(u, v)
             })
             .collect();
         let corner = mesh.coarse_cells()[0];
@@ -238,10 +237,7 @@ impl ModelAdaptiveContact {
         for cb in &self.boundaries {
             let verts = v.side_vertices(cb.side);
             let points: Vec<[f64; 2]> = verts.iter().map(|&i| v.coords[i as usize]).collect();
-            let displacement: Vec<[f64; 2]> = verts
-                .iter()
-                .map(|&i| [u[dofs.dof(i, 0)], u[dofs.dof(i, 1)]])
-                .collect();
+            let displacement: Vec<[f64; 2]> = verts.iter().map(|&i| dofs.vector(u, i)).collect();
             let differences = vertex_differences(&cb.obstacle, &points, &displacement)?;
             let eps = face_indicators(&points, &differences);
             faces.extend(side_faces(dofs, cb.side, &verts).into_iter().zip(eps));
@@ -478,18 +474,16 @@ impl Problem for ModelAdaptiveContact {
         }
         let mut picture = contact_picture(&self.boundaries, &disc.mesh, dofs, state, cycle, &label);
         let u = &state.solution.u;
-        let keys = &dofs.vertices.keys;
         picture.accurate_faces = disc
             .accurate_faces
             .iter()
             .map(|&f| {
                 disc.mesh.face_vertex_keys(f).map(|k| {
-                    let v = keys
-                        .binary_search(&k)
-                        .expect("the ends of a face are vertices")
-                        as u32;
-                    let x = dofs.vertices.coords[v as usize];
-                    [x[0] + u[dofs.dof(v, 0)], x[1] + u[dofs.dof(v, 1)]]
+                    let v = dofs
+                        .vertices
+                        .find(k)
+                        .expect("the ends of a face are vertices");
+                    dofs.displaced(u, v, 1.0)
                 })
             })
             .collect();
