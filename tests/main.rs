@@ -16,4 +16,5 @@ mod outputs;
 mod properties;
 mod report_failures;
 mod reynolds;
+mod substokes;
 mod warnings;

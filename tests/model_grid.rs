@@ -181,6 +181,7 @@ fn balance_separates_model_and_grid_refinement() {
             grid: FixedNumber {
                 refine: 0.3,
                 coarsen: 0.0,
+                ties: tribo::experiment::Ties::Band,
             },
             alpha,
         };

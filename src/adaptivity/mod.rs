@@ -7,5 +7,6 @@ pub mod grid;
 pub mod model;
 
 pub use grid::{
-    apply_noise_floor, mark_fixed_number, rounded_measure, Marking, PLATEAU_CELLS, TIE_BAND,
+    apply_noise_floor, mark_fixed_number, mark_fixed_number_split, rounded_measure, split_order,
+    Marking, PLATEAU_CELLS, TIE_BAND,
 };

@@ -698,6 +698,9 @@ impl Check<'_> {
         if let Some(reynolds) = &scene.reynolds {
             self.reynolds(reynolds, &scene.domain)?;
         }
+        if let Some(substokes) = &scene.substokes {
+            self.substokes(substokes, &scene.domain)?;
+        }
         Ok(())
     }
 
@@ -708,7 +711,7 @@ impl Check<'_> {
         self.ensure(
             !scene.effects.is_empty(),
             "scene.effects",
-            "at least one of `elasticity`, `contact`, `reynolds`",
+            "at least one of `elasticity`, `contact`, `reynolds`, `substokes`",
             "an empty list",
         )?;
         let mut seen = BTreeSet::new();
@@ -727,16 +730,23 @@ impl Check<'_> {
             "`elasticity` alongside `contact` (contact constrains an elastic body)",
             "`contact` without `elasticity`",
         )?;
-        self.ensure(
-            !(has(Effect::Reynolds) && (has(Effect::Elasticity) || has(Effect::Contact))),
-            "scene.effects",
-            "`reynolds` alone (it cannot be combined with `elasticity` or `contact`)",
-            format!("{:?}", names(&scene.effects)),
-        )?;
+        for fluid in [Effect::Reynolds, Effect::SubStokes] {
+            self.ensure(
+                !has(fluid) || seen.len() == 1,
+                "scene.effects",
+                &format!(
+                    "`{}` alone (a thin-film model is a problem of its own; it cannot be \
+                     combined with another effect)",
+                    effect_name(fluid)
+                ),
+                format!("{:?}", names(&scene.effects)),
+            )?;
+        }
         let sections = [
             (Effect::Elasticity, scene.elasticity.is_some(), "elasticity"),
             (Effect::Contact, scene.contact.is_some(), "contact"),
             (Effect::Reynolds, scene.reynolds.is_some(), "reynolds"),
+            (Effect::SubStokes, scene.substokes.is_some(), "substokes"),
         ];
         for (effect, present, name) in sections {
             if has(effect) {
@@ -772,6 +782,13 @@ impl Check<'_> {
         if has(Effect::Reynolds) {
             let reynolds = scene.reynolds.clone().ok_or_else(|| section("reynolds"))?;
             return Ok(Problem::Reynolds(reynolds));
+        }
+        if has(Effect::SubStokes) {
+            let substokes = scene
+                .substokes
+                .clone()
+                .ok_or_else(|| section("substokes"))?;
+            return Ok(Problem::SubStokes(substokes));
         }
         let elasticity = scene
             .elasticity
@@ -937,17 +954,17 @@ impl Check<'_> {
         }
     }
 
-    /// Reynolds data of §IV.3, (IV.7)–(IV.20): the gap must stay open (g > 0) on the domain.
-    fn reynolds(&self, data: &ReynoldsData, domain: &Rectangle) -> Checked {
-        const F: &str = "scene.reynolds";
+    /// The film data shared by the Reynolds and SubStokes sections `F` of §IV.3, (IV.7)–(IV.20):
+    /// the gap must stay open (g > 0) on the domain.
+    fn film(&self, section: &str, data: Film<'_>, domain: &Rectangle) -> Checked {
         self.ensure(
             !data.equation.trim().is_empty(),
-            &format!("{F}.equation"),
+            &format!("{section}.equation"),
             "the thesis equation of the example, e.g. `IV.7`",
             "an empty string",
         )?;
-        self.printable(&format!("{F}.equation"), &data.equation, false)?;
-        let gap = format!("{F}.gap");
+        self.printable(&format!("{section}.equation"), data.equation, false)?;
+        let gap = format!("{section}.gap");
         let g = |name: &str| format!("{gap}.{name}");
         match data.gap {
             GapShape::Plain { g0 } => self.positive(&g("g0"), g0)?,
@@ -987,13 +1004,16 @@ impl Check<'_> {
             }
         }
         self.finite_all(
-            &format!("{F}.upper_wall_velocity"),
-            &data.upper_wall_velocity,
+            &format!("{section}.upper_wall_velocity"),
+            data.upper_wall_velocity,
         )?;
-        self.finite(&format!("{F}.boundary_pressure"), data.boundary_pressure)?;
+        self.finite(
+            &format!("{section}.boundary_pressure"),
+            data.boundary_pressure,
+        )?;
         self.ensure(
             data.cavitation == Cavitation::Off || data.boundary_pressure >= 0.0,
-            &format!("{F}.boundary_pressure"),
+            &format!("{section}.boundary_pressure"),
             "a pressure ≥ 0 when cavitation is `on` or `auto` (the cavitation problem asks \
              ψ ≥ 0, which a negative boundary value contradicts)",
             data.boundary_pressure,
@@ -1001,10 +1021,28 @@ impl Check<'_> {
         self.ensure(
             data.cavitation != Cavitation::Off
                 || data.cavitation_source == CavitationSource::default(),
-            &format!("{F}.cavitation_source"),
+            &format!("{section}.cavitation_source"),
             "no cavitation_source when cavitation = \"off\" (it chooses the source term of \
              the cavitation problem only)",
             format!("{:?} with cavitation = \"off\"", data.cavitation_source),
+        )?;
+        Ok(())
+    }
+
+    /// Reynolds data of §IV.3, (IV.7)–(IV.20) ([`Check::film`]).
+    fn reynolds(&self, data: &ReynoldsData, domain: &Rectangle) -> Checked {
+        const F: &str = "scene.reynolds";
+        self.film(
+            F,
+            Film {
+                equation: &data.equation,
+                gap: data.gap,
+                upper_wall_velocity: &data.upper_wall_velocity,
+                boundary_pressure: data.boundary_pressure,
+                cavitation: data.cavitation,
+                cavitation_source: data.cavitation_source,
+            },
+            domain,
         )?;
         self.ensure(
             data.zone_residual == ZoneResidual::Full || data.cavitation != Cavitation::Off,
@@ -1012,6 +1050,25 @@ impl Check<'_> {
             "`full` (or left out) when cavitation = \"off\": there is no cavitation zone",
             format!("{} with cavitation = \"off\"", data.zone_residual.name()),
         )
+    }
+
+    /// SubStokes data of §IV.3.2 and §IV.3.6, (IV.7)–(IV.20) ([`Check::film`]), and the
+    /// stabilisation constant δ_ε > 0.
+    fn substokes(&self, data: &SubStokesData, domain: &Rectangle) -> Checked {
+        const F: &str = "scene.substokes";
+        self.film(
+            F,
+            Film {
+                equation: &data.equation,
+                gap: data.gap,
+                upper_wall_velocity: &data.upper_wall_velocity,
+                boundary_pressure: data.boundary_pressure,
+                cavitation: data.cavitation,
+                cavitation_source: data.cavitation_source,
+            },
+            domain,
+        )?;
+        self.positive(&format!("{F}.delta_eps"), data.delta_eps)
     }
 
     /// The printed cycles and how to iterate: fixed-fraction grid adaptivity (§IV.1: refine
@@ -1332,12 +1389,15 @@ impl Check<'_> {
                 )?;
             }
         }
-        let elastic = scene.effects.contains(&Effect::Elasticity);
-        let fluid = scene.effects.contains(&Effect::Reynolds);
-        let allowed: &[&str] = match (elastic, fluid) {
-            (true, _) => &["s1", "s2"],
-            (false, true) => &["psi"],
-            (false, false) => &[],
+        let has = |e| scene.effects.contains(&e);
+        let allowed: &[&str] = if has(Effect::Elasticity) {
+            &["s1", "s2"]
+        } else if has(Effect::Reynolds) {
+            &["psi"]
+        } else if has(Effect::SubStokes) {
+            &["chi1", "chi2", "psi"]
+        } else {
+            &[]
         };
         let expected = if allowed.is_empty() {
             "no components (the scene computes no field)".to_owned()
@@ -1511,6 +1571,16 @@ impl Found for &str {
     }
 }
 
+/// The film data of a thin-film section, the same for Reynolds and SubStokes.
+struct Film<'a> {
+    equation: &'a str,
+    gap: GapShape,
+    upper_wall_velocity: &'a [f64; 3],
+    boundary_pressure: f64,
+    cavitation: Cavitation,
+    cavitation_source: CavitationSource,
+}
+
 fn side_name(side: Side) -> &'static str {
     side.name()
 }
@@ -1520,6 +1590,7 @@ fn effect_name(effect: Effect) -> &'static str {
         Effect::Elasticity => "elasticity",
         Effect::Contact => "contact",
         Effect::Reynolds => "reynolds",
+        Effect::SubStokes => "substokes",
     }
 }
 

@@ -67,6 +67,8 @@ pub enum Problem {
     },
     /// Reynolds thin-film flow (I.79), with or without cavitation (I.82), §IV.3.
     Reynolds(ReynoldsData),
+    /// SubStokes thin-film flow (I.58), with or without cavitation (I.66), §IV.3.2, §IV.3.6.
+    SubStokes(SubStokesData),
 }
 
 impl Problem {
@@ -86,6 +88,14 @@ impl Problem {
         }
     }
 
+    /// The SubStokes data, if this is a SubStokes problem.
+    pub fn substokes(&self) -> Option<&SubStokesData> {
+        match self {
+            Problem::SubStokes(s) => Some(s),
+            _ => None,
+        }
+    }
+
     /// The contact data, if this is a contact problem.
     pub fn contact(&self) -> Option<&ContactData> {
         match self {
@@ -99,6 +109,7 @@ impl Problem {
         match self {
             Problem::Elasticity(_) | Problem::Contact { .. } => &["s1", "s2"],
             Problem::Reynolds(_) => &["psi"],
+            Problem::SubStokes(_) => &["chi1", "chi2", "psi"],
         }
     }
 }

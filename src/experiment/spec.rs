@@ -48,6 +48,9 @@ pub enum Effect {
     Contact,
     /// Reynolds thin-film flow (I.77)/(I.79).
     Reynolds,
+    /// SubStokes thin-film flow (I.58), with cavitation (I.66).
+    #[serde(rename = "substokes")]
+    SubStokes,
 }
 
 /// Domain, coarse mesh, data and effects, as written.
@@ -76,6 +79,7 @@ pub struct SceneFile {
     pub elasticity: Option<ElasticityData>,
     pub contact: Option<ContactData>,
     pub reynolds: Option<ReynoldsData>,
+    pub substokes: Option<SubStokesData>,
 }
 
 #[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
@@ -446,6 +450,74 @@ pub struct ReynoldsData {
     pub zone_residual: ZoneResidual,
 }
 
+/// The stabilisation term of the Theorem III.23 estimate
+/// (`crate::estimators::substokes::Stabilisation`).
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum SubStokesStabilisation {
+    /// δ_Q²‖∇ψ_h − κ − γ‖² with δ_Q = h_Q, as Theorem III.23 prints it.
+    #[default]
+    Literal,
+    /// δ_ε h_Q²‖∇ψ_h‖², the thesis's own stabilisation (spec/estimators.md §5.6).
+    DeltaEps,
+}
+
+impl SubStokesStabilisation {
+    /// The experiment-file spelling.
+    pub fn name(self) -> &'static str {
+        match self {
+            SubStokesStabilisation::Literal => "literal",
+            SubStokesStabilisation::DeltaEps => "delta-eps",
+        }
+    }
+}
+
+/// The point condition (I.56) on χ.
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum PointCondition {
+    /// None: a₂ is coercive on all of H¹ (Theorem II.40), χ is determined without it.
+    #[default]
+    None,
+    /// χ(P) = (g v̄)(P) at the corner P = (x₀, y₀) of the domain.
+    Corner,
+}
+
+/// δ_ε when a file gives none ([`crate::models::substokes::DEFAULT_DELTA_EPS`]: a calibration
+/// on row 0 of IV.50, not a thesis value).
+fn default_delta_eps() -> f64 {
+    crate::models::substokes::DEFAULT_DELTA_EPS
+}
+
+/// A SubStokes example of §IV.3.2 / §IV.3.6: the film of (IV.7)–(IV.20) as for Reynolds, the
+/// stabilisation constant and the readings of the estimator.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct SubStokesData {
+    /// Thesis equation of the example, e.g. `IV.7` (for the report only).
+    pub equation: String,
+    pub gap: GapShape,
+    /// Constant upper-wall velocity δv = v(z₁) (lower wall at rest).
+    #[serde(deserialize_with = "exactly")]
+    pub upper_wall_velocity: [f64; 3],
+    /// ψ₀ on ∂Ω₂.
+    pub boundary_pressure: f64,
+    pub cavitation: Cavitation,
+    /// Reading of γ₃c in the cavitation source γ_c (I.61), (I.65).
+    #[serde(default)]
+    pub cavitation_source: CavitationSource,
+    /// δ_ε of the pressure stabilisation Σ_Q δ_ε h_Q²⟨∇ψ, ∇φ⟩_Q (default
+    /// [`crate::models::substokes::DEFAULT_DELTA_EPS`]).
+    #[serde(default = "default_delta_eps")]
+    pub delta_eps: f64,
+    /// The point condition (I.56) (default none).
+    #[serde(default)]
+    pub point: PointCondition,
+    /// The stabilisation term of the Theorem III.23 estimate (default `literal`).
+    #[serde(default)]
+    pub stabilisation_residual: SubStokesStabilisation,
+}
+
 /// How to iterate.
 #[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
 #[serde(rename_all = "kebab-case")]
@@ -560,6 +632,22 @@ pub struct Study {
     /// Load steps: how far the rising tools ([`Obstacle::rises`]) rise per step (10/24).
     #[serde(default)]
     pub lift_per_step: Option<f64>,
+    /// How the fixed-number marking treats tied indicators at a cut (default `band`).
+    #[serde(default)]
+    pub ties: Ties,
+}
+
+/// Tied indicators at a cut of the fixed-number marking (`crate::adaptivity::grid`).
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum Ties {
+    /// Flag every cell within the tie band of a threshold (symmetric groups together), thin
+    /// plateaus ([`crate::adaptivity::mark_fixed_number`]).
+    #[default]
+    Band,
+    /// Flag exactly the requested counts, splitting tie groups in a fixed order
+    /// ([`crate::adaptivity::mark_fixed_number_split`]): the SubStokes tables.
+    Split,
 }
 
 impl Study {

@@ -6,9 +6,9 @@ use std::collections::{BTreeSet, HashMap};
 
 use super::problem::{Discretisation, Estimate};
 use crate::adaptivity::model::{fixed_fraction, sorted_error, Partition};
-use crate::adaptivity::{mark_fixed_number, rounded_measure};
+use crate::adaptivity::{mark_fixed_number, mark_fixed_number_split, rounded_measure, split_order};
 use crate::estimators::FaceIndicators;
-use crate::experiment::{ModelAlgorithm, Scene};
+use crate::experiment::{ModelAlgorithm, Scene, Ties};
 use crate::mesh::{BoundaryFace, Mesh, Side};
 
 /// One adaptation step between two solves.
@@ -19,10 +19,12 @@ pub trait Adaptation {
 
 /// Fixed-number grid marking of every Chapter IV grid-adaptive run (refine the fraction
 /// `refine` of the cells with the largest η_Q, coarsen the fraction `coarsen` with the smallest,
-/// [`mark_fixed_number`]); indicators at or below the estimate's noise floor count as zero.
+/// [`mark_fixed_number`], or [`mark_fixed_number_split`] with `ties = "split"`); indicators at
+/// or below the estimate's noise floor count as zero.
 pub struct FixedNumber {
     pub refine: f64,
     pub coarsen: f64,
+    pub ties: Ties,
 }
 
 impl Adaptation for FixedNumber {
@@ -40,12 +42,20 @@ impl Adaptation for FixedNumber {
 impl FixedNumber {
     /// Mark by the indicators η_Q (one per active cell) and refine and coarsen `mesh`.
     fn refine(&self, mesh: &mut Mesh, eta: &[f64]) -> Result<(), String> {
-        let marking = mark_fixed_number(
-            eta,
-            |k| rounded_measure(mesh, mesh.active()[k]),
-            self.refine,
-            self.coarsen,
-        );
+        let marking = match self.ties {
+            Ties::Band => mark_fixed_number(
+                eta,
+                |k| rounded_measure(mesh, mesh.active()[k]),
+                self.refine,
+                self.coarsen,
+            ),
+            Ties::Split => mark_fixed_number_split(
+                eta,
+                |k| split_order(mesh, mesh.active()[k]),
+                self.refine,
+                self.coarsen,
+            ),
+        };
         mesh.refine_and_coarsen(&marking.refine, &marking.coarsen)
             .map_err(|e| format!("cannot refine the mesh after this cycle: {e}"))?;
         Ok(())

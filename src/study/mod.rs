@@ -18,6 +18,7 @@ pub mod problem;
 pub mod readings;
 pub mod record;
 pub mod reynolds;
+pub mod substokes;
 pub mod thin_film;
 pub mod transfer;
 pub mod warnings;
@@ -210,7 +211,9 @@ fn feasible(experiment: &Experiment) -> Result<(), RunError> {
             elasticity,
             contact,
         } => contact::infeasible_obstacle(elasticity, contact, &experiment.scene.domain),
-        experiment::Problem::Elasticity(_) | experiment::Problem::Reynolds(_) => None,
+        experiment::Problem::Elasticity(_)
+        | experiment::Problem::Reynolds(_)
+        | experiment::Problem::SubStokes(_) => None,
     };
     match problem {
         Some(message) => Err(RunError::at_cycle(
@@ -247,6 +250,9 @@ pub fn build_problem(experiment: &Experiment) -> Box<dyn Problem> {
             )),
         },
         experiment::Problem::Reynolds(data) => Box::new(reynolds::ReynoldsFilm::new(data, domain)),
+        experiment::Problem::SubStokes(data) => {
+            Box::new(substokes::SubStokesFilm::new(data, domain))
+        }
     }
 }
 
@@ -258,6 +264,7 @@ pub fn build_adaptation(
     let grid = FixedNumber {
         refine: study.refine_fraction,
         coarsen: study.coarsen_fraction,
+        ties: study.ties,
     };
     // The loader requires `algorithm` in the studies that mark models; III.3 is the one the
     // model-and-grid tables use.

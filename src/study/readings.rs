@@ -53,6 +53,6 @@ pub fn alternative_readings(experiment: &Experiment) -> Vec<AlternativeReading> 
                 experiment: alt,
             }]
         }
-        Problem::Elasticity(_) | Problem::Contact { .. } => Vec::new(),
+        Problem::Elasticity(_) | Problem::Contact { .. } | Problem::SubStokes(_) => Vec::new(),
     }
 }

@@ -11,18 +11,15 @@
 
 use super::clock::{Phase, PhaseClock};
 use super::problem::{setup_system, Discretisation, Estimate, Pictures, Problem, Solution};
-use super::thin_film::{noise_floor, CavitationSwitch, PreviousEstimate};
-use super::transfer::{evaluate, PreviousSolution};
+use super::thin_film::{noise_floor, CavitationSwitch, FieldSample, PreviousEstimate};
+use super::transfer::PreviousSolution;
 use crate::estimators;
 use crate::estimators::reynolds::{VolumeResidual, ZoneResidual};
 use crate::experiment::{Rectangle, ReynoldsData, ReynoldsEstimator};
 use crate::fe::{DofMap, System};
 use crate::linalg::DirectSolver;
 use crate::models::reynolds::{solve_cavitation, CellDataCache, Load, ReynoldsProblem};
-use crate::results::{columns, CellBox, FieldPicture};
-
-/// Resolution of the pressure map in the report (cells per side of the sampling grid).
-const PICTURE_CELLS: usize = 128;
+use crate::results::columns;
 
 /// The Reynolds film of one experiment inside the study loop.
 pub struct ReynoldsFilm {
@@ -230,41 +227,15 @@ impl Problem for ReynoldsFilm {
         solution: &Solution,
         cycle: usize,
     ) -> Pictures {
-        let d = self.domain;
-        let n = PICTURE_CELLS;
-        let cavitation = self.switch.is_on();
-        let (wx, wy) = ((d.x[1] - d.x[0]) / n as f64, (d.y[1] - d.y[0]) / n as f64);
-        let mut cells = Vec::with_capacity(n * n);
-        let mut zone = Vec::new();
-        for j in 0..n {
-            for i in 0..n {
-                let b = CellBox {
-                    x0: d.x[0] + i as f64 * wx,
-                    y0: d.y[0] + j as f64 * wy,
-                    x1: d.x[0] + (i + 1) as f64 * wx,
-                    y1: d.y[0] + (j + 1) as f64 * wy,
-                };
-                let centre = [0.5 * (b.x0 + b.x1), 0.5 * (b.y0 + b.y1)];
-                let v = evaluate(&disc.mesh, dofs, &solution.u, 0, centre).unwrap_or(f64::NAN);
-                if cavitation && v <= 0.0 {
-                    zone.push(b);
-                }
-                cells.push((b, v));
-            }
-        }
+        let field = FieldSample {
+            domain: self.domain,
+            mesh: &disc.mesh,
+            dofs,
+            u: &solution.u,
+        };
         Pictures {
             deformed: Vec::new(),
-            fields: vec![FieldPicture {
-                cycle,
-                name: "psi".into(),
-                cells,
-                zone,
-                zone_label: if cavitation {
-                    "cavitation zone ψ = 0".into()
-                } else {
-                    String::new()
-                },
-            }],
+            fields: vec![field.picture(cycle, "psi", 0, self.switch.is_on())],
         }
     }
 

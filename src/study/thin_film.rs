@@ -2,8 +2,67 @@
 //! cavitation switch, the "estimate of the previous solve" column, the marking noise floor, and
 //! the readings of the cavitation source R₃c that the report runs beside a table.
 
-use crate::experiment::{Cavitation, CavitationSource};
-use crate::results::{columns, Value};
+use super::transfer::evaluate;
+use crate::experiment::{Cavitation, CavitationSource, Rectangle};
+use crate::fe::DofMap;
+use crate::mesh::Mesh;
+use crate::results::{columns, CellBox, FieldPicture, Value};
+
+/// Resolution of the pressure map in the report (cells per side of the sampling grid).
+const PICTURE_CELLS: usize = 128;
+
+/// A film solution to draw: the field maps of the report sample it on a uniform grid of
+/// [`PICTURE_CELLS`]² cells of the domain.
+pub struct FieldSample<'a> {
+    pub domain: Rectangle,
+    pub mesh: &'a Mesh,
+    pub dofs: &'a DofMap,
+    pub u: &'a [f64],
+}
+
+impl FieldSample<'_> {
+    /// The map of component `comp` named `name` at each sampling cell's centre; with
+    /// `cavitation`, the sampling cells where the value is ≤ 0 are the cavitation zone.
+    pub fn picture(&self, cycle: usize, name: &str, comp: usize, cavitation: bool) -> FieldPicture {
+        let d = self.domain;
+        let n = PICTURE_CELLS;
+        let (wx, wy) = ((d.x[1] - d.x[0]) / n as f64, (d.y[1] - d.y[0]) / n as f64);
+        let mut cells = Vec::with_capacity(n * n);
+        let mut zone = Vec::new();
+        for j in 0..n {
+            for i in 0..n {
+                let b = CellBox {
+                    x0: d.x[0] + i as f64 * wx,
+                    y0: d.y[0] + j as f64 * wy,
+                    x1: d.x[0] + (i + 1) as f64 * wx,
+                    y1: d.y[0] + (j + 1) as f64 * wy,
+                };
+                let centre = [0.5 * (b.x0 + b.x1), 0.5 * (b.y0 + b.y1)];
+                let v = self.value(comp, centre).unwrap_or(f64::NAN);
+                if cavitation && v <= 0.0 {
+                    zone.push(b);
+                }
+                cells.push((b, v));
+            }
+        }
+        FieldPicture {
+            cycle,
+            name: name.into(),
+            cells,
+            zone,
+            zone_label: if cavitation {
+                "cavitation zone ψ = 0".into()
+            } else {
+                String::new()
+            },
+        }
+    }
+
+    /// Component `comp` at a point of the domain.
+    pub fn value(&self, comp: usize, p: [f64; 2]) -> Option<f64> {
+        evaluate(self.mesh, self.dofs, self.u, comp, p)
+    }
+}
 
 /// Whether the cavitation model runs. `auto` solves without cavitation and switches the
 /// cavitation model on — for this and every later solve — as soon as the pressure drops below
