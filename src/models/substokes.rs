@@ -46,6 +46,8 @@
 //! multiplier form: ψ_j ≥ 0 at the interior non-hanging vertices, λ_j = (Bᵀχ + Cψ − G)_j ≥ 0,
 //! ψ_j λ_j = 0. Nodal ψ_h ≥ 0 gives ψ_h ≥ 0 everywhere for Q₁ (remark after (III.61)).
 //!
+//! [`FilmJets::gamma`]: crate::models::thin_film::FilmJets::gamma
+//! [`FilmJets::sigma3`]: crate::models::thin_film::FilmJets::sigma3
 //! [`FilmJets::gamma_c`]: crate::models::thin_film::FilmJets::gamma_c
 
 use crate::fe::cell_values::CellValues;
