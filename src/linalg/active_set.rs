@@ -11,6 +11,14 @@
 //! factorisation are reused by every iteration), off A it is free. The iteration stops when A
 //! repeats: the KKT conditions then hold up to the tolerances (Hintermüller, Ito, Kunisch,
 //! SIAM J. Optim. 13 (2003), the primal–dual active set strategy as a semismooth Newton method).
+//!
+//! **Negated rows** ([`NodalBounds::negated_rows`]). In a symmetric quasi-definite saddle-point
+//! system whose constraint equations are stored negated (the mass rows of SubStokes,
+//! [`crate::models::substokes`]: row d reads −(Bᵀχ + Cψ)_d = −G_d), the bounded unknown is the
+//! pressure and the complementarity condition is on the un-negated residual
+//! (Bᵀχ + Cψ − G)_d = −(Kx − F)_d. With the row sign ρ = −1 the multiplier is
+//! λ = ρσ(F − Kx)_d and the violation test is scaled by ρK_dd > 0 instead of K_dd < 0. For
+//! ρ = +1 (every minimisation) both are the expressions above, bit for bit.
 
 use std::borrow::Cow;
 
@@ -202,6 +210,22 @@ pub struct NodalBounds<'a> {
     pub bounds: Bounds<'a>,
     pub rotation: Option<&'a Rotation>,
     pub eliminated: &'a [(usize, f64)],
+    /// Whether the rows of the bounded dofs are the negated equations of the bounded unknowns
+    /// (module docs, "Negated rows"). `false` for a minimisation (contact, Reynolds
+    /// cavitation).
+    pub negated_rows: bool,
+}
+
+impl NodalBounds<'_> {
+    /// ρ = −1 for negated rows, +1 otherwise (module docs).
+    #[inline]
+    fn row_sign(&self) -> f64 {
+        if self.negated_rows {
+            -1.0
+        } else {
+            1.0
+        }
+    }
 }
 
 /// The converged iterate.
@@ -241,6 +265,7 @@ pub fn primal_dual_active_set(
     };
     let matrix = problem.matrix.with_values(&values);
     let diag = matrix.diagonal();
+    let rho = problem.row_sign();
     let bounds = problem.bounds;
     let n_bounds = bounds.len();
     let mut active: Vec<bool> = match initial {
@@ -265,7 +290,7 @@ pub fn primal_dual_active_set(
             .solve(matrix, &rhs, &eliminated)
             .map_err(|e| e.to_string())?;
         let kx = matrix.multiply(&x);
-        let multiplier = |b: &Bound| b.sense.sign() * (rhs[b.dof()] - kx[b.dof()]);
+        let multiplier = |b: &Bound| rho * b.sense.sign() * (rhs[b.dof()] - kx[b.dof()]);
         let scale = match options.violation {
             ViolationTolerance::SolutionScale(_) => x.iter().fold(0.0f64, |m, v| m.max(v.abs())),
             ViolationTolerance::PerBound(_) => 0.0,
@@ -281,9 +306,9 @@ pub fn primal_dual_active_set(
                         ViolationTolerance::PerBound(f) => f * (1.0 + b.value.abs()),
                         ViolationTolerance::SolutionScale(f) => f * scale,
                     };
-                    let d = diag[b.dof()];
+                    let d = rho * diag[b.dof()];
                     // σ(x − b) beyond rounding (scaled by the diagonal, as the iteration's
-                    // c·(x − b) with c = K_dd)
+                    // c·(x − b) with c = ρK_dd > 0)
                     d * (b.sense.sign() * (x[b.dof()] - b.value)) > d * tol
                 }
             })
@@ -419,6 +444,7 @@ mod tests {
                 bounds,
                 rotation: None,
                 eliminated: &boundary,
+                negated_rows: false,
             };
             let s = primal_dual_active_set(&problem, &mut DirectSolver::cholesky(), None, &options)
                 .expect("converges");
@@ -437,6 +463,74 @@ mod tests {
         }
     }
 
+    /// The lower-bound obstacle problem with every row (matrix and load) negated, factored by
+    /// LDLᵀ with all signs −1 and solved with `negated_rows`: the same iterates, the same active
+    /// set, the same multipliers (to rounding) as the original problem. Without the flag the
+    /// multipliers have the wrong sign and the iteration does not find that solution.
+    #[test]
+    fn negated_rows_give_the_multipliers_of_the_original_rows() {
+        let n = 64;
+        let pull = Laplacian1d::new(n, |x| if x < 0.5 { -40.0 } else { 20.0 });
+        let mut negated = Laplacian1d::new(n, |x| if x < 0.5 { -40.0 } else { 20.0 });
+        negated.values.iter_mut().for_each(|v| *v = -*v);
+        negated.rhs.iter_mut().for_each(|v| *v = -*v);
+        let interior: Vec<bool> = (0..=n).map(|i| i > 0 && i < n).collect();
+        let lower = Bounds::Uniform {
+            at: &interior,
+            sense: Sense::Lower,
+            value: 0.0,
+        };
+        let boundary = [(0, 0.0), (n, 0.0)];
+        let options = ActiveSetOptions {
+            max_iterations: 50,
+            multiplier_tolerance: 0.0,
+            violation: ViolationTolerance::PerBound(1e-13),
+        };
+        let original = NodalBounds {
+            matrix: pull.matrix(),
+            rhs: &pull.rhs,
+            bounds: lower,
+            rotation: None,
+            eliminated: &boundary,
+            negated_rows: false,
+        };
+        let reference =
+            primal_dual_active_set(&original, &mut DirectSolver::cholesky(), None, &options)
+                .unwrap();
+        let flipped = NodalBounds {
+            matrix: negated.matrix(),
+            rhs: &negated.rhs,
+            negated_rows: true,
+            ..original
+        };
+        let ldlt = || DirectSolver::ldlt(vec![-1; n + 1]);
+        let s = primal_dual_active_set(&flipped, &mut ldlt(), None, &options).unwrap();
+        assert_eq!(s.active, reference.active);
+        assert_eq!(s.iterations, reference.iterations);
+        for (a, b) in s.multipliers.iter().zip(&reference.multipliers) {
+            assert!((a - b).abs() < 1e-9, "λ {a} vs {b}");
+        }
+        for (a, b) in s.x.iter().zip(&reference.x) {
+            assert!((a - b).abs() < 1e-12, "x {a} vs {b}");
+        }
+        assert_kkt(pull.matrix(), &pull.rhs, lower, &s);
+        // The same negated system read as a minimisation: not the solution.
+        let wrong = NodalBounds {
+            negated_rows: false,
+            ..flipped
+        };
+        match primal_dual_active_set(&wrong, &mut ldlt(), None, &options) {
+            Ok(w) => {
+                let off =
+                    w.x.iter()
+                        .zip(&reference.x)
+                        .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+                assert!(off > 1e-3, "the wrong reading found the solution ({off:e})");
+            }
+            Err(e) => assert!(e.contains("did not converge"), "{e}"),
+        }
+    }
+
     #[test]
     fn too_few_iterations_is_an_error_that_says_so() {
         let n = 64;
@@ -448,6 +542,7 @@ mod tests {
             bounds: Bounds::Listed(&bounds),
             rotation: None,
             eliminated: &[(0, 0.0), (n, 0.0)],
+            negated_rows: false,
         };
         let options = ActiveSetOptions {
             max_iterations: 1,
@@ -504,6 +599,7 @@ mod tests {
             bounds: Bounds::Listed(&bounds),
             rotation: Some(&rotation),
             eliminated: &[],
+            negated_rows: false,
         };
         let options = ActiveSetOptions {
             max_iterations: 10,

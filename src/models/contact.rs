@@ -279,6 +279,7 @@ pub fn solve_contact(
         bounds: Bounds::Listed(&bounds),
         rotation: Some(&rotation),
         eliminated: &eliminated,
+        negated_rows: false,
     };
     let options = ActiveSetOptions {
         max_iterations: MAX_ACTIVE_SET_ITERATIONS.max(constraints.len()),

@@ -362,6 +362,7 @@ pub fn solve_cavitation(
         bounds,
         rotation: None,
         eliminated: &eliminated,
+        negated_rows: false,
     };
     let options = ActiveSetOptions {
         max_iterations: MAX_ACTIVE_SET_ITERATIONS,

@@ -1,6 +1,6 @@
-//! The SubStokes problem without cavitation (I.53), (I.57), weak form (I.58) = (II.32),
-//! discretised with equal-order Q₁/Q₁ and pressure stabilisation (§II.3.2.1, §III.2.3) on the
-//! quadtree mesh.
+//! The SubStokes problem without cavitation (I.53), (I.57), weak form (I.58) = (II.32), and with
+//! cavitation (I.65), weak form (I.66) = (II.36), discrete form (III.79), discretised with
+//! equal-order Q₁/Q₁ and pressure stabilisation (§II.3.2.1, §III.2.3) on the quadtree mesh.
 //!
 //! **Unknowns.** Per vertex the film-integrated flow rate χ = (χ₁, χ₂) = ∫ v dx₃ (I.44) and the
 //! film-integrated pressure ψ = ∫ p dx₃ (I.45), three Q₁ components in the order
@@ -34,13 +34,31 @@
 //! velocity dofs and −1 on the pressure dofs. Cell integrals use 2×2 Gauss points, the boundary
 //! integral 2 Gauss points per boundary face. The boundary values ψ₀ are eliminated dofs, the
 //! hanging-node constraints are condensed as in the other models ([`crate::fe::Constraints`]).
+//!
+//! **Cavitation** (§III.2.3.3, spec/models.md §7; [`Form::Cavitation`], [`solve_cavitation`]).
+//! The velocity form is a₂c(χ, ξ) = ⟨∇χ, ∇ξ⟩ + 12⟨χ/g, ξ/g⟩ + ⟨div χ, div ξ⟩ with the plain 2-D
+//! divergence (I.66); the boundary term −⟨div χ, n·ξ⟩_{∂Ω₂} of (I.66) is dropped, as (III.74),
+//! (III.75) argue (div χ = 0 on ∂Ω₂ for ψ₀ > 0; spec §15 item 11), which keeps the matrix
+//! symmetric. The momentum source is κ + γ_c with γ_c = γ₃c + 12 v̄/g (I.61), (I.65)
+//! ([`FilmJets::gamma_c`], in the reading [`SubStokesProblem::cavitation_source`], default
+//! (I.61) as printed). b₂c = b₂, the stabilisation C, the mass load G and the boundary term
+//! −⟨ψ₀ n, ξ⟩_{∂Ω₂} are those of the plain form. The discrete problem (III.79) is solved in its
+//! multiplier form: ψ_j ≥ 0 at the interior non-hanging vertices, λ_j = (Bᵀχ + Cψ − G)_j ≥ 0,
+//! ψ_j λ_j = 0. Nodal ψ_h ≥ 0 gives ψ_h ≥ 0 everywhere for Q₁ (remark after (III.61)).
+//!
+//! [`FilmJets::gamma`]: crate::models::thin_film::FilmJets::gamma
+//! [`FilmJets::sigma3`]: crate::models::thin_film::FilmJets::sigma3
+//! [`FilmJets::gamma_c`]: crate::models::thin_film::FilmJets::gamma_c
 
 use crate::fe::cell_values::CellValues;
 use crate::fe::quadrature::{gauss, square_rule};
 use crate::fe::{DofMap, LocalDofs, System};
-use crate::linalg::DirectSolver;
+use crate::linalg::active_set::{
+    primal_dual_active_set, ActiveSetOptions, Bounds, NodalBounds, Sense, ViolationTolerance,
+};
+use crate::linalg::{Csc, DirectSolver};
 use crate::mesh::{bilinear, Face, Mesh};
-use crate::models::thin_film::ThinFilm;
+use crate::models::thin_film::{CavitationSource, ThinFilm};
 
 /// Default stabilisation constant δ_ε of the pressure stabilisation Σ_Q δ_ε h_Q² ⟨∇ψ, ∇φ⟩_Q
 /// (§III.2.3). The thesis only states the form ε = δ_ε h² (spec §15 item 13), not the value:
@@ -56,7 +74,15 @@ pub const PSI: usize = 2;
 /// Largest relative residual ‖Kx − f‖/‖f‖ on the free dofs accepted after a solve.
 pub const MAX_RELATIVE_RESIDUAL: f64 = 1e-10;
 
-/// One SubStokes example (§IV.3): film data, boundary pressure ψ₀ (I.55) and δ_ε.
+/// Largest number of primal–dual active-set iterations of [`solve_cavitation`].
+pub const MAX_ACTIVE_SET_ITERATIONS: usize = 100;
+
+/// Largest complementarity max_j |min(ψ_j, λ_j)| accepted after [`solve_cavitation`], relative
+/// to max(1, ‖G‖∞) over the free ψ dofs.
+pub const MAX_COMPLEMENTARITY: f64 = 1e-8;
+
+/// One SubStokes example (§IV.3): film data, boundary pressure ψ₀ (I.55), δ_ε and the reading of
+/// γ₃c (I.61) used by the cavitation form.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SubStokesProblem {
     /// Gap g and wall velocities; γ (I.52) and σ₃ (I.50) are computed from them.
@@ -65,6 +91,21 @@ pub struct SubStokesProblem {
     pub boundary_pressure: f64,
     /// Stabilisation constant δ_ε.
     pub delta_eps: f64,
+    /// The reading of γ₃c in the momentum source γ_c = γ₃c + 12 v̄/g (I.61), (I.65) of the
+    /// cavitation form ([`Form::Cavitation`]); the plain form does not use it. Default: (I.61) as
+    /// printed (spec/models.md §7).
+    pub cavitation_source: CavitationSource,
+}
+
+/// Which weak form [`SubStokesProblem::assemble_form`] assembles.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Form {
+    /// (I.58) = (II.32): a₂ and the source κ + γ (module docs).
+    #[default]
+    Plain,
+    /// The velocity equation of (I.66) = (II.36) in the discrete form (III.79) (module docs,
+    /// "Cavitation"): a₂c = a₂ + ⟨div χ, div ξ⟩ and the source κ + γ_c.
+    Cavitation,
 }
 
 /// A solved SubStokes system.
@@ -77,6 +118,58 @@ pub struct SubStokesSolution {
     /// Relative residual ‖Kx − f‖/‖f‖ of the solve on the free dofs, where f is the right-hand
     /// side of the reduced system (the load minus the couplings to the eliminated dofs).
     pub relative_residual: f64,
+}
+
+/// A solved SubStokes problem with cavitation ([`solve_cavitation`]).
+#[derive(Clone, Debug)]
+pub struct SubStokesCavitationSolution {
+    /// Dofs, vertex-major (χ₁, χ₂, ψ) with hanging values distributed, and the relative residual
+    /// of the last linear solve (on the free dofs off the active set).
+    pub solution: SubStokesSolution,
+    /// Per dof: the discrete multiplier λ_j = (Bᵀχ + Cψ − G)_j = b₂(χ_h, φ_j) +
+    /// Σ_Q δ_ε h_Q²⟨∇ψ_h, ∇φ_j⟩_Q − ⟨σ₃, φ_j⟩ at the free ψ dofs (interior, not hanging) — the
+    /// residual of the mass equation (III.79) tested with the hat function φ_j, ≥ 0 where ψ_j = 0
+    /// and 0 up to rounding elsewhere (the rounding is kept, not zeroed) — and 0 at every other
+    /// dof.
+    pub lambda: Vec<f64>,
+    /// Per dof: whether ψ_j = 0 is imposed (the final active set).
+    pub active: Vec<bool>,
+    /// Primal–dual active-set iterations (= numeric LDLᵀ factorisations).
+    pub iterations: usize,
+    /// max_j |min(ψ_j, λ_j)| over the free ψ dofs.
+    pub complementarity: f64,
+    /// ‖G‖∞ over the free ψ dofs (scale of the tolerances).
+    pub load_scale: f64,
+}
+
+impl SubStokesCavitationSolution {
+    /// The multiplier λ_j at vertex `v` (0 off the free ψ dofs).
+    pub fn lambda_at(&self, v: u32) -> f64 {
+        self.lambda[self.solution.dofs.dof(v, PSI)]
+    }
+
+    /// Fraction of the vertices with ψ = 0 (cavitated).
+    pub fn cavitated_vertex_fraction(&self) -> f64 {
+        let s = &self.solution;
+        let n = s.dofs.vertices.len();
+        let zero = (0..n as u32).filter(|&v| s.psi(v) == 0.0).count();
+        zero as f64 / n as f64
+    }
+
+    /// Fraction of the area of Ω₂ covered by the cells whose four corners have ψ = 0 (ψ_h ≡ 0
+    /// on them).
+    pub fn cavitated_area_fraction(&self, mesh: &Mesh) -> f64 {
+        let s = &self.solution;
+        let (mut cavitated, mut total) = (0.0, 0.0);
+        for (k, &c) in mesh.active().iter().enumerate() {
+            let area = mesh.cell_shape(c).area();
+            total += area;
+            if s.dofs.corner_values(&s.u, k, PSI).iter().all(|&p| p == 0.0) {
+                cavitated += area;
+            }
+        }
+        cavitated / total
+    }
 }
 
 impl SubStokesSolution {
@@ -108,12 +201,21 @@ impl SubStokesProblem {
             film,
             boundary_pressure,
             delta_eps: DEFAULT_DELTA_EPS,
+            cavitation_source: CavitationSource::default(),
         }
     }
 
     /// The same problem with another δ_ε.
     pub fn with_delta_eps(self, delta_eps: f64) -> SubStokesProblem {
         SubStokesProblem { delta_eps, ..self }
+    }
+
+    /// The same problem with another reading of γ₃c (cavitation form only).
+    pub fn with_cavitation_source(self, cavitation_source: CavitationSource) -> SubStokesProblem {
+        SubStokesProblem {
+            cavitation_source,
+            ..self
+        }
     }
 
     /// The dofs (3 per vertex), hanging-node constraints and ψ = ψ₀ on ∂Ω₂ of `mesh`.
@@ -144,6 +246,18 @@ impl SubStokesProblem {
     /// Assemble the symmetric quasi-definite matrix [A, −B; −Bᵀ, −C] and the load [F; −G]
     /// (module docs) into `system`: 2×2 Gauss points per cell, 2 Gauss points per boundary face.
     pub fn assemble(&self, mesh: &Mesh, system: &mut System) {
+        self.assemble_form(mesh, system, Form::Plain)
+    }
+
+    /// Assemble the cavitation system (module docs, "Cavitation"): A with the grad-div term
+    /// ⟨div χ, div ξ⟩ and F with κ + γ_c instead of κ + γ; B, C, G and the boundary term are
+    /// those of [`Self::assemble`].
+    pub fn assemble_cavitation(&self, mesh: &Mesh, system: &mut System) {
+        self.assemble_form(mesh, system, Form::Cavitation)
+    }
+
+    /// Assemble `form` into `system` ([`Self::assemble`], [`Self::assemble_cavitation`]).
+    pub fn assemble_form(&self, mesh: &Mesh, system: &mut System, form: Form) {
         let active = mesh.active();
         let rule = square_rule::<4>();
         let local = LocalDofs::new(N_COMPONENTS);
@@ -163,8 +277,12 @@ impl SubStokesProblem {
                 let jets = self.film.film_jets(cv.point(q));
                 let g = jets.g.v;
                 let dg_g = [jets.g.d[0] / g, jets.g.d[1] / g];
-                // κ + γ (κ = 0 in the examples of §IV.3, kept for the general form).
-                let gamma = jets.gamma();
+                // κ + γ, or κ + γ_c for cavitation (κ = 0 in the examples of §IV.3, kept for
+                // the general form).
+                let gamma = match form {
+                    Form::Plain => jets.gamma(),
+                    Form::Cavitation => jets.gamma_c(self.cavitation_source),
+                };
                 let source = [0, 1].map(|mu| jets.kappa[mu].v + gamma[mu].v);
                 let sigma3 = jets.sigma3().v;
                 let mass = 12.0 / (g * g);
@@ -175,6 +293,15 @@ impl SubStokesProblem {
                         let av = (stiff + mass * phi[a] * phi[b]) * jw;
                         for mu in 0..2 {
                             ke[local.entry(local.index(a, mu), local.index(b, mu))] += av;
+                        }
+                        // Grad-div: ⟨div χ, div ξ⟩ couples (a, μ) with (b, ν) by ∂_μφ_a ∂_νφ_b.
+                        if form == Form::Cavitation {
+                            for mu in 0..2 {
+                                for nu in 0..2 {
+                                    ke[local.entry(local.index(a, mu), local.index(b, nu))] +=
+                                        grad[a][mu] * grad[b][nu] * jw;
+                                }
+                            }
                         }
                         // −B (row χ of vertex a, column ψ of vertex b) and −Bᵀ.
                         for nu in 0..2 {
@@ -233,6 +360,190 @@ impl SubStokesProblem {
             relative_residual,
         })
     }
+
+    /// Set up, assemble the cavitation form and solve the complementarity problem on `mesh`
+    /// ([`solve_cavitation`]) with a fresh LDLᵀ solver, from the empty active set (so the first
+    /// iteration is the unconstrained solve of the cavitation form).
+    pub fn solve_with_cavitation(
+        &self,
+        mesh: &Mesh,
+    ) -> Result<SubStokesCavitationSolution, String> {
+        let mut system = self.system(mesh);
+        self.assemble_cavitation(mesh, &mut system);
+        let mut solver = DirectSolver::ldlt(Self::signs(&system.dofs));
+        solver.reorder(system.ordering());
+        let initial = vec![false; system.dofs.n_dofs()];
+        solve_cavitation(&system, &mut solver, &initial)
+    }
+}
+
+/// ‖Kx − f‖/‖f̃‖ over the dofs `rows`, where x holds the eliminated values (hanging dofs at 0)
+/// as the solver returns it and f̃ = f − K x_eliminated is the right-hand side of the reduced
+/// system (f itself on the rows when it vanishes).
+fn relative_residual(
+    matrix: Csc<'_>,
+    rhs: &[f64],
+    x: &[f64],
+    eliminated: &[(usize, f64)],
+    rows: impl Fn(usize) -> bool,
+) -> f64 {
+    let n = x.len();
+    let mut lift = vec![0.0; n];
+    for &(d, v) in eliminated {
+        lift[d] = v;
+    }
+    let k_lift = matrix.multiply(&lift);
+    let ku = matrix.multiply(x);
+    let (mut r2, mut f2) = (0.0f64, 0.0f64);
+    for i in (0..n).filter(|&i| rows(i)) {
+        r2 += (ku[i] - rhs[i]).powi(2);
+        f2 += (rhs[i] - k_lift[i]).powi(2);
+    }
+    if f2 > 0.0 {
+        (r2 / f2).sqrt()
+    } else {
+        r2.sqrt()
+    }
+}
+
+/// Solve the assembled cavitation `system` ([`SubStokesProblem::assemble_cavitation`]) under
+/// ψ_j ≥ 0 at the free ψ dofs (interior, non-hanging vertices; hanging values are means of their
+/// parents, boundary values ψ₀), i.e. the discrete problem (III.79) in its multiplier form:
+///
+/// A χ − B ψ = F,  Bᵀχ + Cψ − G = λ,  ψ ≥ 0,  λ ≥ 0,  λ_j ψ_j = 0,
+///
+/// (λ_j = ⟨λ_h, φ_j⟩, the hat-function residual of the mass equation), by the primal–dual
+/// active-set method ([`primal_dual_active_set`]) on the coupled symmetric quasi-definite
+/// system. The mass rows are stored negated (module docs), so row j reads −(Bᵀχ + Cψ)_j = −G_j
+/// and λ_j = (F − Kx)_j: the solver runs with [`NodalBounds::negated_rows`]. Active ψ dofs are an
+/// overlay on the eliminated dofs, so every iteration is one numeric LDLᵀ factorisation with
+/// the ordering and symbolic factorisation of `solver` reused (signs +1 on χ, −1 on ψ; an active
+/// ψ dof keeps a −1 diagonal entry).
+///
+/// Tolerances as the Reynolds cavitation ([`crate::models::reynolds::solve_cavitation`]): an
+/// active dof stays active while λ_j > −1e-12·max(1, ‖G‖∞), an inactive one becomes active when
+/// ψ_j < −1e-13·max|x|. `initial_active` flags the first active set per dof (only its entries at
+/// free ψ dofs are read; its length must be the number of dofs).
+///
+/// Checks (each failure is an `Err`): the factorisations (a zero pivot is an error, no pivot is
+/// regularised), at most [`MAX_ACTIVE_SET_ITERATIONS`] iterations, the relative residual of the
+/// last solve on the free dofs off the active set ≤ [`MAX_RELATIVE_RESIDUAL`], finite values,
+/// ψ ≥ 0 at every vertex (negative values of rounding size, |ψ_j| ≤ 1e-12·max|ψ|, at inactive
+/// dofs are set to 0 first), and max_j |min(ψ_j, λ_j)| ≤ [`MAX_COMPLEMENTARITY`]·max(1, ‖G‖∞).
+pub fn solve_cavitation(
+    system: &System,
+    solver: &mut DirectSolver,
+    initial_active: &[bool],
+) -> Result<SubStokesCavitationSolution, String> {
+    let n = system.dofs.n_dofs();
+    if initial_active.len() != n {
+        return Err(format!(
+            "SubStokes cavitation: the initial active set has {} entries for {n} dofs",
+            initial_active.len()
+        ));
+    }
+    let rhs = &system.rhs;
+    let bounded: Vec<bool> = (0..n)
+        .map(|d| d % N_COMPONENTS == PSI && system.constraints.is_free(d))
+        .collect();
+    let bounds = Bounds::Uniform {
+        at: &bounded,
+        sense: Sense::Lower,
+        value: 0.0,
+    };
+    let initial: Vec<bool> = bounds.iter().map(|b| initial_active[b.dof()]).collect();
+    let load_scale = (0..n)
+        .filter(|&d| bounded[d])
+        .fold(0.0f64, |m, d| m.max(rhs[d].abs()));
+    let eliminated = system.constraints.eliminated();
+    let matrix = system.matrix();
+    let problem = NodalBounds {
+        matrix,
+        rhs,
+        bounds,
+        rotation: None,
+        eliminated: &eliminated,
+        negated_rows: true,
+    };
+    let options = ActiveSetOptions {
+        max_iterations: MAX_ACTIVE_SET_ITERATIONS,
+        multiplier_tolerance: 1e-12 * load_scale.max(1.0),
+        violation: ViolationTolerance::SolutionScale(1e-13),
+    };
+    let result = primal_dual_active_set(&problem, solver, Some(&initial), &options)
+        .map_err(|e| format!("SubStokes cavitation: {e}"))?;
+    let mut active = vec![false; n];
+    for (b, &a) in bounds.iter().zip(&result.active) {
+        active[b.dof()] = a;
+    }
+    let mut u = result.x;
+    if let Some(d) = u.iter().position(|v| !v.is_finite()) {
+        return Err(format!(
+            "SubStokes cavitation: non-finite value {} at dof {d}",
+            u[d]
+        ));
+    }
+    // Residual of the last linear system (active ψ dofs eliminated at 0) and the multipliers,
+    // from x as the solver returns it (hanging dofs at 0).
+    let relative = relative_residual(matrix, rhs, &u, &eliminated, |i| {
+        system.constraints.is_free(i) && !active[i]
+    });
+    if !relative.is_finite() || relative > MAX_RELATIVE_RESIDUAL {
+        return Err(format!(
+            "SubStokes cavitation: relative residual {relative:e} of the last LDLᵀ solve \
+             exceeds {MAX_RELATIVE_RESIDUAL:e}"
+        ));
+    }
+    let ku = matrix.multiply(&u);
+    let lambda: Vec<f64> = (0..n)
+        .map(|d| if bounded[d] { rhs[d] - ku[d] } else { 0.0 })
+        .collect();
+    let psi_scale = (0..n)
+        .filter(|&d| d % N_COMPONENTS == PSI)
+        .fold(0.0f64, |m, d| m.max(u[d].abs()));
+    for d in 0..n {
+        if !bounded[d] || u[d] >= 0.0 {
+            continue;
+        }
+        if u[d] < -1e-12 * psi_scale {
+            return Err(format!(
+                "SubStokes cavitation: ψ = {} < 0 at an inactive dof {d} after convergence",
+                u[d]
+            ));
+        }
+        u[d] = 0.0;
+    }
+    system.constraints.distribute(&mut u);
+    if let Some(d) = (0..n).find(|&d| d % N_COMPONENTS == PSI && u[d] < 0.0) {
+        return Err(format!(
+            "SubStokes cavitation: ψ = {} < 0 at vertex {}",
+            u[d],
+            d / N_COMPONENTS
+        ));
+    }
+    let complementarity = (0..n)
+        .filter(|&d| bounded[d])
+        .map(|d| u[d].min(lambda[d]).abs())
+        .fold(0.0f64, f64::max);
+    let tolerance = MAX_COMPLEMENTARITY * load_scale.max(1.0);
+    if !complementarity.is_finite() || complementarity > tolerance {
+        return Err(format!(
+            "SubStokes cavitation: complementarity max|min(ψ, λ)| = {complementarity:e} \
+             exceeds {tolerance:e}"
+        ));
+    }
+    Ok(SubStokesCavitationSolution {
+        solution: SubStokesSolution {
+            dofs: system.dofs.clone(),
+            u,
+            relative_residual: relative,
+        },
+        lambda,
+        active,
+        iterations: result.iterations,
+        complementarity,
+        load_scale,
+    })
 }
 
 /// Solve the assembled SubStokes `system` with `solver` (an LDLᵀ solver with the signs of
@@ -252,23 +563,9 @@ pub fn solve_system(system: &System, solver: &mut DirectSolver) -> Result<(Vec<f
     // Residual of the reduced system: x holds the eliminated values (hanging dofs at 0), so
     // (Kx − f)_free is the residual of the free equations, and the reduced right-hand side is
     // f_free − (K x_eliminated)_free.
-    let n = u.len();
-    let mut lift = vec![0.0; n];
-    for &(d, v) in &eliminated {
-        lift[d] = v;
-    }
-    let k_lift = matrix.multiply(&lift);
-    let ku = matrix.multiply(&u);
-    let (mut r2, mut f2) = (0.0f64, 0.0f64);
-    for i in (0..n).filter(|&i| system.constraints.is_free(i)) {
-        r2 += (ku[i] - system.rhs[i]).powi(2);
-        f2 += (system.rhs[i] - k_lift[i]).powi(2);
-    }
-    let relative = if f2 > 0.0 {
-        (r2 / f2).sqrt()
-    } else {
-        r2.sqrt()
-    };
+    let relative = relative_residual(matrix, &system.rhs, &u, &eliminated, |i| {
+        system.constraints.is_free(i)
+    });
     if !relative.is_finite() || relative > MAX_RELATIVE_RESIDUAL {
         return Err(format!(
             "SubStokes: relative residual {relative:e} of the LDLᵀ solve exceeds \
@@ -317,11 +614,15 @@ pub(crate) mod fixtures {
     pub(crate) fn problem(eq: &str) -> SubStokesProblem {
         SubStokesProblem::new(example(eq).unwrap(), 200.0)
     }
+
+    /// The examples that Chapter IV solves with cavitation (§IV.3.6): those with negative
+    /// pressure without it.
+    pub(crate) const CAVITATING: [&str; 6] = ["IV.8", "IV.11", "IV.16", "IV.17", "IV.19", "IV.20"];
 }
 
 #[cfg(test)]
 mod tests {
-    use super::fixtures::{problem, uniform, with_hanging};
+    use super::fixtures::{problem, uniform, with_hanging, CAVITATING};
     use super::*;
     use crate::models::thin_film::EXAMPLES;
 
@@ -485,6 +786,193 @@ mod tests {
             f2 += (system.rhs[i] - kl[i]).powi(2);
         }
         assert!((r2 / f2).sqrt() > 1e-8);
+    }
+
+    fn min_psi(s: &SubStokesSolution) -> f64 {
+        (0..s.dofs.vertices.len() as u32)
+            .map(|v| s.psi(v))
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// On 32×32 with δ_ε = 1.10e-3 the solution without cavitation has a negative vertex value
+    /// of ψ exactly for the six examples Chapter IV solves with cavitation (minima printed; an
+    /// independent check found −690, −388, −900, −28, −649, −191 for them and ≥ 163 for the
+    /// others).
+    #[test]
+    fn negative_pressure_exactly_for_the_cavitation_examples() {
+        let mesh = uniform(5);
+        for eq in EXAMPLES {
+            let m = min_psi(&problem(eq).solve(&mesh).unwrap());
+            println!("{eq}: min ψ = {m:.3} (32x32, no cavitation)");
+            assert_eq!(m < 0.0, CAVITATING.contains(&eq), "{eq}: min ψ = {m}");
+        }
+    }
+
+    /// The cavitation form differs from the plain one by the grad-div block in A and by
+    /// γ_c − γ in F only; B, C and G are the same, and the matrix is symmetric.
+    #[test]
+    fn cavitation_form_adds_grad_div_and_gamma_c() {
+        let mesh = with_hanging();
+        for eq in ["IV.11", "IV.20"] {
+            let p = problem(eq);
+            let mut plain = p.system(&mesh);
+            p.assemble(&mesh, &mut plain);
+            let mut cav = p.system(&mesh);
+            p.assemble_cavitation(&mesh, &mut cav);
+            let (mp, mc) = (plain.matrix(), cav.matrix());
+            let scale = mc.values.iter().fold(0.0f64, |s, v| s.max(v.abs()));
+            let mut changed = 0;
+            for j in 0..mc.n() {
+                for q in mc.col_ptr[j]..mc.col_ptr[j + 1] {
+                    let i = mc.row_idx[q];
+                    let t = mc.position(j, i).unwrap();
+                    assert!((mc.values[q] - mc.values[t]).abs() <= 1e-12 * scale);
+                    let diff = mc.values[q] - mp.values[q];
+                    if i % 3 == PSI || j % 3 == PSI {
+                        assert_eq!(diff, 0.0, "{eq}: B or C changed at ({i}, {j})");
+                    } else if diff != 0.0 {
+                        changed += 1;
+                    }
+                }
+            }
+            assert!(changed > 0, "{eq}: no grad-div entries");
+            let mut load_changed = false;
+            for d in 0..plain.rhs.len() {
+                if d % 3 == PSI {
+                    assert_eq!(plain.rhs[d], cav.rhs[d], "{eq}: G changed at {d}");
+                } else {
+                    load_changed |= plain.rhs[d] != cav.rhs[d];
+                }
+            }
+            // γ_c ≠ γ for the linear and hill gaps (the ∂_μ∂_ν g and δv₃ ∂g/g terms).
+            assert!(load_changed, "{eq}: γ_c = γ");
+        }
+    }
+
+    /// An example without negative pressure ((IV.7), squeeze upward pressure) solved with
+    /// cavitation: the active set stays empty and the solution is that of the unconstrained
+    /// cavitation system (the LDLᵀ solve of the same assembly), with multipliers of rounding
+    /// size.
+    #[test]
+    fn empty_active_set_solves_the_unconstrained_cavitation_system() {
+        for mesh in [uniform(3), with_hanging()] {
+            let p = problem("IV.7");
+            let cav = p.solve_with_cavitation(&mesh).unwrap();
+            assert!(cav.active.iter().all(|&a| !a));
+            assert_eq!(cav.iterations, 1);
+            let mut system = p.system(&mesh);
+            p.assemble_cavitation(&mesh, &mut system);
+            let mut solver = DirectSolver::ldlt(SubStokesProblem::signs(&system.dofs));
+            let (u, r) = solve_system(&system, &mut solver).unwrap();
+            assert!(r < MAX_RELATIVE_RESIDUAL);
+            let scale = u.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            for (a, b) in cav.solution.u.iter().zip(&u) {
+                assert!((a - b).abs() <= 1e-10 * scale, "{a} vs {b}");
+            }
+            let lambda = cav.lambda.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            assert!(lambda <= 1e-10 * cav.load_scale.max(1.0), "λ = {lambda:e}");
+            // And it is not the plain solution (the grad-div term acts).
+            let plain = p.solve(&mesh).unwrap();
+            let diff = plain
+                .u
+                .iter()
+                .zip(&u)
+                .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+            assert!(diff > 1e-6, "plain and cavitation forms agree to {diff:e}");
+        }
+    }
+
+    /// The six cavitation examples on 8×8 and 32×32 (including the hard case (IV.20)) and on the
+    /// mesh with hanging nodes: converged, finite, ψ ≥ 0 at every vertex, λ ≥ 0 at the active
+    /// dofs, λ of rounding size off them, complementarity within tolerance, a non-empty active
+    /// set, and the unconstrained residual of the active rows is the multiplier.
+    #[test]
+    fn cavitation_examples_satisfy_the_complementarity_conditions() {
+        for (name, mesh) in [
+            ("8x8", uniform(3)),
+            ("32x32", uniform(5)),
+            ("hanging", with_hanging()),
+        ] {
+            for eq in CAVITATING {
+                let p = problem(eq);
+                let c = p
+                    .solve_with_cavitation(&mesh)
+                    .unwrap_or_else(|e| panic!("{eq} {name}: {e}"));
+                let s = &c.solution;
+                assert!(s.u.iter().all(|v| v.is_finite()), "{eq} {name}");
+                assert!(c.lambda.iter().all(|v| v.is_finite()), "{eq} {name}");
+                assert!(s.relative_residual <= MAX_RELATIVE_RESIDUAL);
+                let tol = MAX_COMPLEMENTARITY * c.load_scale.max(1.0);
+                assert!(
+                    c.complementarity <= tol,
+                    "{eq} {name}: {}",
+                    c.complementarity
+                );
+                // The LCP has a non-empty active set exactly when the unconstrained solution of
+                // the cavitation form has a negative ψ (S = BᵀA⁻¹B + C is positive definite, so
+                // a non-negative unconstrained solution is the solution). Not so for (IV.20) on
+                // 8×8 only.
+                let n_active = c.active.iter().filter(|&&a| a).count();
+                let mut system = p.system(&mesh);
+                p.assemble_cavitation(&mesh, &mut system);
+                let mut solver = DirectSolver::ldlt(SubStokesProblem::signs(&system.dofs));
+                let (free, _) = solve_system(&system, &mut solver).unwrap();
+                let negative = (0..free.len()).any(|d| d % 3 == PSI && free[d] < 0.0);
+                assert_eq!(n_active > 0, negative, "{eq} {name}: {n_active} active");
+                assert_eq!(negative, (eq, name) != ("IV.20", "8x8"), "{eq} {name}");
+                for v in 0..s.dofs.vertices.len() as u32 {
+                    let d = s.dofs.dof(v, PSI);
+                    assert!(s.psi(v) >= 0.0, "{eq} {name}: ψ = {} at {v}", s.psi(v));
+                    if c.active[d] {
+                        assert_eq!(s.psi(v), 0.0);
+                        assert!(c.lambda[d] >= -1e-12 * c.load_scale.max(1.0));
+                    } else {
+                        assert!(c.lambda[d].abs() <= 1e-10 * c.load_scale.max(1.0));
+                    }
+                }
+                let largest = c.lambda.iter().fold(0.0f64, |m, v| m.max(*v));
+                println!(
+                    "{eq} {name}: {} iterations, {n_active} active, complementarity {:e}, \
+                     residual {:e}, max λ {largest:.4e}, ‖G‖∞ {:.4e}, cavitated: {:.1} % of \
+                     the vertices, {:.1} % of the area",
+                    c.iterations,
+                    c.complementarity,
+                    s.relative_residual,
+                    c.load_scale,
+                    100.0 * c.cavitated_vertex_fraction(),
+                    100.0 * c.cavitated_area_fraction(&mesh),
+                );
+            }
+        }
+    }
+
+    /// (IV.8) on 8×8: the unconstrained solve has negative ψ, the solution with cavitation has
+    /// positive multipliers, and starting from every free ψ dof active converges to the same
+    /// active set and solution as the cold start. An initial set of the wrong length is an error.
+    #[test]
+    fn warm_start_from_all_active_converges_to_the_same_solution() {
+        let mesh = uniform(3);
+        let p = problem("IV.8");
+        let cold = p.solve_with_cavitation(&mesh).unwrap();
+        let mut system = p.system(&mesh);
+        p.assemble_cavitation(&mesh, &mut system);
+        let mut solver = DirectSolver::ldlt(SubStokesProblem::signs(&system.dofs));
+        let all = vec![true; system.dofs.n_dofs()];
+        let warm = solve_cavitation(&system, &mut solver, &all).unwrap();
+        assert_eq!(warm.active, cold.active);
+        for (a, b) in warm.solution.u.iter().zip(&cold.solution.u) {
+            assert!((a - b).abs() <= 1e-9 * (1.0 + b.abs()), "{a} vs {b}");
+        }
+        let (mut unconstrained, _) = solve_system(&system, &mut solver).unwrap();
+        system.constraints.distribute(&mut unconstrained);
+        let negative = (0..system.dofs.n_dofs())
+            .filter(|&d| d % 3 == PSI && unconstrained[d] < 0.0)
+            .count();
+        assert!(negative > 0);
+        assert!(cold.lambda.iter().any(|&l| l > 1e-6));
+        // The wrong length is an error.
+        let err = solve_cavitation(&system, &mut solver, &all[1..]).unwrap_err();
+        assert!(err.contains("initial active set"), "{err}");
     }
 
     /// ψ(½, ½) of (IV.7) on 8×8 and 32×32 with δ_ε = 1.10e-3 and δ_ε = 1 (printed; run with
