@@ -2,12 +2,14 @@
 //! symmetric sparse matrix ([`Csc`]), the fill-reducing ordering ([`ordering`]), the direct
 //! solvers — Cholesky for SPD systems, LDLᵀ for symmetric quasi-definite saddle points — with
 //! symbolic reuse and reused work arrays ([`direct`]), the primal–dual active-set method for
-//! nodal bounds ([`active_set`]) and a preconditioned conjugate gradient method ([`krylov`]).
+//! nodal bounds ([`active_set`]), a preconditioned conjugate gradient method ([`krylov`]) and
+//! the Uzawa variants (III.87)–(III.92) for stabilised saddle points ([`uzawa`]).
 
 pub mod active_set;
 pub mod direct;
 pub mod krylov;
 pub mod ordering;
+pub mod uzawa;
 
 pub use active_set::{ActiveSetOptions, ActiveSetSolution, Bound, Rotation};
 pub use direct::{DirectSolver, Factorisation, SolveError};

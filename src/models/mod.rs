@@ -4,5 +4,6 @@ pub mod contact;
 pub mod elasticity;
 pub mod obstacle;
 pub mod reynolds;
+pub mod stokes_channel;
 pub mod substokes;
 pub mod thin_film;
