@@ -55,3 +55,9 @@ fn forming() {
 fn reynolds() {
     full_tier(&crate::reynolds::TABLES, crate::reynolds::full_tier_rules);
 }
+
+#[test]
+#[ignore]
+fn substokes() {
+    full_tier(&crate::substokes::TABLES, crate::substokes::full_tier_rules);
+}
