@@ -330,6 +330,32 @@ pub struct CostRow {
     pub model_tolerance: f64,
 }
 
+/// Two thin-film models along a horizontal cut (§IV.3.3, §IV.3.7): the columns of
+/// `report/data/<table>.cuts.csv` (`crate::models::film_comparison`).
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct Cuts {
+    /// The height x₂ of the cut.
+    pub y: f64,
+    /// ψ₀ on ∂Ω₂, the reference of the relative difference.
+    pub boundary_pressure: f64,
+    /// Named columns of equal length, `x` first.
+    pub columns: Vec<(String, Vec<f64>)>,
+    /// With cavitation: the cavitated area fraction of the SubStokes solution.
+    pub cavitated_substokes: Option<f64>,
+    /// With cavitation: the cavitated area fraction of the Reynolds solution on the same mesh.
+    pub cavitated_reynolds: Option<f64>,
+}
+
+impl Cuts {
+    /// The column `name`, if there is one.
+    pub fn column(&self, name: &str) -> Option<&[f64]> {
+        self.columns
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, v)| v.as_slice())
+    }
+}
+
 /// Everything one experiment run produced.
 #[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct RunResult {
@@ -349,6 +375,8 @@ pub struct RunResult {
     pub partitions: Vec<PartitionPicture>,
     /// The cost-of-accuracy study of a model-adaptive scene (empty unless the report ran it).
     pub costs: Vec<CostRow>,
+    /// A SubStokes run: the Reynolds model on its last mesh and both along a cut.
+    pub cuts: Option<Cuts>,
     /// Bounding box of the domain `[x0, x1, y0, y1]`.
     pub domain: [f64; 4],
     /// Readings of the thesis and known differences that apply to this table (shown in the report).
@@ -373,6 +401,7 @@ impl RunResult {
             fields: Vec::new(),
             partitions: Vec::new(),
             costs: Vec::new(),
+            cuts: None,
             domain,
             notes: Vec::new(),
             warnings: Vec::new(),

@@ -345,30 +345,18 @@ fn control_characters_in_a_file_name_are_escaped_on_the_page() {
 /// A run of `rows` cycles of tribo with the given title and notes.
 fn run_result(title: &str, notes: &[&str], rows: usize) -> tribo::results::RunResult {
     use tribo::results::{Row, RunResult};
-    RunResult {
-        table: "IV.1".into(),
-        section: "IV.1.1".into(),
-        title: title.into(),
-        tier: "quick".into(),
-        rows: (0..rows)
-            .map(|c| {
-                Row::new(c)
-                    .count("active_cells", 10 * (c + 1))
-                    .count("dofs", 100 * (c + 1))
-                    .real("estimate", Some(1.0 / (c as f64 + 1.0)))
-                    .real("ratio", None)
-            })
-            .collect(),
-        probes: vec![],
-        meshes: vec![],
-        deformed: vec![],
-        fields: vec![],
-        partitions: vec![],
-        costs: vec![],
-        domain: [0.0, 1.0, 0.0, 1.0],
-        notes: notes.iter().map(|n| n.to_string()).collect(),
-        warnings: vec![],
-    }
+    let mut run = RunResult::new("IV.1", "IV.1.1", title, "quick", [0.0, 1.0, 0.0, 1.0]);
+    run.rows = (0..rows)
+        .map(|c| {
+            Row::new(c)
+                .count("active_cells", 10 * (c + 1))
+                .count("dofs", 100 * (c + 1))
+                .real("estimate", Some(1.0 / (c as f64 + 1.0)))
+                .real("ratio", None)
+        })
+        .collect();
+    run.notes = notes.iter().map(|n| n.to_string()).collect();
+    run
 }
 
 fn meta() -> tribo::report::ReportMeta {

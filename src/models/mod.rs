@@ -2,6 +2,7 @@
 
 pub mod contact;
 pub mod elasticity;
+pub mod film_comparison;
 pub mod obstacle;
 pub mod reynolds;
 pub mod stokes_channel;

@@ -160,15 +160,7 @@ impl SubStokesCavitationSolution {
     /// on them).
     pub fn cavitated_area_fraction(&self, mesh: &Mesh) -> f64 {
         let s = &self.solution;
-        let (mut cavitated, mut total) = (0.0, 0.0);
-        for (k, &c) in mesh.active().iter().enumerate() {
-            let area = mesh.cell_shape(c).area();
-            total += area;
-            if s.dofs.corner_values(&s.u, k, PSI).iter().all(|&p| p == 0.0) {
-                cavitated += area;
-            }
-        }
-        cavitated / total
+        crate::models::film_comparison::cavitated_area(mesh, &s.dofs, &s.u, PSI)
     }
 }
 

@@ -132,8 +132,8 @@ pub fn costs_frame(costs: &[CostRow]) -> PolarsResult<DataFrame> {
     )
 }
 
-/// Write the CSV files of a run into `dir`: rows, probes and, when the run has them, the costs
-/// (`<table>.cost.csv`).
+/// Write the CSV files of a run into `dir`: rows, probes and, when the run has them, the cuts
+/// (`<table>.cuts.csv`) and the costs (`<table>.cost.csv`).
 pub fn write_csv(dir: &Path, run: &RunResult) -> PolarsResult<()> {
     std::fs::create_dir_all(dir)?;
     let safe = csv_stem(&run.table);
@@ -141,6 +141,16 @@ pub fn write_csv(dir: &Path, run: &RunResult) -> PolarsResult<()> {
     CsvWriter::new(File::create(dir.join(format!("{safe}.csv")))?).finish(&mut rows)?;
     let mut probes = probes_frame(run)?;
     CsvWriter::new(File::create(dir.join(format!("{safe}.probes.csv")))?).finish(&mut probes)?;
+    if let Some(cuts) = &run.cuts {
+        let mut frame = DataFrame::new(
+            cuts.columns.first().map_or(0, |c| c.1.len()),
+            cuts.columns
+                .iter()
+                .map(|(name, values)| Column::new(name.as_str().into(), values.as_slice()))
+                .collect(),
+        )?;
+        CsvWriter::new(File::create(dir.join(format!("{safe}.cuts.csv")))?).finish(&mut frame)?;
+    }
     if !run.costs.is_empty() {
         let mut costs = costs_frame(&run.costs)?;
         CsvWriter::new(File::create(dir.join(format!("{safe}.cost.csv")))?).finish(&mut costs)?;

@@ -12,6 +12,7 @@
 //! those of a load-step run, Fig. IV.54), `html` lays out the page.
 
 pub mod data;
+mod film;
 mod forming;
 mod html;
 mod model_plots;
@@ -23,6 +24,7 @@ use std::io;
 use std::panic::{self, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 
+use crate::models::film_comparison;
 use crate::results::columns::PREVIOUS_ESTIMATE;
 use crate::results::{Row, RunResult};
 use crate::thesis::ThesisTable;
@@ -440,6 +442,27 @@ fn write_figures(fig_dir: &Path, section: &Section) -> io::Result<Vec<Figure>> {
             ),
         );
         plots::field(&path, &run.table, pic, run.domain)?;
+    }
+
+    if let Some(cuts) = &run.cuts {
+        let mut caption = format!(
+            "{}: SubStokes (solid) and Reynolds (dashed) on the last mesh along x₂ = {} — \
+             pressure ψ/g and flow rate χ₁, the latter rebuilt by (I.86) for Reynolds \
+             (thesis Figs IV.112–IV.115, IV.143); max|ψ^S − ψ^R| is {} of max|ψ^R − ψ₀|",
+            run.table,
+            html::fmt_short(cuts.y),
+            film_comparison::relative_pressure_difference(cuts)
+                .map_or("undefined".into(), |d| format!("{:.1} %", 100.0 * d)),
+        );
+        if let (Some(s), Some(r)) = (cuts.cavitated_substokes, cuts.cavitated_reynolds) {
+            caption.push_str(&format!(
+                "; cavitated area SubStokes {:.0} %, Reynolds {:.0} %",
+                100.0 * s,
+                100.0 * r
+            ));
+        }
+        let path = push("cuts", caption);
+        film::cuts(&path, run, cuts)?;
     }
 
     if let Some((path, frames)) = animation {

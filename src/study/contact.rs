@@ -354,6 +354,7 @@ impl Problem for ContactProblem {
         Pictures {
             deformed,
             fields: Vec::new(),
+            ..Pictures::default()
         }
     }
 

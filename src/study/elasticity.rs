@@ -101,6 +101,7 @@ impl Problem for ElasticityProblem {
                 Some(self.height),
             )],
             fields: Vec::new(),
+            ..Pictures::default()
         }
     }
 

@@ -490,6 +490,7 @@ impl Problem for ModelAdaptiveContact {
         Pictures {
             deformed: vec![picture],
             fields: Vec::new(),
+            ..Pictures::default()
         }
     }
 

@@ -9,7 +9,7 @@ use crate::experiment::Scene;
 use crate::fe::{DofMap, System};
 use crate::linalg::DirectSolver;
 use crate::mesh::{BoundaryFace, Mesh, MeshError};
-use crate::results::{columns, DeformedPicture, FieldPicture, Value};
+use crate::results::{columns, Cuts, DeformedPicture, FieldPicture, Value};
 
 use super::clock::PhaseClock;
 
@@ -192,6 +192,8 @@ impl Estimate {
 pub struct Pictures {
     pub deformed: Vec<DeformedPicture>,
     pub fields: Vec<FieldPicture>,
+    /// A thin-film comparison along a cut (SubStokes against Reynolds on the last mesh).
+    pub cuts: Option<Cuts>,
 }
 
 /// One model inside the study loop ([`super::run_study`]): each method is one phase of a cycle.

@@ -70,6 +70,9 @@ impl<'a> Recorder<'a> {
             let pictures = problem.pictures(disc, dofs, solution, cycle);
             self.result.deformed.extend(pictures.deformed);
             self.result.fields.extend(pictures.fields);
+            if pictures.cuts.is_some() {
+                self.result.cuts = pictures.cuts;
+            }
         }
         if self.experiment.study.kind.adapts_model() {
             self.result

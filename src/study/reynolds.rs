@@ -236,6 +236,7 @@ impl Problem for ReynoldsFilm {
         Pictures {
             deformed: Vec::new(),
             fields: vec![field.picture(cycle, "psi", 0, self.switch.is_on())],
+            ..Pictures::default()
         }
     }
 

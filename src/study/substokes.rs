@@ -27,6 +27,7 @@ use crate::estimators::substokes::{
 use crate::experiment::{Rectangle, SubStokesData, SubStokesStabilisation};
 use crate::fe::{DofMap, System};
 use crate::linalg::DirectSolver;
+use crate::models::film_comparison::Comparison;
 use crate::models::substokes::{solve_cavitation, solve_system, SubStokesProblem, PSI};
 use crate::models::thin_film::ThinFilm;
 use crate::results::columns;
@@ -46,6 +47,8 @@ pub struct SubStokesFilm {
     lambda: Option<Vec<f64>>,
     /// The previous cycle's solution (warm start of the cavitation active set).
     previous: Option<PreviousSolution>,
+    /// Why the Reynolds comparison of the last mesh failed, if it did (a note of the table).
+    comparison_failure: Option<String>,
     solver: DirectSolver,
     domain: Rectangle,
 }
@@ -78,6 +81,7 @@ impl SubStokesFilm {
             previous_estimate: PreviousEstimate::default(),
             lambda: None,
             previous: None,
+            comparison_failure: None,
             solver: DirectSolver::ldlt(Vec::new()),
             domain: *domain,
         }
@@ -252,9 +256,25 @@ impl Problem for SubStokesFilm {
             dofs,
             u: &solution.u,
         };
+        let comparison = Comparison {
+            film: self.problem.film,
+            boundary_pressure: self.problem.boundary_pressure,
+            cavitation: self
+                .switch
+                .is_on()
+                .then_some(self.problem.cavitation_source),
+        };
+        let cuts = match comparison.cuts(&disc.mesh, dofs, &solution.u, self.domain.x) {
+            Ok(cuts) => Some(cuts),
+            Err(e) => {
+                self.comparison_failure = Some(e);
+                None
+            }
+        };
         Pictures {
             deformed: Vec::new(),
             fields: vec![field.picture(cycle, "psi", PSI, self.switch.is_on())],
+            cuts,
         }
     }
 
@@ -263,6 +283,9 @@ impl Problem for SubStokesFilm {
     }
 
     fn notes(&self) -> Vec<String> {
-        self.switch.note().into_iter().collect()
+        let failure = self.comparison_failure.as_ref().map(|e| {
+            format!("The Reynolds comparison on the last mesh could not be computed: {e}")
+        });
+        self.switch.note().into_iter().chain(failure).collect()
     }
 }

@@ -1,0 +1,117 @@
+//! The figure of a SubStokes table's comparison with Reynolds on its last mesh (thesis
+//! §IV.3.3, §IV.3.7, Figs IV.112–IV.115 and IV.143): the pressure p ≈ ψ/g and the flow rate
+//! χ₁ along the cut, SubStokes solid and Reynolds dashed.
+
+use std::fs;
+use std::io;
+use std::path::Path;
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use super::html::fmt_short;
+use super::plots::{plot_err, series_legend, Curve};
+use crate::results::{Cuts, RunResult};
+
+const SUBSTOKES: RGBColor = RGBColor(31, 90, 180);
+const REYNOLDS: RGBColor = RGBColor(200, 60, 40);
+
+/// Write the comparison figure of `run`'s cuts to `path`.
+pub(super) fn cuts(path: &Path, run: &RunResult, cuts: &Cuts) -> io::Result<()> {
+    let x = cuts.column("x").unwrap_or_default();
+    let curve = |column: &str, label: &str, color: RGBColor, dashed: bool| Curve {
+        label: label.to_string(),
+        color,
+        dashed,
+        points: x
+            .iter()
+            .copied()
+            .zip(cuts.column(column).unwrap_or_default().iter().copied())
+            .filter(|(_, v)| v.is_finite())
+            .collect(),
+    };
+    let pressure = [
+        curve("p_substokes", "SubStokes ψ/g", SUBSTOKES, false),
+        curve("p_reynolds", "Reynolds ψ/g", REYNOLDS, true),
+    ];
+    let flow = [
+        curve("chi1_substokes", "SubStokes χ₁", SUBSTOKES, false),
+        curve("chi1_reynolds", "Reynolds χ₁ from (I.86)", REYNOLDS, true),
+    ];
+    let y = fmt_short(cuts.y);
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (760, 700)).into_drawing_area();
+        root.fill(&WHITE).map_err(plot_err)?;
+        let panels = root.split_evenly((2, 1));
+        panel(
+            &panels[0],
+            &format!("{} — pressure p ≈ ψ/g along x₂ = {y}", run.table),
+            "p",
+            &pressure,
+        )?;
+        panel(
+            &panels[1],
+            &format!("flow rate χ₁ along x₂ = {y}"),
+            "χ₁",
+            &flow,
+        )?;
+        root.present().map_err(plot_err)?;
+    }
+    fs::write(path, svg)
+}
+
+/// One panel: the curves against x₁ on linear axes.
+fn panel(
+    area: &DrawingArea<SVGBackend<'_>, Shift>,
+    title: &str,
+    y_desc: &str,
+    curves: &[Curve],
+) -> io::Result<()> {
+    let points = || curves.iter().flat_map(|c| c.points.iter());
+    let (x0, x1) = points().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
+        (a.min(p.0), b.max(p.0))
+    });
+    let (y0, y1) = points().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
+        (a.min(p.1), b.max(p.1))
+    });
+    if !(x0.is_finite() && x1 > x0 && y0.is_finite() && y1.is_finite()) {
+        return Ok(());
+    }
+    let pad = 0.05 * (y1 - y0).max(1e-9 * y1.abs().max(1.0));
+    let mut chart = ChartBuilder::on(area)
+        .caption(title, ("sans-serif", 19))
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(70)
+        .build_cartesian_2d(x0..x1, (y0 - pad)..(y1 + pad))
+        .map_err(plot_err)?;
+    chart
+        .configure_mesh()
+        .x_desc("x₁")
+        .y_desc(y_desc)
+        .y_label_formatter(&|v| fmt_short(*v))
+        .light_line_style(RGBColor(240, 240, 240))
+        .bold_line_style(RGBColor(215, 215, 215))
+        .label_style(("sans-serif", 15))
+        .axis_desc_style(("sans-serif", 15))
+        .draw()
+        .map_err(plot_err)?;
+    for c in curves {
+        let color = c.color;
+        let style = color.stroke_width(2);
+        let series = if c.dashed {
+            chart
+                .draw_series(DashedLineSeries::new(c.points.iter().copied(), 8, 5, style))
+                .map_err(plot_err)?
+        } else {
+            chart
+                .draw_series(LineSeries::new(c.points.iter().copied(), style))
+                .map_err(plot_err)?
+        };
+        series.label(c.label.clone()).legend(move |(x, y)| {
+            PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2))
+        });
+    }
+    series_legend(&mut chart, SeriesLabelPosition::UpperRight, 14)
+}
