@@ -1524,3 +1524,142 @@ fn forming_checks_name_file_and_field() {
         "load-steps",
     );
 }
+
+/// The SubStokes fields (issue 17): every bad value names file, field and expectation.
+#[test]
+fn substokes_checks_name_file_and_field() {
+    let base =
+        fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments/IV.70.toml"))
+            .expect("the shipped SubStokes experiment");
+    let dir = scratch_dir("substokes-valid");
+    load(&write(&dir, "IV.70.toml", &base)).unwrap_or_else(|e| panic!("{e}"));
+    let with = |from: &str, to: &str| {
+        assert!(base.contains(from), "test setup: `{from}`");
+        base.replacen(from, to, 1)
+    };
+    let cases: Vec<(&str, String, &str, &str)> = vec![
+        (
+            "delta-zero",
+            with(
+                "cavitation = \"on\"",
+                "cavitation = \"on\"\ndelta_eps = 0.0",
+            ),
+            "scene.substokes.delta_eps",
+            "> 0",
+        ),
+        (
+            "delta-negative",
+            with(
+                "cavitation = \"on\"",
+                "cavitation = \"on\"\ndelta_eps = -1e-3",
+            ),
+            "scene.substokes.delta_eps",
+            "> 0",
+        ),
+        (
+            "delta-nan",
+            with(
+                "cavitation = \"on\"",
+                "cavitation = \"on\"\ndelta_eps = nan",
+            ),
+            "scene.substokes.delta_eps",
+            "finite",
+        ),
+        (
+            "delta-inf",
+            with(
+                "cavitation = \"on\"",
+                "cavitation = \"on\"\ndelta_eps = inf",
+            ),
+            "scene.substokes.delta_eps",
+            "finite",
+        ),
+        (
+            "gap-zero",
+            with("g0 = 0.1", "g0 = 0.0"),
+            "scene.substokes.gap.g0",
+            "> 0",
+        ),
+        (
+            "gap-negative",
+            with("g0 = 0.1", "g0 = -0.1"),
+            "scene.substokes.gap.g0",
+            "> 0",
+        ),
+        (
+            "point-unknown",
+            with(
+                "cavitation = \"on\"",
+                "cavitation = \"on\"\npoint = \"centre\"",
+            ),
+            "scene.substokes.point",
+            "none",
+        ),
+        (
+            "stabilisation-unknown",
+            with(
+                "cavitation = \"on\"",
+                "cavitation = \"on\"\nstabilisation_residual = \"becker\"",
+            ),
+            "scene.substokes.stabilisation_residual",
+            "literal",
+        ),
+        (
+            "ties-unknown",
+            with("ties = \"split\"", "ties = \"random\""),
+            "study.ties",
+            "split",
+        ),
+        (
+            "velocity-two",
+            with(
+                "upper_wall_velocity = [0.0, 0.0, 10.0]",
+                "upper_wall_velocity = [0.0, 10.0]",
+            ),
+            "scene.substokes.upper_wall_velocity",
+            "3",
+        ),
+        (
+            "negative-pressure-cavitation",
+            with("boundary_pressure = 200.0", "boundary_pressure = -1.0"),
+            "scene.substokes.boundary_pressure",
+            "≥ 0",
+        ),
+        (
+            "with-reynolds",
+            with(
+                "effects = [\"substokes\"]",
+                "effects = [\"substokes\", \"reynolds\"]",
+            ),
+            "scene.effects",
+            "alone",
+        ),
+        (
+            "unknown-section",
+            with("[scene.substokes]", "[scene.reynolds_typo]"),
+            "scene.reynolds_typo",
+            "substokes",
+        ),
+        (
+            "probe-s1",
+            with(
+                "components = [\"psi\", \"chi1\", \"chi2\"]",
+                "components = [\"s1\"]",
+            ),
+            "probes.components[0]",
+            "chi1",
+        ),
+        (
+            "unknown-field",
+            with(
+                "cavitation = \"on\"",
+                "cavitation = \"on\"\nsolver = \"umfpack\"",
+            ),
+            "scene.substokes.solver",
+            "stabilisation_residual",
+        ),
+    ];
+    for (case, text, field, needle) in &cases {
+        expect_error_in("IV.70.toml", case, text, field, needle);
+    }
+}

@@ -95,6 +95,11 @@ pub struct SubStokesProblem {
     /// cavitation form ([`Form::Cavitation`]); the plain form does not use it. Default: (I.61) as
     /// printed (spec/models.md §7).
     pub cavitation_source: CavitationSource,
+    /// The point P of the point condition (I.56) χ(P) = (g v̄)(P) + g³ρ(P) (ρ = 0 in §IV.3), or
+    /// none (the default: a₂ is coercive on all of H¹, Theorem II.40, so χ is determined without
+    /// it, and a corner condition would break the symmetry of Figs IV.85, IV.101). P must be a
+    /// vertex of every mesh (a corner of the domain).
+    pub point: Option<[f64; 2]>,
 }
 
 /// Which weak form [`SubStokesProblem::assemble_form`] assembles.
@@ -194,7 +199,13 @@ impl SubStokesProblem {
             boundary_pressure,
             delta_eps: DEFAULT_DELTA_EPS,
             cavitation_source: CavitationSource::default(),
+            point: None,
         }
+    }
+
+    /// The same problem with the point condition (I.56) at `point`.
+    pub fn with_point(self, point: Option<[f64; 2]>) -> SubStokesProblem {
+        SubStokesProblem { point, ..self }
     }
 
     /// The same problem with another δ_ε.
@@ -217,13 +228,24 @@ impl SubStokesProblem {
         system
     }
 
-    /// ψ = ψ₀ (I.55) at every boundary vertex. χ is not constrained (no point condition (I.56)).
+    /// ψ = ψ₀ (I.55) at every boundary vertex; with a [`SubStokesProblem::point`], χ = g v̄ at
+    /// its vertex (I.56).
     pub fn constrain(&self, system: &mut System) {
         let n_vertices = system.dofs.vertices.len() as u32;
         for v in 0..n_vertices {
             if system.dofs.vertices.on_boundary(v) {
                 let dof = system.dofs.dof(v, PSI);
                 system.constraints.fix(dof, self.boundary_pressure);
+            }
+        }
+        if let Some(p) = self.point {
+            let coords = &system.dofs.vertices.coords;
+            if let Some(v) = coords.iter().position(|c| c[0] == p[0] && c[1] == p[1]) {
+                let jets = self.film.film_jets(p);
+                for mu in 0..2 {
+                    let dof = system.dofs.dof(v as u32, mu);
+                    system.constraints.fix(dof, jets.g.v * jets.vbar[mu].v);
+                }
             }
         }
     }
@@ -616,6 +638,31 @@ pub(crate) mod fixtures {
 mod tests {
     use super::fixtures::{problem, uniform, with_hanging, CAVITATING};
     use super::*;
+
+    /// The point condition (I.56) at the corner: χ(0, 0) = g v̄ exactly; for the sliding plain
+    /// gap (IV.9) that is the exact solution's value (0.5, 0), so nothing else changes; for the
+    /// squeeze (IV.7) χ(0,0) = 0 is imposed and the solution changes (it did not vanish there).
+    #[test]
+    fn corner_point_condition() {
+        let mesh = uniform(3);
+        for (eq, changes) in [("IV.9", false), ("IV.7", true)] {
+            let free = problem(eq).solve(&mesh).unwrap();
+            let fixed = problem(eq)
+                .with_point(Some([0.0, 0.0]))
+                .solve(&mesh)
+                .unwrap();
+            let v = fixed.vertex_at([0.0, 0.0]).unwrap();
+            let film = problem(eq).film.film_jets([0.0, 0.0]);
+            let expected = [0, 1].map(|mu| film.g.v * film.vbar[mu].v);
+            assert_eq!(fixed.chi(v), expected, "{eq}");
+            let diff = free
+                .u
+                .iter()
+                .zip(&fixed.u)
+                .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+            assert_eq!(diff > 1e-9, changes, "{eq}: largest change {diff}");
+        }
+    }
     use crate::models::thin_film::EXAMPLES;
 
     fn centre_psi(p: &SubStokesProblem, mesh: &Mesh) -> f64 {

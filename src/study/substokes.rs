@@ -24,7 +24,7 @@ use crate::estimators::substokes::{
     estimate_cavitation, estimate_with, lumped_multiplier, CavitationOptions, Options,
     Stabilisation, SubStokesEstimate, PART_NAMES,
 };
-use crate::experiment::{Rectangle, SubStokesData, SubStokesStabilisation};
+use crate::experiment::{PointCondition, Rectangle, SubStokesData, SubStokesStabilisation};
 use crate::fe::{DofMap, System};
 use crate::linalg::DirectSolver;
 use crate::models::film_comparison::Comparison;
@@ -53,20 +53,24 @@ pub struct SubStokesFilm {
     domain: Rectangle,
 }
 
-impl From<&SubStokesData> for SubStokesProblem {
-    fn from(d: &SubStokesData) -> SubStokesProblem {
-        SubStokesProblem::new(
-            ThinFilm::new(d.gap.into(), d.upper_wall_velocity),
-            d.boundary_pressure,
-        )
-        .with_delta_eps(d.delta_eps)
-        .with_cavitation_source(d.cavitation_source.into())
-    }
+/// The SubStokes problem of an experiment's data on `domain` (the point of `point = "corner"` is
+/// the domain's lower-left corner).
+pub fn substokes_problem(d: &SubStokesData, domain: &Rectangle) -> SubStokesProblem {
+    SubStokesProblem::new(
+        ThinFilm::new(d.gap.into(), d.upper_wall_velocity),
+        d.boundary_pressure,
+    )
+    .with_delta_eps(d.delta_eps)
+    .with_cavitation_source(d.cavitation_source.into())
+    .with_point(match d.point {
+        PointCondition::None => None,
+        PointCondition::Corner => Some([domain.x[0], domain.y[0]]),
+    })
 }
 
 impl SubStokesFilm {
     pub fn new(data: &SubStokesData, domain: &Rectangle) -> SubStokesFilm {
-        let problem = SubStokesProblem::from(data);
+        let problem = substokes_problem(data, domain);
         let stabilisation = match data.stabilisation_residual {
             SubStokesStabilisation::Literal => Stabilisation::Literal,
             SubStokesStabilisation::DeltaEps => Stabilisation::DeltaEps(problem.delta_eps),
