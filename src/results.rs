@@ -283,6 +283,15 @@ pub struct FieldPicture {
     /// Cells to outline as a marked zone (e.g. cavitation ψ = 0), may be empty.
     pub zone: Vec<CellBox>,
     pub zone_label: String,
+    /// A vector field drawn as arrows over the map (the SubStokes flow rate χ), may be empty.
+    pub arrows: Vec<Arrow>,
+}
+
+/// One arrow of a vector field: its foot and the vector there.
+#[derive(Clone, Copy, Debug, Serialize, PartialEq)]
+pub struct Arrow {
+    pub at: [f64; 2],
+    pub v: [f64; 2],
 }
 
 /// One contact face of a model-adaptive cycle: where it lies, its model and its indicator.

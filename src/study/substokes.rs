@@ -30,7 +30,10 @@ use crate::linalg::DirectSolver;
 use crate::models::film_comparison::Comparison;
 use crate::models::substokes::{solve_cavitation, solve_system, SubStokesProblem, PSI};
 use crate::models::thin_film::ThinFilm;
-use crate::results::columns;
+use crate::results::{columns, FieldPicture};
+
+/// Arrows per side of the flow-rate field drawn over the pressure map.
+const ARROWS: usize = 16;
 
 /// The probe components of a SubStokes solution, in dof order: χ₁, χ₂, ψ.
 pub const COMPONENTS: [&str; 3] = ["chi1", "chi2", "psi"];
@@ -277,7 +280,10 @@ impl Problem for SubStokesFilm {
         };
         Pictures {
             deformed: Vec::new(),
-            fields: vec![field.picture(cycle, "psi", PSI, self.switch.is_on())],
+            fields: vec![FieldPicture {
+                arrows: field.arrows([0, 1], ARROWS),
+                ..field.picture(cycle, "psi", PSI, self.switch.is_on())
+            }],
             cuts,
         }
     }

@@ -6,7 +6,7 @@ use super::transfer::evaluate;
 use crate::experiment::{Cavitation, CavitationSource, Rectangle};
 use crate::fe::DofMap;
 use crate::mesh::Mesh;
-use crate::results::{columns, CellBox, FieldPicture, Value};
+use crate::results::{columns, Arrow, CellBox, FieldPicture, Value};
 
 /// Resolution of the pressure map in the report (cells per side of the sampling grid).
 const PICTURE_CELLS: usize = 128;
@@ -55,7 +55,28 @@ impl FieldSample<'_> {
             } else {
                 String::new()
             },
+            arrows: Vec::new(),
         }
+    }
+
+    /// The vector field of components (`comps[0]`, `comps[1]`) at the centres of an `n × n`
+    /// grid of the domain, as arrows.
+    pub fn arrows(&self, comps: [usize; 2], n: usize) -> Vec<Arrow> {
+        let d = self.domain;
+        let (wx, wy) = ((d.x[1] - d.x[0]) / n as f64, (d.y[1] - d.y[0]) / n as f64);
+        let mut arrows = Vec::with_capacity(n * n);
+        for j in 0..n {
+            for i in 0..n {
+                let at = [
+                    d.x[0] + (i as f64 + 0.5) * wx,
+                    d.y[0] + (j as f64 + 0.5) * wy,
+                ];
+                if let (Some(a), Some(b)) = (self.value(comps[0], at), self.value(comps[1], at)) {
+                    arrows.push(Arrow { at, v: [a, b] });
+                }
+            }
+        }
+        arrows
     }
 
     /// Component `comp` at a point of the domain.
