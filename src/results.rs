@@ -386,6 +386,8 @@ pub struct RunResult {
     pub costs: Vec<CostRow>,
     /// A SubStokes run: the Reynolds model on its last mesh and both along a cut.
     pub cuts: Option<Cuts>,
+    /// A solver study (Fig. III.6): every iteration of every Uzawa variant (empty otherwise).
+    pub uzawa: Vec<crate::linalg::uzawa::UzawaRow>,
     /// Bounding box of the domain `[x0, x1, y0, y1]`.
     pub domain: [f64; 4],
     /// Readings of the thesis and known differences that apply to this table (shown in the report).
@@ -411,6 +413,7 @@ impl RunResult {
             partitions: Vec::new(),
             costs: Vec::new(),
             cuts: None,
+            uzawa: Vec::new(),
             domain,
             notes: Vec::new(),
             warnings: Vec::new(),
@@ -499,6 +502,20 @@ impl RunResult {
                 s += &snapshot_column(name, v);
             }
             s += "\n";
+        }
+        // A solver study: every tenth iteration of each variant and its last.
+        for (i, r) in self.uzawa.iter().enumerate() {
+            let last = self.uzawa.get(i + 1).is_none_or(|n| n.variant != r.variant);
+            if r.iteration % 10 == 0 || last {
+                s += &format!(
+                    "{:<12} k {:>3}  relative residual {}  pressure error {}  inner {}\n",
+                    r.variant,
+                    r.iteration,
+                    sig4(r.relative_residual),
+                    r.pressure_error.map_or("-".into(), sig4),
+                    r.inner_iterations
+                );
+            }
         }
         let scale = self.probes.iter().fold(0.0f64, |m, q| m.max(q.value.abs()));
         for p in &self.probes {

@@ -1663,3 +1663,110 @@ fn substokes_checks_name_file_and_field() {
         expect_error_in("IV.70.toml", case, text, field, needle);
     }
 }
+
+/// The solver study of Fig. III.6: bad values name file, field and expectation.
+#[test]
+fn uzawa_checks_name_file_and_field() {
+    let base = fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments/fig-III.6.toml"),
+    )
+    .expect("the shipped Uzawa experiment");
+    let dir = scratch_dir("uzawa-valid");
+    load(&write(&dir, "fig-III.6.toml", &base)).unwrap_or_else(|e| panic!("{e}"));
+    let with = |from: &str, to: &str| {
+        assert!(base.contains(from), "test setup: `{from}`");
+        base.replacen(from, to, 1)
+    };
+    let cases: Vec<(&str, String, &str, &str)> = vec![
+        (
+            "zero-iterations",
+            with("rows = 300", "rows = 0"),
+            "study.rows",
+            "at least 1",
+        ),
+        (
+            "too-many-iterations",
+            with("rows = 300", "rows = 100000"),
+            "study.rows",
+            "at most 10000",
+        ),
+        (
+            "unknown-variant",
+            with("\"ssor\", \"cg-ssor\"", "\"ssor\", \"multigrid\""),
+            "scene.stokes_channel.variants[4]",
+            "cg-ssor",
+        ),
+        (
+            "twice",
+            with("\"ssor\", \"cg-ssor\"", "\"ssor\", \"ssor\""),
+            "scene.stokes_channel.variants[4]",
+            "once",
+        ),
+        (
+            "no-variant",
+            with(
+                "variants = [\"identity\", \"jacobi\", \"gauss-seidel\", \"ssor\", \"cg-ssor\"]",
+                "variants = []",
+            ),
+            "scene.stokes_channel.variants",
+            "at least one",
+        ),
+        (
+            "delta-zero",
+            with("delta_eps = 1.0", "delta_eps = 0.0"),
+            "scene.stokes_channel.delta_eps",
+            "> 0",
+        ),
+        (
+            "delta-nan",
+            with("delta_eps = 1.0", "delta_eps = nan"),
+            "scene.stokes_channel.delta_eps",
+            "finite",
+        ),
+        (
+            "grid-kind",
+            with("kind = \"solver-iterations\"", "kind = \"grid-adaptive\""),
+            "study.kind",
+            "solver-iterations",
+        ),
+        (
+            "marking-field",
+            with("quick_rows = 60", "quick_rows = 60\nrefine_fraction = 0.3"),
+            "study.refine_fraction",
+            "no such field",
+        ),
+        (
+            "window",
+            with(
+                "quick_rows = 60",
+                "quick_rows = 60\nconvergence_window = [1, 2]",
+            ),
+            "study.convergence_window",
+            "no such field",
+        ),
+        (
+            "figure-id",
+            with("table = \"fig-III.6\"", "table = \"fig-III.7\""),
+            "table",
+            "fig-III.<n>",
+        ),
+        (
+            "section-chapter",
+            with("section = \"III.2.3.4\"", "section = \"IV.2.3.4\""),
+            "section",
+            "III",
+        ),
+        (
+            "with-substokes",
+            with(
+                "effects = [\"stokes-channel\"]",
+                "effects = [\"stokes-channel\", \"substokes\"]",
+            ),
+            "scene.effects",
+            "alone",
+        ),
+    ];
+    for (case, text, field, needle) in &cases {
+        expect_error_in("fig-III.6.toml", case, text, field, needle);
+    }
+}

@@ -17,4 +17,5 @@ mod properties;
 mod report_failures;
 mod reynolds;
 mod substokes;
+mod uzawa;
 mod warnings;

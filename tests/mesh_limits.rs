@@ -25,7 +25,7 @@ fn strip(coarse: [usize; 2], refinements: usize, turned: bool) -> Experiment {
     e.scene.coarse_cells = coarse;
     e.scene.global_refinements = refinements;
     e.study.quick_rows = 3;
-    e.study.coarsen_fraction = 0.0;
+    e.study.coarsen_fraction = Some(0.0);
     let Problem::Elasticity(data) = &mut e.problem else {
         panic!("IV.1 is an elasticity table");
     };

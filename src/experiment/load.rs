@@ -17,6 +17,7 @@ use toml::Spanned;
 use super::error::ExperimentError;
 use super::spec::*;
 use super::{Experiment, Problem, Scene};
+use crate::linalg::uzawa::Variant;
 
 /// Highest table number of Chapter IV (Table IV.75).
 const LAST_TABLE: u32 = 75;
@@ -24,9 +25,13 @@ const LAST_TABLE: u32 = 75;
 const MAX_CYCLES_PER_STEP: usize = 12;
 /// The last figure of Chapter IV (Fig. IV.143).
 const LAST_FIGURE: u32 = 143;
+/// Figures of Chapter III (the Uzawa comparison is Fig. III.6).
+const LAST_FIGURE_III: u32 = 6;
 
 /// Most printed rows of a study (and of a thesis table); Chapter IV prints at most 26.
 pub const MAX_ROWS: usize = 200;
+/// Most iterations of a solver study (`solver-iterations`, Fig. III.6 runs 300).
+const MAX_ITERATIONS: usize = 10_000;
 /// Most unprinted cycles before row 0 (Chapter IV uses at most a few).
 pub const MAX_UNPRINTED_CYCLES: usize = 200;
 /// Most global refinements of the coarse grid (the size of the run is bounded by the memory
@@ -250,10 +255,15 @@ fn table_order(stem: &str) -> (u32, String) {
     )
 }
 
-/// `fig-IV.<n>` with 1 ≤ n ≤ 143 (the figures of Chapter IV), without leading zeros → n.
+/// `fig-III.<n>` with 1 ≤ n ≤ 6 (the figures of Chapter III) → n, or `fig-IV.<n>` with 1 ≤ n ≤
+/// 143 (Chapter IV) → 6 + n, written without leading zeros.
 fn figure_number(id: &str) -> Option<u32> {
-    let n: u32 = id.strip_prefix("fig-IV.")?.parse().ok()?;
-    (format!("fig-IV.{n}") == id && (1..=LAST_FIGURE).contains(&n)).then_some(n)
+    let number = |chapter: &str, last: u32| -> Option<u32> {
+        let n: u32 = id.strip_prefix(&format!("fig-{chapter}."))?.parse().ok()?;
+        (format!("fig-{chapter}.{n}") == id && (1..=last).contains(&n)).then_some(n)
+    };
+    number("III", LAST_FIGURE_III)
+        .or_else(|| number("IV", LAST_FIGURE).map(|n| LAST_FIGURE_III + n))
 }
 
 /// `IV.<n>` with 1 ≤ n ≤ 75, written without leading zeros → n.
@@ -532,6 +542,9 @@ impl Check<'_> {
     fn experiment(&self, spec: &ExperimentFile) -> Checked {
         self.identity(spec)?;
         self.scene(&spec.scene)?;
+        if let Some(channel) = &spec.scene.stokes_channel {
+            self.stokes_channel(channel, &spec.study)?;
+        }
         self.study(&spec.study, &spec.scene)?;
         self.rising_tools(&spec.scene, &spec.study)?;
         self.probes(&spec.probes, &spec.scene)?;
@@ -563,7 +576,8 @@ impl Check<'_> {
             "table",
             &format!(
                 "a Chapter IV table id `IV.<n>` with 1 ≤ n ≤ {LAST_TABLE}, or a figure id \
-                 `fig-IV.<n>` with 1 ≤ n ≤ {LAST_FIGURE}"
+                 `fig-IV.<n>` with 1 ≤ n ≤ {LAST_FIGURE} or `fig-III.<n>` with 1 ≤ n ≤ \
+                 {LAST_FIGURE_III}"
             ),
             format!("`{}`", spec.table),
         )?;
@@ -578,10 +592,18 @@ impl Check<'_> {
             &format!("the file name's table id `{stem}`"),
             format!("`{}`", spec.table),
         )?;
+        let chapter = if spec.table.starts_with("fig-III.") {
+            "III."
+        } else {
+            "IV."
+        };
         self.ensure(
-            spec.section.starts_with("IV.") && spec.section.len() > 3,
+            spec.section.starts_with(chapter) && spec.section.len() > chapter.len(),
             "section",
-            "a Chapter IV section such as `IV.1.1`",
+            &format!(
+                "a section of the table's chapter, such as `{chapter}1.1` (Chapter IV; a \
+                 `fig-III.<n>` experiment has a Chapter III section)"
+            ),
             format!("`{}`", spec.section),
         )?;
         self.ensure(
@@ -701,6 +723,7 @@ impl Check<'_> {
         if let Some(substokes) = &scene.substokes {
             self.substokes(substokes, &scene.domain)?;
         }
+
         Ok(())
     }
 
@@ -730,7 +753,7 @@ impl Check<'_> {
             "`elasticity` alongside `contact` (contact constrains an elastic body)",
             "`contact` without `elasticity`",
         )?;
-        for fluid in [Effect::Reynolds, Effect::SubStokes] {
+        for fluid in [Effect::Reynolds, Effect::SubStokes, Effect::StokesChannel] {
             self.ensure(
                 !has(fluid) || seen.len() == 1,
                 "scene.effects",
@@ -747,6 +770,11 @@ impl Check<'_> {
             (Effect::Contact, scene.contact.is_some(), "contact"),
             (Effect::Reynolds, scene.reynolds.is_some(), "reynolds"),
             (Effect::SubStokes, scene.substokes.is_some(), "substokes"),
+            (
+                Effect::StokesChannel,
+                scene.stokes_channel.is_some(),
+                "stokes_channel",
+            ),
         ];
         for (effect, present, name) in sections {
             if has(effect) {
@@ -782,6 +810,13 @@ impl Check<'_> {
         if has(Effect::Reynolds) {
             let reynolds = scene.reynolds.clone().ok_or_else(|| section("reynolds"))?;
             return Ok(Problem::Reynolds(reynolds));
+        }
+        if has(Effect::StokesChannel) {
+            let channel = scene
+                .stokes_channel
+                .clone()
+                .ok_or_else(|| section("stokes_channel"))?;
+            return Ok(Problem::StokesChannel(channel));
         }
         if has(Effect::SubStokes) {
             let substokes = scene
@@ -1075,12 +1110,21 @@ impl Check<'_> {
     /// 30 %, coarsen 3 %) or model adaptivity (§IV.2.3: Algorithm III.2 or III.3).
     fn study(&self, study: &Study, scene: &SceneFile) -> Checked {
         self.ensure(study.rows >= 1, "study.rows", "at least 1", study.rows)?;
-        self.ensure(
-            study.rows <= MAX_ROWS,
-            "study.rows",
-            &format!("at most {MAX_ROWS} printed rows"),
-            study.rows,
-        )?;
+        if study.kind == StudyKind::SolverIterations {
+            self.ensure(
+                study.rows <= MAX_ITERATIONS,
+                "study.rows",
+                &format!("at most {MAX_ITERATIONS} solver iterations"),
+                study.rows,
+            )?;
+        } else {
+            self.ensure(
+                study.rows <= MAX_ROWS,
+                "study.rows",
+                &format!("at most {MAX_ROWS} printed rows"),
+                study.rows,
+            )?;
+        }
         self.ensure(
             study.unprinted_cycles <= MAX_UNPRINTED_CYCLES,
             "study.unprinted_cycles",
@@ -1122,6 +1166,7 @@ impl Check<'_> {
             }
             StudyKind::ModelAdaptive => {
                 self.refused_model_and_grid_fields(study)?;
+                self.fractions(study)?;
                 self.model_marking(
                     study,
                     scene,
@@ -1175,7 +1220,66 @@ impl Check<'_> {
                     self.grid_marking(study)
                 }
             }
+            StudyKind::SolverIterations => self.solver_iterations(study, scene),
         }
+    }
+
+    /// A solver study (Fig. III.6): the Uzawa test problem and none of the adaptive fields.
+    fn solver_iterations(&self, study: &Study, scene: &SceneFile) -> Checked {
+        self.ensure(
+            scene.effects == [Effect::StokesChannel],
+            "scene.effects",
+            "[\"stokes-channel\"] in a solver-iterations study (the Uzawa test problem (III.88))",
+            format!("{:?}", names(&scene.effects)),
+        )?;
+        self.refused_model_and_grid_fields(study)?;
+        let marking = [
+            ("study.refine_fraction", study.refine_fraction.is_some()),
+            ("study.coarsen_fraction", study.coarsen_fraction.is_some()),
+            (
+                "study.convergence_window",
+                study.convergence_window.is_some(),
+            ),
+            ("study.algorithm", study.algorithm.is_some()),
+            ("study.model_tolerance", study.model_tolerance.is_some()),
+            ("study.unprinted_cycles", study.unprinted_cycles > 0),
+            ("study.ties", study.ties != Ties::default()),
+        ];
+        self.refused(study, "the adaptive kinds", &marking)
+    }
+
+    /// The Uzawa test problem (III.88): δ_ε > 0 and a list of known, distinct variants.
+    fn stokes_channel(&self, data: &StokesChannelData, study: &Study) -> Checked {
+        const F: &str = "scene.stokes_channel";
+        self.positive(&format!("{F}.delta_eps"), data.delta_eps)?;
+        self.ensure(
+            !data.variants.is_empty(),
+            &format!("{F}.variants"),
+            "at least one Uzawa variant",
+            "an empty list",
+        )?;
+        let mut seen = BTreeSet::new();
+        for (i, v) in data.variants.iter().enumerate() {
+            let field = format!("{F}.variants[{i}]");
+            self.ensure(
+                Variant::from_name(v).is_some(),
+                &field,
+                "one of `identity`, `jacobi`, `gauss-seidel`, `ssor`, `cg-ssor`",
+                format!("`{}`", v.escape_debug()),
+            )?;
+            self.ensure(
+                seen.insert(v.as_str()),
+                &field,
+                "each variant once",
+                format!("`{v}` twice"),
+            )?;
+        }
+        self.ensure(
+            study.kind == StudyKind::SolverIterations,
+            "study.kind",
+            "\"solver-iterations\" for the Uzawa test problem (it iterates a solver on one mesh)",
+            format!("`{}`", study.kind.name()),
+        )
     }
 
     /// `rises` of an obstacle: only the `arc` tools of a load-step study rise (§IV.2.4.7).
@@ -1296,18 +1400,33 @@ impl Check<'_> {
 
     /// The fractions θ_r, θ_c of fixed-number grid marking.
     fn grid_fractions(&self, study: &Study) -> Checked {
-        self.non_negative("study.coarsen_fraction", study.coarsen_fraction)?;
-        self.positive("study.refine_fraction", study.refine_fraction)?;
-        let total = study.refine_fraction + study.coarsen_fraction;
+        let (refine, coarsen) = self.fractions(study)?;
+        self.non_negative("study.coarsen_fraction", coarsen)?;
+        self.positive("study.refine_fraction", refine)?;
+        let total = refine + coarsen;
         self.ensure(
             total <= 1.0,
             "study.refine_fraction",
             "refine_fraction + coarsen_fraction ≤ 1",
-            format!(
-                "{:?} + {:?} = {total:?}",
-                study.refine_fraction, study.coarsen_fraction
-            ),
+            format!("{refine:?} + {coarsen:?} = {total:?}"),
         )
+    }
+
+    /// `refine_fraction` and `coarsen_fraction`, which every kind but `solver-iterations` needs.
+    fn fractions(&self, study: &Study) -> Result<(f64, f64), ExperimentError> {
+        let given = |field: &str, v: Option<f64>| {
+            v.ok_or_else(|| {
+                self.fail(
+                    field,
+                    &format!("a fraction: a {} study marks with it", study.kind.name()),
+                    "no such field",
+                )
+            })
+        };
+        Ok((
+            given("study.refine_fraction", study.refine_fraction)?,
+            given("study.coarsen_fraction", study.coarsen_fraction)?,
+        ))
     }
 
     /// The model marking of a model-adaptive or model-and-grid-adaptive study (§IV.2.3,
@@ -1591,6 +1710,7 @@ fn effect_name(effect: Effect) -> &'static str {
         Effect::Contact => "contact",
         Effect::Reynolds => "reynolds",
         Effect::SubStokes => "substokes",
+        Effect::StokesChannel => "stokes-channel",
     }
 }
 

@@ -69,6 +69,8 @@ pub enum Problem {
     Reynolds(ReynoldsData),
     /// SubStokes thin-film flow (I.58), with or without cavitation (I.66), §IV.3.2, §IV.3.6.
     SubStokes(SubStokesData),
+    /// The stabilised Stokes test problem (III.88) of the Uzawa comparison (Fig. III.6).
+    StokesChannel(StokesChannelData),
 }
 
 impl Problem {
@@ -110,6 +112,7 @@ impl Problem {
             Problem::Elasticity(_) | Problem::Contact { .. } => &["s1", "s2"],
             Problem::Reynolds(_) => &["psi"],
             Problem::SubStokes(_) => &["chi1", "chi2", "psi"],
+            Problem::StokesChannel(_) => &[],
         }
     }
 }

@@ -51,6 +51,8 @@ pub enum Effect {
     /// SubStokes thin-film flow (I.58), with cavitation (I.66).
     #[serde(rename = "substokes")]
     SubStokes,
+    /// The stabilised Stokes test problem (III.88) of the Uzawa comparison, Fig. III.6.
+    StokesChannel,
 }
 
 /// Domain, coarse mesh, data and effects, as written.
@@ -80,6 +82,7 @@ pub struct SceneFile {
     pub contact: Option<ContactData>,
     pub reynolds: Option<ReynoldsData>,
     pub substokes: Option<SubStokesData>,
+    pub stokes_channel: Option<StokesChannelData>,
 }
 
 #[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
@@ -518,6 +521,18 @@ pub struct SubStokesData {
     pub stabilisation_residual: SubStokesStabilisation,
 }
 
+/// The Uzawa comparison of Fig. III.6 on the test problem (III.88): [0, 4]², 32×32 cells
+/// (`crate::models::stokes_channel`).
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct StokesChannelData {
+    /// δ_ε of the stabilisation Σ_Q δ_ε h_Q²⟨∇p, ∇q⟩_Q (1 in (III.88)).
+    pub delta_eps: f64,
+    /// The variants of Uzawa's algorithm to run, in order: `identity`, `jacobi`,
+    /// `gauss-seidel`, `ssor`, `cg-ssor` ((III.87)–(III.92)).
+    pub variants: Vec<String>,
+}
+
 /// How to iterate.
 #[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
 #[serde(rename_all = "kebab-case")]
@@ -536,6 +551,9 @@ pub enum StudyKind {
     /// its displacement, the tools rise and the moved, stress-free body is the next step's
     /// domain, restarted from its coarse cells. One printed row per step (`rows` steps).
     LoadSteps,
+    /// Iterations of a solver on one fixed problem (the Uzawa variants of Fig. III.6): `rows`
+    /// iterations (`quick_rows` in the quick tier), no adaptivity.
+    SolverIterations,
 }
 
 impl StudyKind {
@@ -546,6 +564,7 @@ impl StudyKind {
             StudyKind::ModelAdaptive => "model-adaptive",
             StudyKind::ModelAndGridAdaptive => "model-and-grid-adaptive",
             StudyKind::LoadSteps => "load-steps",
+            StudyKind::SolverIterations => "solver-iterations",
         }
     }
 
@@ -600,11 +619,15 @@ pub struct Study {
     pub unprinted_cycles: usize,
     /// Grid-adaptive and model-and-grid-adaptive: the fraction of cells refined (θ_r).
     /// Model-adaptive: p_r, the fraction of the coarse (z) faces moved to the accurate
-    /// (Signorini) model.
-    pub refine_fraction: f64,
+    /// (Signorini) model. Required by every kind but `solver-iterations` (the loader checks it;
+    /// read it through [`Study::refine`]).
+    #[serde(default)]
+    pub refine_fraction: Option<f64>,
     /// Grid-adaptive and model-and-grid-adaptive: the fraction of cells coarsened (θ_c).
-    /// Model-adaptive: p_c, the fraction of the accurate faces moved back.
-    pub coarsen_fraction: f64,
+    /// Model-adaptive: p_c, the fraction of the accurate faces moved back. Required as
+    /// `refine_fraction` ([`Study::coarsen`]).
+    #[serde(default)]
+    pub coarsen_fraction: Option<f64>,
     /// Model-and-grid-adaptive: p_r of the model marking (the grid's θ_r is
     /// `refine_fraction`).
     #[serde(default)]
@@ -651,6 +674,16 @@ pub enum Ties {
 }
 
 impl Study {
+    /// `refine_fraction` (0 where the kind has none).
+    pub fn refine(&self) -> f64 {
+        self.refine_fraction.unwrap_or(0.0)
+    }
+
+    /// `coarsen_fraction` (0 where the kind has none).
+    pub fn coarsen(&self) -> f64 {
+        self.coarsen_fraction.unwrap_or(0.0)
+    }
+
     /// The solves of one printed row: `cycles_per_step` in a load-step study, 1 otherwise.
     pub fn cycles_per_row(&self) -> usize {
         match self.kind {
@@ -678,7 +711,7 @@ impl Study {
                 self.model_refine_fraction.unwrap_or(f64::NAN),
                 self.model_coarsen_fraction.unwrap_or(f64::NAN),
             ),
-            _ => (self.refine_fraction, self.coarsen_fraction),
+            _ => (self.refine(), self.coarsen()),
         }
     }
 }

@@ -7,6 +7,7 @@ use std::path::Path;
 
 use polars::prelude::*;
 
+use crate::linalg::uzawa::UzawaRow;
 use crate::results::{CostRow, PhaseSeconds, RunResult, Value};
 
 /// One row per cycle: `cycle`, then the rows' named columns in order of first appearance
@@ -132,12 +133,57 @@ pub fn costs_frame(costs: &[CostRow]) -> PolarsResult<DataFrame> {
     )
 }
 
-/// Write the CSV files of a run into `dir`: rows, probes and, when the run has them, the cuts
+/// The iterations of a solver study (Fig. III.6): `variant, iteration, residual,
+/// relative_residual, pressure_error, inner_iterations, seconds` (cumulative per variant).
+pub fn uzawa_frame(rows: &[UzawaRow]) -> PolarsResult<DataFrame> {
+    DataFrame::new(
+        rows.len(),
+        vec![
+            Column::new(
+                "variant".into(),
+                rows.iter().map(|r| r.variant.as_str()).collect::<Vec<_>>(),
+            ),
+            Column::new(
+                "iteration".into(),
+                rows.iter().map(|r| r.iteration as u64).collect::<Vec<_>>(),
+            ),
+            Column::new(
+                "residual".into(),
+                rows.iter().map(|r| r.residual).collect::<Vec<_>>(),
+            ),
+            Column::new(
+                "relative_residual".into(),
+                rows.iter().map(|r| r.relative_residual).collect::<Vec<_>>(),
+            ),
+            Column::new(
+                "pressure_error".into(),
+                rows.iter().map(|r| r.pressure_error).collect::<Vec<_>>(),
+            ),
+            Column::new(
+                "inner_iterations".into(),
+                rows.iter()
+                    .map(|r| r.inner_iterations as u64)
+                    .collect::<Vec<_>>(),
+            ),
+            Column::new(
+                "seconds".into(),
+                rows.iter().map(|r| r.seconds).collect::<Vec<_>>(),
+            ),
+        ],
+    )
+}
+
+/// Write the CSV files of a run into `dir`: rows (a solver study's iterations in their place),
+/// probes and, when the run has them, the cuts
 /// (`<table>.cuts.csv`) and the costs (`<table>.cost.csv`).
 pub fn write_csv(dir: &Path, run: &RunResult) -> PolarsResult<()> {
     std::fs::create_dir_all(dir)?;
     let safe = csv_stem(&run.table);
-    let mut rows = rows_frame(run)?;
+    let mut rows = if run.uzawa.is_empty() {
+        rows_frame(run)?
+    } else {
+        uzawa_frame(&run.uzawa)?
+    };
     CsvWriter::new(File::create(dir.join(format!("{safe}.csv")))?).finish(&mut rows)?;
     let mut probes = probes_frame(run)?;
     CsvWriter::new(File::create(dir.join(format!("{safe}.probes.csv")))?).finish(&mut probes)?;

@@ -1,6 +1,7 @@
-//! The figure of a SubStokes table's comparison with Reynolds on its last mesh (thesis
-//! §IV.3.3, §IV.3.7, Figs IV.112–IV.115 and IV.143): the pressure p ≈ ψ/g and the flow rate
-//! χ₁ along the cut, SubStokes solid and Reynolds dashed.
+//! The figures of the fluid solvers and models: a SubStokes table's comparison with Reynolds on
+//! its last mesh (thesis §IV.3.3, §IV.3.7, Figs IV.112–IV.115 and IV.143) — the pressure
+//! p ≈ ψ/g and the flow rate χ₁ along the cut, SubStokes solid and Reynolds dashed — and the
+//! convergence of Uzawa's algorithm with each preconditioner (Fig. III.6).
 
 use std::fs;
 use std::io;
@@ -10,7 +11,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::html::fmt_short;
-use super::plots::{plot_err, series_legend, Curve};
+use super::plots::{log_range, log_tick, plot_err, series_legend, Curve, NiceLog};
 use crate::results::{Cuts, RunResult};
 
 const SUBSTOKES: RGBColor = RGBColor(31, 90, 180);
@@ -114,4 +115,85 @@ fn panel(
         });
     }
     series_legend(&mut chart, SeriesLabelPosition::UpperRight, 14)
+}
+
+/// Colours of the Uzawa variants, in the order of Fig. III.6.
+const VARIANTS: [RGBColor; 5] = [
+    RGBColor(120, 120, 120),
+    RGBColor(200, 60, 40),
+    RGBColor(230, 150, 20),
+    RGBColor(40, 150, 70),
+    RGBColor(31, 90, 180),
+];
+
+/// The relative residual of every Uzawa variant against the iteration, log scale (Fig. III.6).
+pub(super) fn uzawa(path: &Path, run: &RunResult) -> io::Result<()> {
+    let mut curves: Vec<Curve> = Vec::new();
+    for r in &run.uzawa {
+        if curves.last().is_none_or(|c| c.label != r.variant) {
+            curves.push(Curve {
+                label: r.variant.clone(),
+                color: VARIANTS[curves.len() % VARIANTS.len()],
+                dashed: false,
+                points: Vec::new(),
+            });
+        }
+        if let Some(c) = curves.last_mut() {
+            if r.relative_residual > 0.0 && r.relative_residual.is_finite() {
+                c.points.push((r.iteration as f64, r.relative_residual));
+            }
+        }
+    }
+    let last = run
+        .uzawa
+        .iter()
+        .map(|r| r.iteration)
+        .max()
+        .unwrap_or(1)
+        .max(1) as f64;
+    let y = NiceLog::new(log_range(
+        curves.iter().flat_map(|c| c.points.iter().map(|p| p.1)),
+    ));
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (760, 480)).into_drawing_area();
+        root.fill(&WHITE).map_err(plot_err)?;
+        let mut chart = ChartBuilder::on(&root)
+            .caption(
+                format!("{} — Uzawa's algorithm, relative residual", run.table),
+                ("sans-serif", 19),
+            )
+            .margin(12)
+            .x_label_area_size(40)
+            .y_label_area_size(70)
+            .build_cartesian_2d(0.0..last, y)
+            .map_err(plot_err)?;
+        chart
+            .configure_mesh()
+            .x_desc("Uzawa iteration k")
+            .y_desc("r_k / r_0")
+            .y_label_formatter(&log_tick)
+            .light_line_style(RGBColor(240, 240, 240))
+            .bold_line_style(RGBColor(215, 215, 215))
+            .label_style(("sans-serif", 15))
+            .axis_desc_style(("sans-serif", 15))
+            .draw()
+            .map_err(plot_err)?;
+        for c in &curves {
+            let color = c.color;
+            chart
+                .draw_series(LineSeries::new(
+                    c.points.iter().copied(),
+                    color.stroke_width(2),
+                ))
+                .map_err(plot_err)?
+                .label(c.label.clone())
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2))
+                });
+        }
+        series_legend(&mut chart, SeriesLabelPosition::UpperRight, 14)?;
+        root.present().map_err(plot_err)?;
+    }
+    fs::write(path, svg)
 }

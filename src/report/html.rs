@@ -503,6 +503,46 @@ fn failure_box(h: &mut String, what: &str, f: &Failure) {
     );
 }
 
+/// A solver study (Fig. III.6): per Uzawa variant the iterations run, the first iteration with a
+/// relative residual ≤ 1e-6, the relative residual at iteration 50 and at the last, the pressure
+/// error against the direct solve, the inner CG iterations and the seconds.
+fn uzawa_table(h: &mut String, rows: &[crate::linalg::uzawa::UzawaRow]) {
+    h.push_str(
+        "<p class=\"legend\">Relative residual r_k/r_0 with r_k = √(‖Av − Bp − f‖² + ‖Bᵀv + Cp − \
+         g‖²); pressure error ‖p_k − p‖₂/‖p‖₂ against the direct LDLᵀ solve of the coupled \
+         system; inner CG iterations and wall seconds summed over the run.</p>\n\
+         <div class=\"scroll\"><table>\n<thead><tr><th class=\"text\">variant</th>\
+         <th>iterations</th><th>first ≤ 1e-6</th><th>relative residual at 50</th>\
+         <th>last relative residual</th><th>last pressure error</th><th>inner CG</th>\
+         <th>seconds</th></tr></thead>\n<tbody>\n",
+    );
+    let mut variants: Vec<&str> = Vec::new();
+    for r in rows {
+        if !variants.contains(&r.variant.as_str()) {
+            variants.push(&r.variant);
+        }
+    }
+    for v in variants {
+        let of: Vec<_> = rows.iter().filter(|r| r.variant == v).collect();
+        let Some(last) = of.last() else { continue };
+        let first = of.iter().find(|r| r.relative_residual <= 1e-6);
+        let at50 = of.iter().find(|r| r.iteration == 50);
+        let _ = writeln!(
+            h,
+            "<tr><td class=\"text\">{}</td><td>{}</td>{}{}<td>{}</td>{}<td>{}</td><td>{}</td></tr>",
+            escape(v),
+            last.iteration,
+            opt_cell(first.map(|r| r.iteration.to_string())),
+            opt_cell(at50.map(|r| fmt_sig(r.relative_residual))),
+            fmt_sig(last.relative_residual),
+            opt_cell(last.pressure_error.map(fmt_sig)),
+            of.iter().map(|r| r.inner_iterations).sum::<usize>(),
+            fmt_seconds(last.seconds),
+        );
+    }
+    h.push_str("</tbody></table></div>\n");
+}
+
 /// Names of tribo's columns the thesis does not print, in first-appearance order.
 fn tribo_only_columns(rows: &[Row], thesis_columns: &[String]) -> Vec<(String, bool)> {
     let mut out: Vec<(String, bool)> = Vec::new();
@@ -562,7 +602,9 @@ fn table_section(h: &mut String, s: &Section, figs: &SectionFigures) {
         }
         h.push_str("</ul></div>\n");
     }
-    if s.is_figure() {
+    if !run.uzawa.is_empty() {
+        uzawa_table(h, &run.uzawa);
+    } else if s.is_figure() {
         figure_rows(h, run);
     } else {
         comparison_table(h, s);

@@ -328,6 +328,17 @@ fn write_figures(fig_dir: &Path, section: &Section) -> io::Result<Vec<Figure>> {
             ),
         );
         forming::steps(&path, run)?;
+    } else if !run.uzawa.is_empty() {
+        let path = push(
+            "uzawa",
+            format!(
+                "{}: relative residual √(‖Av − Bp − f‖² + ‖Bᵀv + Cp − g‖²)/r₀ of Uzawa's algorithm \
+                 with each preconditioner on the test problem (III.88), log scale (thesis Fig. \
+                 III.6)",
+                run.table
+            ),
+        );
+        film::uzawa(&path, run)?;
     } else {
         let path = push(
             "convergence",

@@ -85,11 +85,11 @@ impl Budget {
         let growth = match experiment.study.kind {
             StudyKind::GridAdaptive | StudyKind::ModelAndGridAdaptive | StudyKind::LoadSteps => {
                 CLOSURE
-                    * (1.0 + 3.0 * experiment.study.refine_fraction
-                        - 0.75 * experiment.study.coarsen_fraction)
+                    * (1.0 + 3.0 * experiment.study.refine() - 0.75 * experiment.study.coarsen())
             }
-            // The mesh is fixed; only the models of the contact faces change.
-            StudyKind::ModelAdaptive => 1.0,
+            // The mesh is fixed; only the models of the contact faces change (or the solver
+            // iterates on one mesh).
+            StudyKind::ModelAdaptive | StudyKind::SolverIterations => 1.0,
         };
         for solve in schedule.solves() {
             // A load step restarts from the coarse cells of the moved body.
@@ -137,7 +137,7 @@ fn components(experiment: &Experiment) -> usize {
     match experiment.problem {
         Problem::Elasticity(_) | Problem::Contact { .. } => 2,
         Problem::Reynolds(_) => 1,
-        Problem::SubStokes(_) => 3,
+        Problem::SubStokes(_) | Problem::StokesChannel(_) => 3,
     }
 }
 

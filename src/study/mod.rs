@@ -18,6 +18,7 @@ pub mod problem;
 pub mod readings;
 pub mod record;
 pub mod reynolds;
+pub mod solver_iterations;
 pub mod substokes;
 pub mod thin_film;
 pub mod transfer;
@@ -188,9 +189,13 @@ pub fn run_within(
     budget: Budget,
     progress: Progress,
 ) -> Result<RunResult, RunError> {
+    if experiment.study.kind == StudyKind::SolverIterations {
+        return solver_iterations::run(experiment, tier, progress);
+    }
     feasible(experiment)?;
     budget.admit_run(experiment, Schedule::of(experiment, tier))?;
-    let mut problem = build_problem(experiment);
+    let mut problem =
+        build_problem(experiment).map_err(|e| RunError::at_cycle(&experiment.table, 0, e))?;
     let mut adaptation = build_adaptation(&experiment.study, &experiment.scene);
     run_study(
         experiment,
@@ -213,7 +218,8 @@ fn feasible(experiment: &Experiment) -> Result<(), RunError> {
         } => contact::infeasible_obstacle(elasticity, contact, &experiment.scene.domain),
         experiment::Problem::Elasticity(_)
         | experiment::Problem::Reynolds(_)
-        | experiment::Problem::SubStokes(_) => None,
+        | experiment::Problem::SubStokes(_)
+        | experiment::Problem::StokesChannel(_) => None,
     };
     match problem {
         Some(message) => Err(RunError::at_cycle(
@@ -225,10 +231,11 @@ fn feasible(experiment: &Experiment) -> Result<(), RunError> {
     }
 }
 
-/// The model of an experiment's problem: one match arm per model.
-pub fn build_problem(experiment: &Experiment) -> Box<dyn Problem> {
+/// The model of an experiment's problem: one match arm per model. A solver study
+/// ([`StudyKind::SolverIterations`]) has no model of the study loop ([`solver_iterations`]).
+pub fn build_problem(experiment: &Experiment) -> Result<Box<dyn Problem>, String> {
     let domain = &experiment.scene.domain;
-    match &experiment.problem {
+    Ok(match &experiment.problem {
         experiment::Problem::Elasticity(data) => {
             Box::new(elasticity::ElasticityProblem::new(data, domain))
         }
@@ -248,12 +255,18 @@ pub fn build_problem(experiment: &Experiment) -> Box<dyn Problem> {
                 contact,
                 experiment.study.lift_per_step.unwrap_or(0.0),
             )),
+            StudyKind::SolverIterations => {
+                return Err("contact has no solver-iterations study".into())
+            }
         },
         experiment::Problem::Reynolds(data) => Box::new(reynolds::ReynoldsFilm::new(data, domain)),
         experiment::Problem::SubStokes(data) => {
             Box::new(substokes::SubStokesFilm::new(data, domain))
         }
-    }
+        experiment::Problem::StokesChannel(_) => {
+            return Err("the Uzawa test problem runs as a solver-iterations study only".into())
+        }
+    })
 }
 
 /// The adaptation strategy of a study: one match arm per `[study] kind`.
@@ -262,8 +275,8 @@ pub fn build_adaptation(
     scene: &experiment::Scene,
 ) -> Box<dyn Adaptation> {
     let grid = FixedNumber {
-        refine: study.refine_fraction,
-        coarsen: study.coarsen_fraction,
+        refine: study.refine(),
+        coarsen: study.coarsen(),
         ties: study.ties,
     };
     // The loader requires `algorithm` in the studies that mark models; III.3 is the one the
@@ -283,7 +296,7 @@ pub fn build_adaptation(
         alpha: study.balance(),
     };
     match study.kind {
-        StudyKind::GridAdaptive => Box::new(balanced.grid),
+        StudyKind::GridAdaptive | StudyKind::SolverIterations => Box::new(balanced.grid),
         StudyKind::ModelAdaptive => Box::new(balanced.model),
         StudyKind::ModelAndGridAdaptive => Box::new(balanced),
         StudyKind::LoadSteps => Box::new(LoadSteps::new(

@@ -53,6 +53,9 @@ pub fn alternative_readings(experiment: &Experiment) -> Vec<AlternativeReading> 
                 experiment: alt,
             }]
         }
-        Problem::Elasticity(_) | Problem::Contact { .. } | Problem::SubStokes(_) => Vec::new(),
+        Problem::Elasticity(_)
+        | Problem::Contact { .. }
+        | Problem::SubStokes(_)
+        | Problem::StokesChannel(_) => Vec::new(),
     }
 }
