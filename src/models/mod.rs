@@ -2,6 +2,7 @@
 
 pub mod contact;
 pub mod elasticity;
+pub mod film_coupling;
 pub mod obstacle;
 pub mod reynolds;
 pub mod stokes_channel;
