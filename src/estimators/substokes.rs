@@ -381,6 +381,7 @@ pub fn cavitation_cell_parts(
         becker_correction: options.becker_correction,
         stabilisation: options.stabilisation,
         lambda: Some(lambda),
+        region: None,
     };
     Ok(residual_parts(mesh, dofs, u, problem, &terms))
 }
@@ -416,6 +417,43 @@ pub fn cell_parts(
         becker_correction: options.becker_correction,
         stabilisation: options.stabilisation,
         lambda: None,
+        region: None,
+    };
+    residual_parts(mesh, dofs, u, problem, &terms)
+}
+
+/// The four squared parts of Theorem III.23 on the cells of a SubStokes region Ω^S ⊂ Ω₂
+/// (`region[k]` for active cell k; the model-adaptive fluid of §IV.3.4,
+/// [`crate::models::film_coupling`]), [0; 4] on the other cells. `u` holds (χ₁, χ₂, ψ) at the
+/// vertices of the region's cells (hanging values distributed; other entries are not read).
+///
+/// On Ω^S the SubStokes problem (I.58) is posed with ψ = ψ^R (the Reynolds pressure) on the
+/// interface ∂Ω^S ∩ Ω₂ and the natural condition ∂_nχ = X₀ = 0 on all of ∂Ω^S. A face piece
+/// towards a cell outside the region is therefore treated like a face on ∂Ω₂: the full (no ½)
+/// natural-boundary residual (ψ_h n − ∂_nχ_h) − (ψ^R n − X₀) = −∂_nχ_h, since ψ_h = ψ^R on the
+/// interface by construction (the coupling fixes ψ_h there); it enters Becker's c_Q as the
+/// boundary faces do. Faces on ∂Ω₂ and between two region cells are as in [`cell_parts`], so
+/// with every cell in the region the parts are those of [`cell_parts`], bit for bit.
+pub fn cell_parts_in_region(
+    mesh: &Mesh,
+    dofs: &DofMap,
+    u: &[f64],
+    problem: &SubStokesProblem,
+    options: Options,
+    region: &[bool],
+) -> Vec<[f64; 4]> {
+    assert_eq!(
+        region.len(),
+        mesh.n_active(),
+        "one region flag per active cell"
+    );
+    let terms = Terms {
+        source: Source::Gamma,
+        grad_div: false,
+        becker_correction: options.becker_correction,
+        stabilisation: options.stabilisation,
+        lambda: None,
+        region: Some(region),
     };
     residual_parts(mesh, dofs, u, problem, &terms)
 }
@@ -437,6 +475,10 @@ struct Terms<'a> {
     stabilisation: Stabilisation,
     /// Nodal values of λ_h per vertex (hanging values distributed), added to the mass residual.
     lambda: Option<&'a [f64]>,
+    /// The cells of the SubStokes region, per active cell (None: every cell). Cells outside
+    /// get no indicator; a face towards a cell outside is a boundary face of the region
+    /// ([`cell_parts_in_region`]).
+    region: Option<&'a [bool]>,
 }
 
 /// The four squared parts on every active cell for the terms `terms`:
@@ -464,7 +506,11 @@ fn residual_parts(
     let psi0 = problem.boundary_pressure;
     let film = problem.film;
     let grad_div = terms.grad_div;
+    let inside = |k: usize| terms.region.is_none_or(|r| r[k]);
     per_cell(mesh, &rule, |k, c, cv| {
+        if !inside(k) {
+            return [0.0; 4];
+        }
         let shape = cv.shape();
         let h = shape.diameter();
         let area = shape.area();
@@ -490,7 +536,8 @@ fn residual_parts(
             let (side, segments) = face_segments(mesh, c, face);
             for seg in &segments {
                 let len = seg.length();
-                let other = seg.neighbor.map(|nb| {
+                // A neighbour outside the region: the piece is on the region's boundary.
+                let other = seg.neighbor.filter(|&nb| inside(nb)).map(|nb| {
                     (
                         mesh.cell_shape(active[nb]),
                         [0, 1, PSI].map(|comp| dofs.corner_values(u, nb, comp)),
@@ -514,7 +561,12 @@ fn residual_parts(
                                 0.5,
                             )
                         }
-                        (None, None) => unreachable!("interior face without neighbour"),
+                        (None, None) => {
+                            assert!(terms.region.is_some(), "interior face without neighbour");
+                            // Interface ∂Ω^S ∩ Ω₂: ((ψ_h − div χ_h) n − ∂_nχ_h) − (ψ^R n − X₀)
+                            // with ψ_h = ψ^R there and X₀ = 0 ([`cell_parts_in_region`]).
+                            ([0, 1].map(|mu| -div * n[mu] - dn[mu]), 1.0)
+                        }
                     };
                     for mu in 0..2 {
                         integral[mu] += j[mu] * w * len;

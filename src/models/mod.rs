@@ -3,6 +3,7 @@
 pub mod contact;
 pub mod elasticity;
 pub mod film_comparison;
+pub mod film_coupling;
 pub mod obstacle;
 pub mod reynolds;
 pub mod stokes_channel;

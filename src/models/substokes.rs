@@ -57,7 +57,7 @@ use crate::linalg::active_set::{
     primal_dual_active_set, ActiveSetOptions, Bounds, NodalBounds, Sense, ViolationTolerance,
 };
 use crate::linalg::{Csc, DirectSolver};
-use crate::mesh::{bilinear, Face, Mesh};
+use crate::mesh::{bilinear, CellId, Face, Mesh};
 use crate::models::thin_film::{CavitationSource, ThinFilm};
 
 /// Default stabilisation constant δ_ε of the pressure stabilisation Σ_Q δ_ε h_Q² ⟨∇ψ, ∇φ⟩_Q
@@ -273,92 +273,106 @@ impl SubStokesProblem {
     /// Assemble `form` into `system` ([`Self::assemble`], [`Self::assemble_cavitation`]).
     pub fn assemble_form(&self, mesh: &Mesh, system: &mut System, form: Form) {
         let active = mesh.active();
+        system.assemble(active.len(), |k, ke, fe| {
+            self.cell_contributions(mesh, active[k], form, ke, fe)
+        });
+    }
+
+    /// The local matrix and load of `form` on the active cell `c` (layout
+    /// [`LocalDofs::new`]`(3)`, added into `ke` and `fe`): the cell integrals and, on the faces
+    /// of `c` on ∂Ω₂, the boundary term −⟨ψ₀ n, ξ⟩ (module docs). [`Self::assemble_form`] calls
+    /// it for every active cell; the model-adaptive coupling
+    /// ([`crate::models::film_coupling`]) for the SubStokes cells only.
+    pub fn cell_contributions(
+        &self,
+        mesh: &Mesh,
+        c: CellId,
+        form: Form,
+        ke: &mut [f64],
+        fe: &mut [f64],
+    ) {
         let rule = square_rule::<4>();
         let local = LocalDofs::new(N_COMPONENTS);
         let (face_points, face_weights) = gauss(2);
         let psi0 = self.boundary_pressure;
         let delta = self.delta_eps;
-        system.assemble(active.len(), |k, ke, fe| {
-            let c = active[k];
-            let shape = mesh.cell_shape(c);
-            let h_q = shape.diameter();
-            let stab = delta * h_q * h_q;
-            let cv = CellValues::new(shape, &rule);
-            for q in 0..rule.len() {
-                let grad = cv.gradients(q);
-                let phi = cv.values(q);
-                let jw = cv.jxw(q);
-                let jets = self.film.film_jets(cv.point(q));
-                let g = jets.g.v;
-                let dg_g = [jets.g.d[0] / g, jets.g.d[1] / g];
-                // κ + γ, or κ + γ_c for cavitation (κ = 0 in the examples of §IV.3, kept for
-                // the general form).
-                let gamma = match form {
-                    Form::Plain => jets.gamma(),
-                    Form::Cavitation => jets.gamma_c(self.cavitation_source),
-                };
-                let source = [0, 1].map(|mu| jets.kappa[mu].v + gamma[mu].v);
-                let sigma3 = jets.sigma3().v;
-                let mass = 12.0 / (g * g);
-                for a in 0..4 {
-                    for b in 0..4 {
-                        let stiff = grad[a][0] * grad[b][0] + grad[a][1] * grad[b][1];
-                        // A: both velocity components.
-                        let av = (stiff + mass * phi[a] * phi[b]) * jw;
+        let shape = mesh.cell_shape(c);
+        let h_q = shape.diameter();
+        let stab = delta * h_q * h_q;
+        let cv = CellValues::new(shape, &rule);
+        for q in 0..rule.len() {
+            let grad = cv.gradients(q);
+            let phi = cv.values(q);
+            let jw = cv.jxw(q);
+            let jets = self.film.film_jets(cv.point(q));
+            let g = jets.g.v;
+            let dg_g = [jets.g.d[0] / g, jets.g.d[1] / g];
+            // κ + γ, or κ + γ_c for cavitation (κ = 0 in the examples of §IV.3, kept for
+            // the general form).
+            let gamma = match form {
+                Form::Plain => jets.gamma(),
+                Form::Cavitation => jets.gamma_c(self.cavitation_source),
+            };
+            let source = [0, 1].map(|mu| jets.kappa[mu].v + gamma[mu].v);
+            let sigma3 = jets.sigma3().v;
+            let mass = 12.0 / (g * g);
+            for a in 0..4 {
+                for b in 0..4 {
+                    let stiff = grad[a][0] * grad[b][0] + grad[a][1] * grad[b][1];
+                    // A: both velocity components.
+                    let av = (stiff + mass * phi[a] * phi[b]) * jw;
+                    for mu in 0..2 {
+                        ke[local.entry(local.index(a, mu), local.index(b, mu))] += av;
+                    }
+                    // Grad-div: ⟨div χ, div ξ⟩ couples (a, μ) with (b, ν) by ∂_μφ_a ∂_νφ_b.
+                    if form == Form::Cavitation {
                         for mu in 0..2 {
-                            ke[local.entry(local.index(a, mu), local.index(b, mu))] += av;
-                        }
-                        // Grad-div: ⟨div χ, div ξ⟩ couples (a, μ) with (b, ν) by ∂_μφ_a ∂_νφ_b.
-                        if form == Form::Cavitation {
-                            for mu in 0..2 {
-                                for nu in 0..2 {
-                                    ke[local.entry(local.index(a, mu), local.index(b, nu))] +=
-                                        grad[a][mu] * grad[b][nu] * jw;
-                                }
+                            for nu in 0..2 {
+                                ke[local.entry(local.index(a, mu), local.index(b, nu))] +=
+                                    grad[a][mu] * grad[b][nu] * jw;
                             }
                         }
-                        // −B (row χ of vertex a, column ψ of vertex b) and −Bᵀ.
-                        for nu in 0..2 {
-                            let bv = phi[b] * (grad[a][nu] + phi[a] * dg_g[nu]) * jw;
-                            ke[local.entry(local.index(a, nu), local.index(b, PSI))] -= bv;
-                            ke[local.entry(local.index(b, PSI), local.index(a, nu))] -= bv;
-                        }
-                        // −C.
-                        ke[local.entry(local.index(a, PSI), local.index(b, PSI))] -=
-                            stab * stiff * jw;
                     }
-                    for mu in 0..2 {
-                        fe[local.index(a, mu)] += source[mu] * phi[a] * jw;
+                    // −B (row χ of vertex a, column ψ of vertex b) and −Bᵀ.
+                    for nu in 0..2 {
+                        let bv = phi[b] * (grad[a][nu] + phi[a] * dg_g[nu]) * jw;
+                        ke[local.entry(local.index(a, nu), local.index(b, PSI))] -= bv;
+                        ke[local.entry(local.index(b, PSI), local.index(a, nu))] -= bv;
                     }
-                    fe[local.index(a, PSI)] -= sigma3 * phi[a] * jw;
+                    // −C.
+                    ke[local.entry(local.index(a, PSI), local.index(b, PSI))] -= stab * stiff * jw;
                 }
+                for mu in 0..2 {
+                    fe[local.index(a, mu)] += source[mu] * phi[a] * jw;
+                }
+                fe[local.index(a, PSI)] -= sigma3 * phi[a] * jw;
             }
-            // −∫_{∂Ω₂} ψ₀ n_μ φ_a ds (X₀ = 0).
-            for bf in mesh.boundary_faces_of(c) {
-                let face = match bf.side {
-                    crate::mesh::Side::Left => Face::Left,
-                    crate::mesh::Side::Right => Face::Right,
-                    crate::mesh::Side::Bottom => Face::Bottom,
-                    crate::mesh::Side::Top => Face::Top,
+        }
+        // −∫_{∂Ω₂} ψ₀ n_μ φ_a ds (X₀ = 0).
+        for bf in mesh.boundary_faces_of(c) {
+            let face = match bf.side {
+                crate::mesh::Side::Left => Face::Left,
+                crate::mesh::Side::Right => Face::Right,
+                crate::mesh::Side::Bottom => Face::Bottom,
+                crate::mesh::Side::Top => Face::Top,
+            };
+            let n = shape.face_normal(face);
+            let len = shape.face_length(face);
+            for (&t, &w) in face_points.iter().zip(face_weights) {
+                let (xi, eta) = match face {
+                    Face::Left => (0.0, t),
+                    Face::Right => (1.0, t),
+                    Face::Bottom => (t, 0.0),
+                    Face::Top => (t, 1.0),
                 };
-                let n = shape.face_normal(face);
-                let len = shape.face_length(face);
-                for (&t, &w) in face_points.iter().zip(face_weights) {
-                    let (xi, eta) = match face {
-                        Face::Left => (0.0, t),
-                        Face::Right => (1.0, t),
-                        Face::Bottom => (t, 0.0),
-                        Face::Top => (t, 1.0),
-                    };
-                    let phi = bilinear(xi, eta);
-                    for a in 0..4 {
-                        for mu in 0..2 {
-                            fe[local.index(a, mu)] -= psi0 * n[mu] * phi[a] * w * len;
-                        }
+                let phi = bilinear(xi, eta);
+                for a in 0..4 {
+                    for mu in 0..2 {
+                        fe[local.index(a, mu)] -= psi0 * n[mu] * phi[a] * w * len;
                     }
                 }
             }
-        });
+        }
     }
 
     /// Set up, assemble and solve on `mesh` with a fresh LDLᵀ solver.

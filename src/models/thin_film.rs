@@ -425,6 +425,55 @@ impl Gap {
             }
         }
     }
+
+    /// Exact (min, max) of g over the closed box [x0, x1] × [y0, y1] given as `[x0, y0, x1, y1]`
+    /// (a cell box, [`crate::mesh::Mesh::cell_box`]): for ‖g²‖_∞ on a cell in the model
+    /// indicator of Theorem III.6 ([`crate::models::film_coupling`]).
+    pub fn range_on_box(&self, b: [f64; 4]) -> (f64, f64) {
+        use std::f64::consts::TAU;
+        let [x0, y0, x1, y1] = b;
+        // (min, max) of sin²(ω t) over [t0, t1]: 0 where sin changes sign or vanishes.
+        let sin2_range = |omega: f64, t0: f64, t1: f64| {
+            let (lo, hi) = sin_range(omega * t0, omega * t1);
+            let max = (lo * lo).max(hi * hi);
+            let min = if lo <= 0.0 && hi >= 0.0 {
+                0.0
+            } else {
+                (lo * lo).min(hi * hi)
+            };
+            (min, max)
+        };
+        match *self {
+            Gap::Plain { g0 } => (g0, g0),
+            Gap::Linear { g0, slope } => {
+                let (p, q) = (slope * x0, slope * x1);
+                (g0 + p.min(q), g0 + p.max(q))
+            }
+            Gap::WaveHorizontal {
+                g0,
+                amplitude: a,
+                frequency,
+            } => {
+                let w = TAU * frequency;
+                let (lo, hi) = sin_range(w * x0, w * x1);
+                let (p, q) = (a * lo, a * hi);
+                (g0 + p.min(q), g0 + p.max(q))
+            }
+            Gap::Hill {
+                g0,
+                amplitude: a,
+                frequency,
+            } => {
+                // Two independent factors in [m₁, M₁], [m₂, M₂] ⊂ [0, 1]: the product ranges
+                // over [m₁m₂, M₁M₂].
+                let w = TAU * frequency;
+                let (m1, s1) = sin2_range(w, x0, x1);
+                let (m2, s2) = sin2_range(w, y0, y1);
+                let (p, q) = (a * m1 * m2, a * s1 * s2);
+                (g0 + p.min(q), g0 + p.max(q))
+            }
+        }
+    }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -1381,6 +1430,50 @@ mod tests {
                 bmin - lo < 1e-4 && hi - bmax < 1e-4,
                 "{gap:?}: {bmin} {lo} {bmax} {hi}"
             );
+        }
+    }
+
+    /// The extrema on boxes agree with brute force on a fine grid of each box (never beyond
+    /// the exact values, close to them), and on [0, 1]² with the unit-square extrema.
+    #[test]
+    fn gap_extrema_on_boxes() {
+        let boxes = [
+            [0.0, 0.0, 0.125, 0.125],
+            [0.1, 0.2, 0.3, 0.45],
+            [0.3, 0.0, 0.4, 1.0],
+            [0.55, 0.6, 0.7, 0.65],
+            [0.6, 0.3, 0.62, 0.31],
+        ];
+        let gaps = all_gaps().into_iter().chain([Gap::Linear {
+            g0: 0.2,
+            slope: -0.1,
+        }]);
+        for gap in gaps {
+            let unit = gap.range_on_box([0.0, 0.0, 1.0, 1.0]);
+            assert!((unit.0 - gap.min_on_unit_square()).abs() < 1e-15, "{gap:?}");
+            assert!((unit.1 - gap.max_on_unit_square()).abs() < 1e-15, "{gap:?}");
+            for b in boxes {
+                let (lo, hi) = gap.range_on_box(b);
+                let n = 200;
+                let (mut bmin, mut bmax) = (f64::INFINITY, f64::NEG_INFINITY);
+                for i in 0..=n {
+                    for k in 0..=n {
+                        let x = b[0] + (b[2] - b[0]) * i as f64 / n as f64;
+                        let y = b[1] + (b[3] - b[1]) * k as f64 / n as f64;
+                        let v = gap.value([x, y]);
+                        bmin = bmin.min(v);
+                        bmax = bmax.max(v);
+                    }
+                }
+                assert!(
+                    bmin >= lo - 1e-15 && bmax <= hi + 1e-15,
+                    "{gap:?} {b:?}: [{lo}, {hi}] vs [{bmin}, {bmax}]"
+                );
+                assert!(
+                    bmin - lo < 1e-5 && hi - bmax < 1e-5,
+                    "{gap:?} {b:?}: [{lo}, {hi}] vs [{bmin}, {bmax}]"
+                );
+            }
         }
     }
 }

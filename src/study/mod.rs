@@ -14,6 +14,7 @@ pub mod contact;
 pub mod cost;
 pub mod elasticity;
 pub mod model_contact;
+pub mod model_fluid;
 pub mod problem;
 pub mod readings;
 pub mod record;
