@@ -253,6 +253,8 @@ pub struct CellBox {
 pub struct MeshPicture {
     pub cycle: usize,
     pub cells: Vec<CellBox>,
+    /// Cells drawn grey (the SubStokes cells of a model-adaptive fluid run); usually empty.
+    pub shaded: Vec<CellBox>,
 }
 
 /// The deformed body: every active cell as a quadrilateral of displaced corners

@@ -156,19 +156,18 @@ fn every_shipped_experiment_loads() {
             .collect::<Vec<_>>(),
         "tables before figures"
     );
-    for (group, prefix) in [(&tables, "IV."), (&figures, "fig-IV.")] {
-        let numbers: Vec<u32> = group
-            .iter()
-            .map(|s| s.table[prefix.len()..].parse().expect("validated id"))
-            .collect();
-        assert!(
-            numbers.windows(2).all(|w| w[0] < w[1]),
-            "not in numeric order: {numbers:?}"
-        );
-    }
+    let numbers: Vec<u32> = tables
+        .iter()
+        .map(|s| s.table["IV.".len()..].parse().expect("validated id"))
+        .collect();
+    assert!(
+        numbers.windows(2).all(|w| w[0] < w[1]),
+        "not in numeric order: {numbers:?}"
+    );
+    // Figures: Chapter III before Chapter IV, each in numeric order.
     assert_eq!(
         figures.iter().map(|s| s.table.as_str()).collect::<Vec<_>>(),
-        ["fig-IV.54"]
+        ["fig-III.6", "fig-IV.54", "fig-IV.116"]
     );
     for spec in figures {
         assert!(spec.thesis.rows.is_empty() && spec.thesis.columns.is_empty());
@@ -1626,10 +1625,10 @@ fn substokes_checks_name_file_and_field() {
             "≥ 0",
         ),
         (
-            "with-reynolds",
+            "with-elasticity",
             with(
                 "effects = [\"substokes\"]",
-                "effects = [\"substokes\", \"reynolds\"]",
+                "effects = [\"substokes\", \"elasticity\"]",
             ),
             "scene.effects",
             "alone",
@@ -1768,5 +1767,95 @@ fn uzawa_checks_name_file_and_field() {
     ];
     for (case, text, field, needle) in &cases {
         expect_error_in("fig-III.6.toml", case, text, field, needle);
+    }
+}
+
+/// The model-adaptive film of Fig. IV.116: the two sections must describe one film without
+/// cavitation, the study must mark models by Algorithm III.3.
+#[test]
+fn model_fluid_checks_name_file_and_field() {
+    let base = fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments/fig-IV.116.toml"),
+    )
+    .expect("the shipped model-adaptive fluid experiment");
+    let dir = scratch_dir("model-fluid-valid");
+    load(&write(&dir, "fig-IV.116.toml", &base)).unwrap_or_else(|e| panic!("{e}"));
+    let in_substokes = |from: &str, to: &str| {
+        let at = base.find("[scene.substokes]").expect("test setup");
+        let (head, tail) = base.split_at(at);
+        assert!(tail.contains(from), "test setup: `{from}`");
+        format!("{head}{}", tail.replacen(from, to, 1))
+    };
+    let with = |from: &str, to: &str| {
+        assert!(base.contains(from), "test setup: `{from}`");
+        base.replacen(from, to, 1)
+    };
+    let cases: Vec<(&str, String, &str, &str)> = vec![
+        (
+            "other-gap",
+            in_substokes("g0 = 0.1", "g0 = 0.2"),
+            "scene.substokes.gap",
+            "same gap",
+        ),
+        (
+            "other-velocity",
+            in_substokes("[40.0, 0.0, 0.0]", "[10.0, 0.0, 0.0]"),
+            "scene.substokes.upper_wall_velocity",
+            "same",
+        ),
+        (
+            "other-pressure",
+            in_substokes("boundary_pressure = 200.0", "boundary_pressure = 100.0"),
+            "scene.substokes.boundary_pressure",
+            "same",
+        ),
+        (
+            "cavitation",
+            in_substokes("cavitation = \"off\"", "cavitation = \"on\""),
+            "scene.substokes.cavitation",
+            "off",
+        ),
+        (
+            "grid-kind",
+            with(
+                "kind = \"model-and-grid-adaptive\"",
+                "kind = \"grid-adaptive\"",
+            ),
+            "study.kind",
+            "model-and-grid-adaptive",
+        ),
+        (
+            "algorithm-iii2",
+            with("algorithm = \"III.3\"", "algorithm = \"III.2\""),
+            "study.algorithm",
+            "III.3",
+        ),
+        (
+            "balance",
+            with(
+                "algorithm = \"III.3\"",
+                "algorithm = \"III.3\"\nbalance = 0.5",
+            ),
+            "study.balance",
+            "no balance",
+        ),
+        (
+            "no-model-fraction",
+            with("model_refine_fraction = 0.05\n", ""),
+            "study.model_refine_fraction",
+            "no such field",
+        ),
+        (
+            "three-effects",
+            with(
+                "effects = [\"reynolds\", \"substokes\"]",
+                "effects = [\"reynolds\", \"substokes\", \"elasticity\"]",
+            ),
+            "scene.effects",
+            "alone",
+        ),
+    ];
+    for (case, text, field, needle) in &cases {
+        expect_error_in("fig-IV.116.toml", case, text, field, needle);
     }
 }

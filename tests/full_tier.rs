@@ -61,3 +61,12 @@ fn reynolds() {
 fn substokes() {
     full_tier(&crate::substokes::TABLES, crate::substokes::full_tier_rules);
 }
+
+#[test]
+#[ignore]
+fn model_fluid() {
+    full_tier(
+        &[crate::model_fluid::FIGURE],
+        crate::model_fluid::full_tier_rules,
+    );
+}

@@ -11,6 +11,7 @@ mod full_tier;
 mod mesh;
 mod mesh_limits;
 mod model_contact;
+mod model_fluid;
 mod model_grid;
 mod outputs;
 mod properties;

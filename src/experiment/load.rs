@@ -592,18 +592,18 @@ impl Check<'_> {
             &format!("the file name's table id `{stem}`"),
             format!("`{}`", spec.table),
         )?;
-        let chapter = if spec.table.starts_with("fig-III.") {
-            "III."
+        let (chapter, expected) = if spec.table.starts_with("fig-III.") {
+            (
+                "III.",
+                "a Chapter III section such as `III.2.3.4` (a `fig-III.<n>` experiment)",
+            )
         } else {
-            "IV."
+            ("IV.", "a Chapter IV section such as `IV.1.1`")
         };
         self.ensure(
             spec.section.starts_with(chapter) && spec.section.len() > chapter.len(),
             "section",
-            &format!(
-                "a section of the table's chapter, such as `{chapter}1.1` (Chapter IV; a \
-                 `fig-III.<n>` experiment has a Chapter III section)"
-            ),
+            expected,
             format!("`{}`", spec.section),
         )?;
         self.ensure(
@@ -723,6 +723,9 @@ impl Check<'_> {
         if let Some(substokes) = &scene.substokes {
             self.substokes(substokes, &scene.domain)?;
         }
+        if let (Some(r), Some(s)) = (&scene.reynolds, &scene.substokes) {
+            self.same_film(r, s)?;
+        }
 
         Ok(())
     }
@@ -753,13 +756,16 @@ impl Check<'_> {
             "`elasticity` alongside `contact` (contact constrains an elastic body)",
             "`contact` without `elasticity`",
         )?;
+        // Reynolds and SubStokes together are the model-adaptive film (§IV.3.4).
+        let film_models = seen.len() == 2 && has(Effect::Reynolds) && has(Effect::SubStokes);
         for fluid in [Effect::Reynolds, Effect::SubStokes, Effect::StokesChannel] {
             self.ensure(
-                !has(fluid) || seen.len() == 1,
+                !has(fluid) || seen.len() == 1 || film_models,
                 "scene.effects",
                 &format!(
                     "`{}` alone (a thin-film model is a problem of its own; it cannot be \
-                     combined with another effect)",
+                     combined with another effect), or `reynolds` with `substokes` (the \
+                     model-adaptive film of §IV.3.4)",
                     effect_name(fluid)
                 ),
                 format!("{:?}", names(&scene.effects)),
@@ -807,6 +813,17 @@ impl Check<'_> {
                 "none",
             )
         };
+        if has(Effect::Reynolds) && has(Effect::SubStokes) {
+            let reynolds = scene.reynolds.clone().ok_or_else(|| section("reynolds"))?;
+            let substokes = scene
+                .substokes
+                .clone()
+                .ok_or_else(|| section("substokes"))?;
+            return Ok(Problem::FilmModels {
+                reynolds,
+                substokes,
+            });
+        }
         if has(Effect::Reynolds) {
             let reynolds = scene.reynolds.clone().ok_or_else(|| section("reynolds"))?;
             return Ok(Problem::Reynolds(reynolds));
@@ -1106,10 +1123,64 @@ impl Check<'_> {
         self.positive(&format!("{F}.delta_eps"), data.delta_eps)
     }
 
+    /// The two sections of a model-adaptive film describe one film, without cavitation (the
+    /// coupling of §IV.3.4 has none).
+    fn same_film(&self, r: &ReynoldsData, s: &SubStokesData) -> Checked {
+        let pairs = [
+            (
+                "equation",
+                r.equation == s.equation,
+                format!("`{}` and `{}`", r.equation, s.equation),
+            ),
+            (
+                "gap",
+                r.gap == s.gap,
+                format!("{:?} and {:?}", r.gap, s.gap),
+            ),
+            (
+                "upper_wall_velocity",
+                r.upper_wall_velocity == s.upper_wall_velocity,
+                format!(
+                    "{:?} and {:?}",
+                    r.upper_wall_velocity, s.upper_wall_velocity
+                ),
+            ),
+            (
+                "boundary_pressure",
+                r.boundary_pressure == s.boundary_pressure,
+                format!("{:?} and {:?}", r.boundary_pressure, s.boundary_pressure),
+            ),
+        ];
+        for (field, same, found) in pairs {
+            self.ensure(
+                same,
+                &format!("scene.substokes.{field}"),
+                &format!("the same {field} as scene.reynolds (both models solve one film)"),
+                found,
+            )?;
+        }
+        for (section, cavitation) in [("reynolds", r.cavitation), ("substokes", s.cavitation)] {
+            self.ensure(
+                cavitation == Cavitation::Off,
+                &format!("scene.{section}.cavitation"),
+                "\"off\" in a model-adaptive film (the coupling of §IV.3.4 has no cavitation)",
+                format!("{cavitation:?}"),
+            )?;
+        }
+        Ok(())
+    }
+
     /// The printed cycles and how to iterate: fixed-fraction grid adaptivity (§IV.1: refine
     /// 30 %, coarsen 3 %) or model adaptivity (§IV.2.3: Algorithm III.2 or III.3).
     fn study(&self, study: &Study, scene: &SceneFile) -> Checked {
         self.ensure(study.rows >= 1, "study.rows", "at least 1", study.rows)?;
+        self.ensure(
+            !is_film_models(scene) || study.kind == StudyKind::ModelAndGridAdaptive,
+            "study.kind",
+            "\"model-and-grid-adaptive\" for a scene with `reynolds` and `substokes` (the \
+             model-adaptive film of §IV.3.4)",
+            format!("`{}`", study.kind.name()),
+        )?;
         if study.kind == StudyKind::SolverIterations {
             self.ensure(
                 study.rows <= MAX_ITERATIONS,
@@ -1439,7 +1510,30 @@ impl Check<'_> {
         scene: &SceneFile,
         fraction_fields: [&str; 2],
     ) -> Checked {
-        let Some(contact) = &scene.contact else {
+        if is_film_models(scene) {
+            // The model-adaptive film (§IV.3.4): Algorithm III.3 over the cells.
+            self.ensure(
+                study.algorithm == Some(ModelAlgorithm::SortedError),
+                "study.algorithm",
+                "`III.3` (sorted error) for the model-adaptive film (§IV.3.4)",
+                format!("{:?}", study.algorithm),
+            )?;
+            self.ensure(
+                study.balance.is_none(),
+                "study.balance",
+                "no balance in the model-adaptive film (its model and grid markings use their \
+                 own indicators, §IV.3.4)",
+                "a value",
+            )?;
+        } else if let Some(contact) = &scene.contact {
+            self.ensure(
+                contact.model == ContactModel::ModelAdaptive,
+                "scene.contact.model",
+                "`model-adaptive` in a model-adaptive study (the marking chooses z or Signorini \
+                 per face; a fixed model leaves nothing to choose)",
+                format!("`{}`", contact.model.name()),
+            )?;
+        } else {
             return Err(self.fail(
                 "study.kind",
                 "a scene with contact for a model-adaptive study (it chooses the contact model \
@@ -1450,14 +1544,7 @@ impl Check<'_> {
                     names(&scene.effects)
                 ),
             ));
-        };
-        self.ensure(
-            contact.model == ContactModel::ModelAdaptive,
-            "scene.contact.model",
-            "`model-adaptive` in a model-adaptive study (the marking chooses z or Signorini per \
-             face; a fixed model leaves nothing to choose)",
-            format!("`{}`", contact.model.name()),
-        )?;
+        }
         let Some(algorithm) = study.algorithm else {
             return Err(self.fail(
                 "study.algorithm",
@@ -1688,6 +1775,11 @@ impl Found for &str {
     fn text(self) -> String {
         self.to_owned()
     }
+}
+
+/// Whether the scene is the model-adaptive film: `reynolds` and `substokes` together.
+fn is_film_models(scene: &SceneFile) -> bool {
+    scene.effects.contains(&Effect::Reynolds) && scene.effects.contains(&Effect::SubStokes)
 }
 
 /// The film data of a thin-film section, the same for Reynolds and SubStokes.

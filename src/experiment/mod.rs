@@ -71,6 +71,12 @@ pub enum Problem {
     SubStokes(SubStokesData),
     /// The stabilised Stokes test problem (III.88) of the Uzawa comparison (Fig. III.6).
     StokesChannel(StokesChannelData),
+    /// Reynolds and SubStokes on one film, the model chosen cell by cell (§IV.3.4, Fig.
+    /// IV.116): a scene with both effects.
+    FilmModels {
+        reynolds: ReynoldsData,
+        substokes: SubStokesData,
+    },
 }
 
 impl Problem {
@@ -113,6 +119,7 @@ impl Problem {
             Problem::Reynolds(_) => &["psi"],
             Problem::SubStokes(_) => &["chi1", "chi2", "psi"],
             Problem::StokesChannel(_) => &[],
+            Problem::FilmModels { .. } => &["psi"],
         }
     }
 }

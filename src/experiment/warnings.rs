@@ -61,7 +61,7 @@ impl Experiment {
                 contact_data(contact, &scope, &mut out);
             }
             Problem::Reynolds(r) => reynolds(r, &scope, &mut out),
-            Problem::SubStokes(_) | Problem::StokesChannel(_) => {}
+            Problem::SubStokes(_) | Problem::StokesChannel(_) | Problem::FilmModels { .. } => {}
         }
         out
     }

@@ -402,10 +402,12 @@ fn write_figures(fig_dir: &Path, section: &Section) -> io::Result<Vec<Figure>> {
                 "{}: active cells after cycle {}{}",
                 run.table,
                 cycles.join(", "),
-                if partitions.is_empty() {
-                    ""
-                } else {
+                if !partitions.is_empty() {
                     "; Signorini faces thick black (cf. thesis Figs IV.46–IV.51)"
+                } else if run.meshes.iter().any(|m| !m.shaded.is_empty()) {
+                    "; SubStokes cells grey, Reynolds cells white (cf. thesis Fig. IV.116)"
+                } else {
+                    ""
                 }
             ),
         );
@@ -455,7 +457,11 @@ fn write_figures(fig_dir: &Path, section: &Section) -> io::Result<Vec<Figure>> {
         plots::field(&path, &run.table, pic, run.domain)?;
     }
 
-    if let Some(cuts) = &run.cuts {
+    if let Some(cuts) = run
+        .cuts
+        .as_ref()
+        .filter(|c| c.column("psi_substokes").is_some())
+    {
         let mut caption = format!(
             "{}: SubStokes (solid) and Reynolds (dashed) on the last mesh along x₂ = {} — \
              pressure ψ/g and flow rate χ₁, the latter rebuilt by (I.86) for Reynolds \

@@ -866,11 +866,32 @@ const MESH_LINE: &str = "#1f3a5f";
 
 /// Draw one mesh into `svg` inside frame `f`, framed by the window boundary.
 fn draw_mesh(svg: &mut String, cells: &[CellBox], f: &Frame, clip_id: &str) {
+    draw_mesh_shaded(svg, cells, &[], f, clip_id);
+}
+
+/// [`draw_mesh`] with the cells `shaded` filled grey under the outlines (the SubStokes cells of
+/// a model-adaptive fluid run, thesis Fig. IV.116).
+fn draw_mesh_shaded(
+    svg: &mut String,
+    cells: &[CellBox],
+    shaded: &[CellBox],
+    f: &Frame,
+    clip_id: &str,
+) {
     let (l, t, w, h) = (f.left, f.top, f.width(), f.height());
+    let fill = if shaded.is_empty() {
+        String::new()
+    } else {
+        format!(
+            "<path transform=\"scale({})\" fill=\"#c8c8c8\" shape-rendering=\"crispEdges\" d=\"{}\"/>",
+            1.0 / SUB,
+            rect_path(shaded.iter(), f)
+        )
+    };
     let _ = writeln!(
         svg,
         "<clipPath id=\"{clip_id}\"><rect x=\"{l:.1}\" y=\"{t:.1}\" width=\"{w:.1}\" height=\"{h:.1}\"/></clipPath>\n\
-         <g clip-path=\"url(#{clip_id})\"><path transform=\"scale({s})\" fill=\"none\" stroke=\"{MESH_LINE}\" \
+         <g clip-path=\"url(#{clip_id})\">{fill}<path transform=\"scale({s})\" fill=\"none\" stroke=\"{MESH_LINE}\" \
          stroke-width=\"{sw}\" d=\"{d}\"/></g>\n\
          <rect x=\"{l:.1}\" y=\"{t:.1}\" width=\"{w:.1}\" height=\"{h:.1}\" fill=\"none\" stroke=\"black\" stroke-width=\"1\"/>",
         s = 1.0 / SUB,
@@ -1009,7 +1030,7 @@ pub fn meshes(
                 &format!("cycle {}  ({} cells)", m.cycle, m.cells.len()),
             );
             let f = Frame::new(win, left, top + label_h, panel_w);
-            draw_mesh(&mut body, &m.cells, &f, &format!("m{i}"));
+            draw_mesh_shaded(&mut body, &m.cells, &m.shaded, &f, &format!("m{i}"));
         }
         (
             margin + cols as f64 * (panel_w + margin),
@@ -1634,6 +1655,7 @@ mod tests {
         let empty = MeshPicture {
             cycle: 0,
             cells: vec![],
+            shaded: vec![],
         };
         meshes(&dir.join("m.svg"), &[empty], [f64::NAN; 4], &[]).unwrap();
         let pic = DeformedPicture {

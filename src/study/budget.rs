@@ -137,7 +137,7 @@ fn components(experiment: &Experiment) -> usize {
     match experiment.problem {
         Problem::Elasticity(_) | Problem::Contact { .. } => 2,
         Problem::Reynolds(_) => 1,
-        Problem::SubStokes(_) | Problem::StokesChannel(_) => 3,
+        Problem::SubStokes(_) | Problem::StokesChannel(_) | Problem::FilmModels { .. } => 3,
     }
 }
 

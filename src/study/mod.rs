@@ -193,6 +193,9 @@ pub fn run_within(
     if experiment.study.kind == StudyKind::SolverIterations {
         return solver_iterations::run(experiment, tier, progress);
     }
+    if let experiment::Problem::FilmModels { substokes, .. } = &experiment.problem {
+        return model_fluid::run_experiment(experiment, substokes, tier, progress);
+    }
     feasible(experiment)?;
     budget.admit_run(experiment, Schedule::of(experiment, tier))?;
     let mut problem =
@@ -220,7 +223,8 @@ fn feasible(experiment: &Experiment) -> Result<(), RunError> {
         experiment::Problem::Elasticity(_)
         | experiment::Problem::Reynolds(_)
         | experiment::Problem::SubStokes(_)
-        | experiment::Problem::StokesChannel(_) => None,
+        | experiment::Problem::StokesChannel(_)
+        | experiment::Problem::FilmModels { .. } => None,
     };
     match problem {
         Some(message) => Err(RunError::at_cycle(
@@ -266,6 +270,9 @@ pub fn build_problem(experiment: &Experiment) -> Result<Box<dyn Problem>, String
         }
         experiment::Problem::StokesChannel(_) => {
             return Err("the Uzawa test problem runs as a solver-iterations study only".into())
+        }
+        experiment::Problem::FilmModels { .. } => {
+            return Err("the model-adaptive film runs its own loop (study::model_fluid)".into())
         }
     })
 }

@@ -64,11 +64,14 @@
 use serde::Serialize;
 
 use super::clock::{Phase, PhaseClock};
+use super::substokes::substokes_problem;
+use super::{printed_rows, Progress, RunError, Tier};
 use crate::adaptivity::model::{model_error, sorted_error, Moves, Partition};
 use crate::adaptivity::{mark_fixed_number_split, split_order, Marking};
 use crate::estimators;
 use crate::estimators::reynolds::VolumeResidual;
 use crate::estimators::substokes::{cell_parts_in_region, Options};
+use crate::experiment::{Experiment, SubStokesData};
 use crate::fe::DofMap;
 use crate::mesh::Mesh;
 use crate::models::film_coupling::{
@@ -76,6 +79,7 @@ use crate::models::film_coupling::{
 };
 use crate::models::substokes::N_COMPONENTS;
 use crate::models::thin_film::example;
+use crate::results::{columns, CellBox, Cuts, MeshPicture, PhaseSeconds, Row, RunResult};
 
 /// The example of §IV.3.4.
 pub const EXAMPLE: &str = "IV.17";
@@ -94,6 +98,32 @@ pub const MODEL_COARSEN: f64 = 0.01;
 pub const MODEL_EPS0: f64 = 1e-7;
 /// Points of the cut y = ½ through the last solution.
 pub const CUT_POINTS: usize = 101;
+
+/// What a run adapts with: the coupled problem, the initial mesh, the grid and the model
+/// fractions. [`Settings::thesis`] is §IV.3.4's; an experiment file (`fig-IV.116`) gives its own
+/// ([`run`]).
+#[derive(Clone, Debug)]
+pub struct Settings {
+    pub coupling: Coupling,
+    pub initial: Mesh,
+    /// θ_r, θ_c of the fixed-number grid marking.
+    pub grid: [f64; 2],
+    /// p_r, p_c, ε₀ of Algorithm III.3.
+    pub model: [f64; 3],
+}
+
+impl Settings {
+    /// §IV.3.4: (IV.17), ψ₀ = 200, the 8×8 grid, 30 % / 3 %, Algorithm III.3 with 5 %, 1 %,
+    /// 1e-7.
+    pub fn thesis() -> Settings {
+        Settings {
+            coupling: coupling(),
+            initial: initial_mesh(),
+            grid: [GRID_REFINE, GRID_COARSEN],
+            model: [MODEL_REFINE, MODEL_COARSEN, MODEL_EPS0],
+        }
+    }
+}
 
 /// One cycle of the run (module docs).
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -285,22 +315,18 @@ pub fn adapt(
     mesh: &mut Mesh,
     substokes: &[bool],
     estimate: &CycleEstimate,
+    settings: &Settings,
 ) -> Result<CycleAdaptation, String> {
     let mut partition = Partition::from_accurate(substokes.to_vec());
-    let moves = sorted_error(
-        &mut partition,
-        &estimate.model,
-        MODEL_REFINE,
-        MODEL_COARSEN,
-        MODEL_EPS0,
-    )
-    .map_err(|e| e.to_string())?;
+    let [p_r, p_c, eps0] = settings.model;
+    let moves =
+        sorted_error(&mut partition, &estimate.model, p_r, p_c, eps0).map_err(|e| e.to_string())?;
     let active = mesh.active().to_vec();
     let marking = mark_fixed_number_split(
         &estimate.discretisation,
         |k| split_order(mesh, active[k]),
-        GRID_REFINE,
-        GRID_COARSEN,
+        settings.grid[0],
+        settings.grid[1],
     );
     let old = mesh.clone();
     mesh.refine_and_coarsen(&marking.refine, &marking.coarsen)
@@ -347,17 +373,23 @@ fn cells_with_models(mesh: &Mesh, substokes: &[bool]) -> Vec<CellModel> {
 /// run). Errors name the cycle: a failed or non-finite solve, a non-finite indicator, a failed
 /// marking or refinement.
 pub fn run_fig_iv116(cycles: usize) -> Result<ModelFluidRun, String> {
-    run_observed(cycles, |_, _, _| {})
+    run_observed(&Settings::thesis(), cycles, |_, _, _| {})
+}
+
+/// The run of `settings` with `cycles` cycles.
+pub fn run(settings: &Settings, cycles: usize) -> Result<ModelFluidRun, String> {
+    run_observed(settings, cycles, |_, _, _| {})
 }
 
 /// [`run_fig_iv116`], handing each cycle's indicators and adaptation (with the mesh that was
 /// solved) to `observe`.
 fn run_observed(
+    settings: &Settings,
     cycles: usize,
     mut observe: impl FnMut(&Mesh, &CycleEstimate, &CycleAdaptation),
 ) -> Result<ModelFluidRun, String> {
-    let coupling = coupling();
-    let mut mesh = initial_mesh();
+    let coupling = &settings.coupling;
+    let mut mesh = settings.initial.clone();
     let mut substokes = vec![false; mesh.n_active()];
     let mut run = ModelFluidRun {
         rows: Vec::with_capacity(cycles),
@@ -367,9 +399,9 @@ fn run_observed(
     for cycle in 0..cycles {
         let at = |e: String| format!("model-adaptive fluid (Fig. IV.116), cycle {cycle}: {e}");
         let clock = PhaseClock::default();
-        let solution = solve(&coupling, &mesh, &substokes, &clock).map_err(at)?;
+        let solution = solve(coupling, &mesh, &substokes, &clock).map_err(at)?;
         let eta = clock
-            .time(Phase::Estimate, || estimate(&coupling, &mesh, &solution))
+            .time(Phase::Estimate, || estimate(coupling, &mesh, &solution))
             .map_err(at)?;
         run.meshes
             .push((cycle, cells_with_models(&mesh, &substokes)));
@@ -404,7 +436,9 @@ fn run_observed(
         } else {
             let solved = mesh.clone();
             let adapted = clock
-                .time(Phase::Refine, || adapt(&mut mesh, &substokes, &eta))
+                .time(Phase::Refine, || {
+                    adapt(&mut mesh, &substokes, &eta, settings)
+                })
                 .map_err(at)?;
             observe(&solved, &eta, &adapted);
             substokes = adapted.substokes;
@@ -420,6 +454,103 @@ fn run_observed(
         });
     }
     Ok(run)
+}
+
+/// The experiment of a model-adaptive film (`fig-IV.116`): its film, initial grid, fractions
+/// and rows as a [`RunResult`] — one row per cycle (`active_cells`, `substokes_cells`, `dofs`,
+/// `estimate` = `estimate_total`, its three parts, the phase seconds), the solved meshes with
+/// the SubStokes cells shaded, and the coupled ψ along x₂ = ½ as the cuts (`x`, `psi`).
+pub fn run_experiment(
+    experiment: &Experiment,
+    substokes: &SubStokesData,
+    tier: Tier,
+    progress: Progress,
+) -> Result<RunResult, RunError> {
+    let table = &experiment.table;
+    let fail = |message: String| RunError::at_cycle(table, 0, message);
+    let scene = &experiment.scene;
+    let d = &scene.domain;
+    let problem = substokes_problem(substokes, d);
+    let mut initial = Mesh::try_new(d.x, d.y, scene.coarse_cells[0], scene.coarse_cells[1])
+        .map_err(|e| fail(format!("the initial mesh cannot be built: {e}")))?;
+    for _ in 0..scene.global_refinements {
+        initial
+            .refine_global()
+            .map_err(|e| fail(format!("the initial mesh cannot be built: {e}")))?;
+    }
+    let study = &experiment.study;
+    let (p_r, p_c) = study.model_fractions();
+    let mut coupling = Coupling::new(problem.film, problem.boundary_pressure);
+    coupling.substokes = problem;
+    let settings = Settings {
+        coupling,
+        initial,
+        grid: [study.refine(), study.coarsen()],
+        model: [p_r, p_c, study.model_tolerance()],
+    };
+    let cycles = printed_rows(experiment, tier);
+    let run = run(&settings, cycles).map_err(fail)?;
+    progress(table, cycles, cycles);
+    let mut result = RunResult::new(
+        table,
+        &experiment.section,
+        &experiment.title,
+        tier.name(),
+        [d.x[0], d.x[1], d.y[0], d.y[1]],
+    );
+    result.notes = experiment.notes.clone();
+    let mut previous: Option<f64> = None;
+    for r in &run.rows {
+        let ratio = previous.map(|p| r.estimate_total / p);
+        previous = Some(r.estimate_total);
+        let mut row = Row::new(r.cycle)
+            .count(columns::ACTIVE_CELLS, r.active_cells)
+            .count(columns::DOFS, r.dofs)
+            .real(columns::ESTIMATE, Some(r.estimate_total))
+            .real(columns::RATIO, ratio)
+            .count("substokes_cells", r.substokes_cells)
+            .real("estimate_substokes", Some(r.estimate_substokes))
+            .real("estimate_reynolds", Some(r.estimate_reynolds))
+            .real("model_error", Some(r.model_error));
+        row.seconds = PhaseSeconds {
+            setup: r.seconds_setup,
+            assemble: r.seconds_assemble,
+            solve: r.seconds_solve,
+            estimate: r.seconds_estimate,
+            refine: r.seconds_refine,
+        };
+        result.rows.push(row);
+    }
+    let boxed = |b: &[f64; 4]| CellBox {
+        x0: b[0],
+        y0: b[1],
+        x1: b[2],
+        y1: b[3],
+    };
+    result.meshes = run
+        .meshes
+        .iter()
+        .map(|(cycle, cells)| MeshPicture {
+            cycle: *cycle,
+            cells: cells.iter().map(|(b, _)| boxed(b)).collect(),
+            shaded: cells
+                .iter()
+                .filter(|(_, s)| *s)
+                .map(|(b, _)| boxed(b))
+                .collect(),
+        })
+        .collect();
+    result.cuts = Some(Cuts {
+        y: 0.5,
+        boundary_pressure: settings.coupling.substokes.boundary_pressure,
+        columns: vec![
+            ("x".into(), run.cut.iter().map(|p| p.0).collect()),
+            ("psi".into(), run.cut.iter().map(|p| p.1).collect()),
+        ],
+        cavitated_substokes: None,
+        cavitated_reynolds: None,
+    });
+    Ok(result)
 }
 
 #[cfg(test)]
@@ -501,7 +632,7 @@ mod tests {
     #[test]
     fn substokes_cells_follow_the_wide_gap_and_rise() {
         let mut observed = 0;
-        let run = run_observed(5, |mesh, eta, adapted| {
+        let run = run_observed(&Settings::thesis(), 5, |mesh, eta, adapted| {
             observed += 1;
             let (marked, eps) = (&adapted.marked, &eta.model);
             assert_eq!(marked.len(), mesh.n_active());
@@ -593,7 +724,7 @@ mod tests {
         let seconds = start.elapsed().as_secs_f64();
         // The marking of each cycle, from a second run (not timed).
         let mut cycle = 0;
-        run_observed(CYCLES, |mesh, _, a| {
+        run_observed(&Settings::thesis(), CYCLES, |mesh, _, a| {
             let sub_refined = (0..mesh.n_active())
                 .filter(|&k| a.marked[k] && a.marking.refine[k])
                 .count();

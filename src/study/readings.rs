@@ -56,6 +56,7 @@ pub fn alternative_readings(experiment: &Experiment) -> Vec<AlternativeReading> 
         Problem::Elasticity(_)
         | Problem::Contact { .. }
         | Problem::SubStokes(_)
-        | Problem::StokesChannel(_) => Vec::new(),
+        | Problem::StokesChannel(_)
+        | Problem::FilmModels { .. } => Vec::new(),
     }
 }

@@ -178,6 +178,7 @@ pub fn mesh_picture(mesh: &Mesh, cycle: usize) -> MeshPicture {
                 }
             })
             .collect(),
+        shaded: Vec::new(),
     }
 }
 
