@@ -213,11 +213,7 @@ impl Problem for ReynoldsFilm {
     }
 
     fn finish_cycle(&mut self, disc: &Discretisation, dofs: DofMap, solution: Solution) {
-        self.previous = self.switch.is_on().then(|| PreviousSolution {
-            mesh: disc.mesh.clone(),
-            dofs,
-            u: solution.u,
-        });
+        self.previous = self.switch.warm_start(disc, dofs, solution.u);
     }
 
     fn pictures(

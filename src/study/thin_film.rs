@@ -2,7 +2,8 @@
 //! cavitation switch, the "estimate of the previous solve" column, the marking noise floor, and
 //! the readings of the cavitation source R₃c that the report runs beside a table.
 
-use super::transfer::evaluate;
+use super::problem::Discretisation;
+use super::transfer::{evaluate, PreviousSolution};
 use crate::experiment::{Cavitation, CavitationSource, Rectangle};
 use crate::fe::DofMap;
 use crate::mesh::Mesh;
@@ -141,6 +142,21 @@ impl CavitationSwitch {
     /// Record the solution of a solve with cavitation.
     pub fn after_cavitation_solve(&mut self, psi: &[f64]) {
         self.min_psi = min_vertex_value(psi);
+    }
+
+    /// What a cycle keeps for the next one's warm start: its solution with cavitation (the
+    /// initial active set of the next cavitation solve), nothing without.
+    pub fn warm_start(
+        &self,
+        disc: &Discretisation,
+        dofs: DofMap,
+        u: Vec<f64>,
+    ) -> Option<PreviousSolution> {
+        self.on.then(|| PreviousSolution {
+            mesh: disc.mesh.clone(),
+            dofs,
+            u,
+        })
     }
 
     /// What `auto` did, for the table's notes.
