@@ -235,9 +235,8 @@ impl StokesChannel {
         if n_vertices * N_COMPONENTS != n_dofs || !system.dofs.vertices.hanging.is_empty() {
             return Err("stokes channel: the uniform grid has hanging vertices".into());
         }
+        // The block unknowns ordered as the nested dissection orders their system dofs.
         let blocks = SaddleBlocks::new(&system, PRESSURE)?;
-        // Order the block unknowns as the nested dissection orders their system dofs.
-        let ordering = blocks.ordering(&system.ordering());
         Ok(ChannelBlocks {
             system: blocks.system,
             dim_velocity_space: 2 * n_vertices,
@@ -245,7 +244,7 @@ impl StokesChannel {
             velocity_dofs: blocks.velocity_dofs,
             pressure_dofs: blocks.pressure_dofs,
             fixed: blocks.eliminated,
-            ordering,
+            ordering: blocks.ordering,
         })
     }
 }
