@@ -17,7 +17,7 @@ use faer::linalg::cholesky::ldlt::factor::{LdltError, LdltRegularization};
 use faer::linalg::cholesky::llt::factor::LltError;
 use faer::perm::PermRef;
 use faer::sparse::linalg::cholesky::{
-    factorize_symbolic_cholesky, SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering,
+    factorize_symbolic_cholesky, LltRef, SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering,
 };
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Side};
@@ -371,6 +371,104 @@ impl DirectSolver {
             x[d] = val;
         }
         Ok(x)
+    }
+}
+
+/// The Cholesky factor LLᵀ of one SPD matrix, kept for many solves with it (the inner A-solves
+/// of the Uzawa methods, [`crate::linalg::uzawa::InnerSolver::Cholesky`]); no dof is
+/// eliminated. Symbolic and numeric factorisation as [`DirectSolver`] does them (same faer
+/// calls, sequential).
+pub struct CholeskyFactor {
+    symbolic: SymbolicCholesky<usize>,
+    values: Vec<f64>,
+    work: Vec<MaybeUninit<u8>>,
+}
+
+impl CholeskyFactor {
+    /// Factor `matrix` in the fill-reducing `ordering` (natural order if `None`). A non-positive
+    /// pivot is an error ([`SolveError::NotPositiveDefinite`]).
+    pub fn new(matrix: Csc<'_>, ordering: Option<&Ordering>) -> Result<CholeskyFactor, SolveError> {
+        let n = matrix.n();
+        let identity;
+        let ordering = match ordering {
+            Some(o) => o,
+            None => {
+                identity = Ordering::identity(n);
+                &identity
+            }
+        };
+        if ordering.len() != n {
+            return Err(SolveError::Symbolic(format!(
+                "ordering of {} dofs for {n}",
+                ordering.len()
+            )));
+        }
+        if let Some(p) = matrix.values.iter().position(|v| !v.is_finite()) {
+            let dof = matrix.col_ptr.partition_point(|&start| start <= p) - 1;
+            return Err(SolveError::NonFiniteData(dof));
+        }
+        let perm = PermRef::new_checked(&ordering.fwd, &ordering.inv, n);
+        let symbolic = factorize_symbolic_cholesky(
+            symbolic_ref(&matrix),
+            Side::Lower,
+            SymmetricOrdering::Custom(perm),
+            Default::default(),
+        )
+        .map_err(|e| SolveError::Symbolic(format!("{e:?}")))?;
+        let par = FACTORISATION_PARALLELISM;
+        let mut values = vec![0.0; symbolic.len_val()];
+        let mut work = Vec::new();
+        let fwd = &ordering.fwd;
+        let pivot_dof = |index: usize| match symbolic.raw() {
+            SymbolicCholeskyRaw::Simplicial(_) => fwd[index - 1],
+            SymbolicCholeskyRaw::Supernodal(_) => fwd[index],
+        };
+        let mat = SparseColMatRef::new(symbolic_ref(&matrix), matrix.values);
+        symbolic
+            .factorize_numeric_llt(
+                &mut values,
+                mat,
+                Side::Lower,
+                Default::default(),
+                par,
+                scratch(
+                    &mut work,
+                    symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()),
+                ),
+                Default::default(),
+            )
+            .map_err(|e| match e {
+                LltError::NonPositivePivot { index } => SolveError::NotPositiveDefinite {
+                    dof: pivot_dof(index),
+                    cause: Cause::of(matrix.values, matrix.col_ptr, matrix.diag),
+                },
+            })?;
+        Ok(CholeskyFactor {
+            symbolic,
+            values,
+            work,
+        })
+    }
+
+    /// b ← A⁻¹b.
+    pub fn solve_in_place(&mut self, b: &mut [f64]) {
+        let par = FACTORISATION_PARALLELISM;
+        let n = b.len();
+        let llt = LltRef::new(&self.symbolic, &self.values);
+        llt.solve_in_place_with_conj(
+            Conj::No,
+            MatMut::from_column_major_slice_mut(b, n, 1),
+            par,
+            scratch(
+                &mut self.work,
+                self.symbolic.solve_in_place_scratch::<f64>(1, par),
+            ),
+        );
+    }
+
+    /// Stored values of the factor L.
+    pub fn len_val(&self) -> usize {
+        self.values.len()
     }
 }
 

@@ -12,7 +12,7 @@ pub mod ordering;
 pub mod uzawa;
 
 pub use active_set::{ActiveSetOptions, ActiveSetSolution, Bound, Rotation};
-pub use direct::{DirectSolver, Factorisation, SolveError};
+pub use direct::{CholeskyFactor, DirectSolver, Factorisation, SolveError};
 pub use ordering::Ordering;
 
 use rayon::prelude::*;

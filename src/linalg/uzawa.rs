@@ -26,15 +26,35 @@
 //! **Cost per outer iteration** (every S·w product costs one inner A-solve): one A-solve for
 //! identity, Jacobi and Gauss–Seidel; two for SSOR (v^k and v^{k+½}); three for CG-SSOR (v^k,
 //! v^{k+½} and A⁻¹Bq for Sq), plus the few warm CG iterations of the tightening below. The
-//! Schur residual r = b_S − Sp^k is g − Bᵀv^k − Cp^k, read off the v^k solve; Sd is updated by
-//! the recurrence S d_{k+1} = α Sq + β Sd_k (no solve), and recomputed with one solve only when
-//! the projection clipped a pressure (then d is not αq + βd). If the plane degenerates
-//! ((qᵀSq)(dᵀSd) − (qᵀSd)² ≤ 1e-14·(qᵀSq)(dᵀSd)) the step minimises along q alone (β = 0).
+//! Schur residual r = b_S − Sp^k is g − Bᵀv^k − Cp^k, read off the v^k solve. S d comes from
+//! [`UzawaOptions::direction_product`]: by default ([`DirectionProduct::Recurrence`]) the
+//! recurrence S d_{k+1} = α Sq + β Sd_k (no solve), recomputed with one solve only when the
+//! projection clipped a pressure (then d is not αq + βd); [`DirectionProduct::Fresh`] spends
+//! that solve in every step. If the plane degenerates ((qᵀSq)(dᵀSd) − (qᵀSd)² ≤
+//! 1e-14·(qᵀSq)(dᵀSd)) the step minimises along q alone (β = 0).
 //!
-//! **Inner solves.** A⁻¹ by plain (unpreconditioned) CG ([`conjugate_gradient`]), warm-started
-//! from the last velocity (the S·w solves from zero). The velocity solve of row k goes to the
-//! absolute residual τ(r) = min(r², 0.1·r), floored at 1e-14·‖f‖ (1e-14·‖(f, g)‖ if f = 0),
-//! where r is the current Uzawa residual: first the last one measured (for row 0 the residual
+//! **CG-SSOR step rules** ([`UzawaOptions::cg_rule`]). [`CgRule::AsPrinted`] is (III.92) as
+//! above; Fig. III.6 uses it. On the SubStokes systems ([`crate::models::substokes_uzawa`],
+//! δ_ε = 1.1e-3) it is slow: 1403 outer iterations to 1e-11 (relative to ‖(f, g)‖) for (IV.7)
+//! on 32×32 with exact inner solves and a fresh S d, and with the recurrence the errors of S d
+//! pile up until the run diverges ((IV.8), iteration 929). The cause is the SSOR correction q:
+//! the sweeps freeze the BᵀA⁻¹B part, so q is no descent direction for ½pᵀSp − b_Sᵀp in every
+//! other step there (qᵀr < 0), and the two-term minimiser then makes little progress.
+//! [`CgRule::Safeguarded`] (a departure from the print, for those systems): when qᵀr ≤ 0, q is
+//! replaced by the diagonally scaled residual D⁻¹r (always a descent direction) and d is dropped
+//! (restart); after a restart the step is the exact minimiser along q alone, α = qᵀr/qᵀSq
+//! (instead of the unit step p^{½} of the first iteration of (III.92)), otherwise the two-term
+//! minimiser of (III.92). On (IV.7), 32×32: 69 outer iterations to 1e-11 instead of 1403.
+//!
+//! **Inner solves** ([`UzawaOptions::inner`]). [`InnerSolver::Cg`], the thesis's: A⁻¹ by plain
+//! (unpreconditioned) CG ([`conjugate_gradient`]), warm-started from the last velocity (the S·w
+//! solves from zero). The velocity solve of row k goes to the absolute residual
+//! τ(r) = σ·min((r/σ)², 0.1·r/σ), floored at 1e-14·‖f‖ (1e-14·‖(f, g)‖ if f = 0), where r is
+//! the current Uzawa residual and σ = 1 with [`ResidualScale::Initial`] (the absolute
+//! min(r², 0.1·r) of Fig. III.6), σ = ‖(f, g)‖ with [`ResidualScale::RightHandSide`] (the
+//! square of the *relative* residual: with σ = 1 the rule is not scale-invariant, and on the
+//! SubStokes systems, r ≈ 1e-2·‖(f, g)‖ > 0.1, it left the inner residual at 10 % of r and the
+//! iteration stalled at 3e-3): first the last residual measured (for row 0 the residual
 //! of (0, p⁰)), then, if the residual r_k of the new iterate asks for a tighter τ(r_k), CG goes
 //! on (warm) until the momentum residual is below τ(r_k) too — otherwise r_0 would be measured
 //! with a velocity solved to only 0.1·‖f‖ and every relative residual would be off by the
@@ -45,29 +65,57 @@
 //! 1e-14·‖Bw‖): the direction w = q is much smaller than the velocity data, and the absolute
 //! τ(r_k) left Sq so inexact that CG-SSOR needed 53 iterations to 1e-6 instead of the 48 of
 //! exact inner solves. With [`UzawaOptions::exact_inner`] every solve goes to the floor.
+//! [`InnerSolver::Cholesky`] (not the thesis's): A is factored once per run by sparse Cholesky
+//! ([`CholeskyFactor`], in [`SaddlePoint::velocity_ordering`]) and every A-solve is a pair of
+//! triangular solves, exact to rounding; the tolerances are unused, and the rows count one
+//! "inner iteration" per A-solve.
 //!
 //! **Residual and rows.** Row k of a run is the state (v^k, p^k) with v^k = A⁻¹(f + Bp^k) from
 //! the inexact solve: residual r_k = √(‖Av^k − Bp^k − f‖² + ‖Bᵀv^k + Cp^k − g‖²) (the quantity
-//! of Fig. III.6, computed from the matrices, not from the recurrences), relative_residual
-//! r_k / r_0 (row 0: p⁰ = 0), pressure_error ‖p^k − p_direct‖₂ / ‖p_direct‖₂ (relative
+//! of Fig. III.6, computed from the matrices, not from the recurrences; for projected runs the
+//! second term is ‖min(p^k, Bᵀv^k + Cp^k − g)‖², below), relative_residual r_k / r_0
+//! ([`ResidualScale::Initial`], Fig. III.6, row 0 at p⁰) or r_k / ‖(f, g)‖
+//! ([`ResidualScale::RightHandSide`]), pressure_error ‖p^k − p_direct‖₂ / ‖p_direct‖₂ (relative
 //! Euclidean norm over the free pressures; p_direct from [`SaddlePoint::solve_direct`], the
 //! sparse LDLᵀ of the coupled system), the inner CG iterations spent since the previous row, and
-//! the cumulative wall seconds since the run started (the diagonal D included).
+//! the cumulative wall seconds since the run started (the diagonal D included). A run starts
+//! from p⁰ = 0 ([`uzawa`]) or from a given p⁰ ([`uzawa_from`], a warm start).
 //!
 //! **Divergence** is an error ([`UzawaError::Diverged`], naming the variant and the iteration):
 //! a non-finite residual or pressure, or a residual above 1e6·r_0. No row ever holds NaN or inf.
 //!
-//! **Projection** ([`UzawaOptions::projected`], for cavitation): p_j ← max(p_j, 0) after each
-//! pressure update — per unknown inside the Gauss–Seidel and SSOR sweeps, after the vector
-//! update for identity, Jacobi and the CG step (the "projected cg-method" of the Outlook). The
-//! pressures of the block system are the free ones (Dirichlet values eliminated beforehand).
-
+//! **Projection** ([`UzawaOptions::projected`], for cavitation): the bound p ≥ 0 on every
+//! pressure of the block system (the free ones: Dirichlet values eliminated beforehand), i.e.
+//! the complementarity problem p ≥ 0, λ = Sp − b_S ≥ 0, pᵀλ = 0 of min ½pᵀSp − b_Sᵀp over p ≥ 0.
+//! Its residual replaces the mass residual by the natural one, min(p_j, λ_j) with
+//! λ = Bᵀv + Cp − g (zero exactly at the solution; the plain residual keeps λ ≠ 0 on the active
+//! set and never vanishes). The update: p_j ← max(p_j, 0) after each pressure update — per
+//! unknown inside the Gauss–Seidel and SSOR sweeps, after the vector update for identity, Jacobi
+//! and the CG step of [`CgRule::AsPrinted`] (the "projected cg-method" of the Outlook read as
+//! spec §6 does). That reading stalls for CG-SSOR on the SubStokes cavitation systems (at about
+//! 3e-3 relative for (IV.8) on 32×32: the clipped two-term step is neither a minimiser nor a
+//! descent step). [`CgRule::Safeguarded`] then solves the bound-constrained problem by a
+//! face method in the manner of Dostál's MPRGP and Moré–Toraldo's GPCG, with the SSOR step as
+//! the preconditioner on the face (a departure: the thesis gives no details):
+//! * the face is {j : p_j > 0}; the chopped residual c_j = max(r_j, 0) at p_j = 0 (bound
+//!   pressures the descent direction r = b_S − Sp would raise);
+//! * if ‖c‖² > Σ_{p_j > 0} r_j² (the face problem is solved better than the bound is
+//!   justified), a proportioning step p ← p + t c, t = ‖c‖²/cᵀSc (exact, feasible), restart;
+//! * else the safeguarded CG-SSOR step with both sweeps over the face only (bound pressures stay
+//!   0): d is dropped whenever the face changed; a step w with p + w ≥ 0 is taken whole, else
+//!   the best feasible point is sought on the projected path P(p + t w), t = 1, ½, … (at most
+//!   8 trials, each one S·w), against the truncation p + t_max w at the first bound (the best
+//!   point of the segment), and d is dropped.
+//!
+//! On (IV.8) with cavitation on 32×32: 43 outer iterations to 1e-12 (the same 517 active
+//! pressures as the primal–dual active-set method); as printed, clipping, no convergence.
+use std::cell::RefCell;
 use std::time::Instant;
 
 use serde::Serialize;
 
 use super::krylov::{conjugate_gradient, CgError, Identity, Stopping};
-use super::{Csc, DirectSolver, Ordering};
+use super::{CholeskyFactor, Csc, DirectSolver, Ordering};
 
 /// A sparse matrix in compressed rows (any shape): row `i` has the column indices
 /// `col_idx[row_ptr[i]..row_ptr[i + 1]]` (sorted, no duplicates) and the values at the same
@@ -182,6 +230,9 @@ pub struct SaddlePoint {
     pub c: CsrMatrix,
     pub f: Vec<f64>,
     pub g: Vec<f64>,
+    /// Fill-reducing ordering of the n velocity unknowns for [`InnerSolver::Cholesky`]
+    /// (natural order if `None`).
+    pub velocity_ordering: Option<Ordering>,
     bt: CsrMatrix,
 }
 
@@ -229,7 +280,15 @@ impl SaddlePoint {
             ));
         }
         let bt = b.transpose();
-        Ok(SaddlePoint { a, b, c, f, g, bt })
+        Ok(SaddlePoint {
+            a,
+            b,
+            c,
+            f,
+            g,
+            velocity_ordering: None,
+            bt,
+        })
     }
 
     /// n: velocity unknowns.
@@ -420,11 +479,75 @@ pub struct UzawaOptions {
     pub damping: f64,
     /// Every inner solve to the floor 1e-14·‖f‖ instead of min(r², 0.1·r).
     pub exact_inner: bool,
+    /// What the relative residual of a row (and [`UzawaOptions::relative_tolerance`]) is
+    /// relative to.
+    pub scale: ResidualScale,
+    /// How CG-SSOR gets S·d for its previous direction d (module docs).
+    pub direction_product: DirectionProduct,
+    /// How the inner A-solves are done (module docs, "Inner solves").
+    pub inner: InnerSolver,
+    /// How CG-SSOR steps (module docs, "CG-SSOR step rules").
+    pub cg_rule: CgRule,
+}
+
+/// How [`Variant::CgSsor`] steps (module docs, "CG-SSOR step rules").
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum CgRule {
+    /// (III.92) as printed: p¹ = p^{½}, then always the two-term minimiser over span{q, d};
+    /// projected runs clip, p_j ← max(p_j, 0), after every update (the reading of spec §6).
+    #[default]
+    AsPrinted,
+    /// Safeguarded: the SSOR correction q is replaced by D⁻¹s when it is no descent direction
+    /// (qᵀs ≤ 0), the direction d is dropped then (restart) and the step after a restart is
+    /// the exact minimiser along q alone; projected runs work on the face {p_j > 0} with
+    /// proportioning steps and feasible steps (module docs).
+    Safeguarded,
+}
+
+/// The inner solver of A x = b (module docs, "Inner solves").
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum InnerSolver {
+    /// Plain (unpreconditioned) CG, warm-started, to the adaptive tolerance (the thesis's).
+    #[default]
+    Cg,
+    /// A sparse Cholesky factor of A computed once per run ([`CholeskyFactor`], in
+    /// [`SaddlePoint::velocity_ordering`]), every solve exact to rounding; the tolerances are
+    /// not used and an "inner iteration" counts one pair of triangular solves.
+    Cholesky,
+}
+
+/// How [`Variant::CgSsor`] obtains S·d_k for the previous direction d_k = p^k − p^{k−1}
+/// (module docs, "Cost per outer iteration").
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum DirectionProduct {
+    /// The recurrence S d_{k+1} = α Sq + β Sd_k (one extra solve when the projection clipped).
+    /// Exact in exact arithmetic, but an inexact S·q enters every later Sd: with the loose
+    /// inner tolerances of the first iterations the error stays and the iteration stalls once
+    /// the residual is below it (on SubStokes at 2e-7 relative to ‖(f, g)‖). Fig. III.6 uses it.
+    #[default]
+    Recurrence,
+    /// S d_{k+1} by one more inner solve (from zero, to the accuracy of the S·q solve) in every
+    /// step: four A-solves per iteration instead of three, but S d carries only the current
+    /// inner error.
+    Fresh,
+}
+
+/// The denominator of the relative residual (module docs, "Residual and rows").
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum ResidualScale {
+    /// r_k / r_0, the residual of row 0 (Fig. III.6: p⁰ = 0, so r_0 is the residual of
+    /// (A⁻¹f, 0)).
+    #[default]
+    Initial,
+    /// r_k / ‖(f, g)‖₂, the measure of the direct solvers (‖Kx − f̃‖/‖f̃‖ on the free dofs,
+    /// f̃ the reduced right-hand side); independent of p⁰, so a warm start does not tighten
+    /// the stopping test.
+    RightHandSide,
 }
 
 impl UzawaOptions {
-    /// 300 iterations at most, stop at relative residual 1e-10, no projection, ω = 1,
-    /// adaptive inner tolerance.
+    /// 300 iterations at most, stop at relative residual 1e-10 (relative to row 0), no
+    /// projection, ω = 1, adaptive inner tolerance.
     pub fn new(variant: Variant) -> UzawaOptions {
         UzawaOptions {
             variant,
@@ -433,6 +556,10 @@ impl UzawaOptions {
             projected: false,
             damping: 1.0,
             exact_inner: false,
+            scale: ResidualScale::Initial,
+            direction_product: DirectionProduct::Recurrence,
+            inner: InnerSolver::Cg,
+            cg_rule: CgRule::AsPrinted,
         }
     }
 }
@@ -491,13 +618,22 @@ pub enum UzawaError {
     },
 }
 
+/// Trial points t = 1, ½, … of the projected path P(p + t w) in a blocked step of projected
+/// [`CgRule::Safeguarded`].
+const PROJECTED_SEARCH_STEPS: usize = 8;
+
 /// A residual this many times the initial one counts as divergence.
 pub const DIVERGENCE_FACTOR: f64 = 1e6;
 
 /// The inner A-solves of one run: tolerance policy and iteration count.
 struct Inner<'a> {
     a: &'a CsrMatrix,
+    /// [`InnerSolver::Cholesky`]: the factor of A.
+    factor: Option<RefCell<CholeskyFactor>>,
     floor: f64,
+    /// σ of the tolerance σ·min((r/σ)², 0.1·r/σ): 1 for [`ResidualScale::Initial`] (the
+    /// absolute rule of Fig. III.6), ‖(f, g)‖ for [`ResidualScale::RightHandSide`].
+    scale: f64,
     exact: bool,
     variant: &'static str,
     max_iterations: usize,
@@ -509,7 +645,7 @@ impl Inner<'_> {
         if self.exact {
             self.floor
         } else {
-            (r * r).min(0.1 * r).max(self.floor)
+            (r * r / self.scale).min(0.1 * r).max(self.floor)
         }
     }
 
@@ -522,6 +658,19 @@ impl Inner<'_> {
         tolerance: f64,
         iteration: usize,
     ) -> Result<usize, UzawaError> {
+        if let Some(factor) = &self.factor {
+            x.copy_from_slice(b);
+            factor.borrow_mut().solve_in_place(x);
+            if let Some(i) = x.iter().position(|v| !v.is_finite()) {
+                return Err(UzawaError::Diverged {
+                    variant: self.variant,
+                    iteration,
+                    residual: x[i],
+                    initial: f64::NAN,
+                });
+            }
+            return Ok(1);
+        }
         let stopping = Stopping {
             relative: 0.0,
             absolute: tolerance,
@@ -541,6 +690,25 @@ impl Inner<'_> {
             source,
         })
     }
+}
+
+/// The Cholesky factor of the symmetric `a` (full storage: its compressed rows are its
+/// compressed columns) in `ordering`.
+fn cholesky_of(a: &CsrMatrix, ordering: Option<&Ordering>) -> Result<CholeskyFactor, String> {
+    let diag = (0..a.n_rows)
+        .map(|i| {
+            (a.row_ptr[i]..a.row_ptr[i + 1])
+                .find(|&p| a.col_idx[p] == i)
+                .ok_or_else(|| format!("A has no diagonal entry in row {i}"))
+        })
+        .collect::<Result<Vec<usize>, String>>()?;
+    let matrix = Csc {
+        col_ptr: &a.row_ptr,
+        row_idx: &a.col_idx,
+        diag: &diag,
+        values: &a.values,
+    };
+    CholeskyFactor::new(matrix, ordering).map_err(|e| format!("Cholesky factor of A: {e}"))
 }
 
 /// D_jj = Σ_i B_ij² / A_ii + C_jj, the diagonal of Bᵀ diag(A)⁻¹ B + C.
@@ -587,6 +755,18 @@ pub fn uzawa(
     options: &UzawaOptions,
     reference_pressure: Option<&[f64]>,
 ) -> Result<UzawaRun, UzawaError> {
+    uzawa_from(system, options, reference_pressure, None)
+}
+
+/// [`uzawa`] from the pressure `initial_pressure` (p⁰ = 0 if `None`; projected runs start from
+/// max(p⁰, 0)), e.g. the previous solution interpolated to this mesh (a warm start). The
+/// velocity starts from 0 either way; v⁰ = A⁻¹(f + Bp⁰) is solved in row 0.
+pub fn uzawa_from(
+    system: &SaddlePoint,
+    options: &UzawaOptions,
+    reference_pressure: Option<&[f64]>,
+    initial_pressure: Option<&[f64]>,
+) -> Result<UzawaRun, UzawaError> {
     let start = Instant::now();
     let variant = options.variant.name();
     let (n, m) = (system.n_velocity(), system.n_pressure());
@@ -596,6 +776,20 @@ pub fn uzawa(
             return Err(setup(format!(
                 "reference pressure has {} entries for {m} unknowns",
                 reference.len()
+            )));
+        }
+    }
+    if let Some(initial) = initial_pressure {
+        if initial.len() != m {
+            return Err(setup(format!(
+                "initial pressure has {} entries for {m} unknowns",
+                initial.len()
+            )));
+        }
+        if let Some(j) = initial.iter().position(|x| !x.is_finite()) {
+            return Err(setup(format!(
+                "initial pressure {} at unknown {j} is not finite",
+                initial[j]
             )));
         }
     }
@@ -614,16 +808,33 @@ pub fn uzawa(
         } else {
             system.rhs_norm()
         };
+    let factor = match options.inner {
+        InnerSolver::Cg => None,
+        InnerSolver::Cholesky => Some(RefCell::new(
+            cholesky_of(&system.a, system.velocity_ordering.as_ref()).map_err(setup)?,
+        )),
+    };
     let inner = Inner {
         a: &system.a,
+        factor,
         floor,
+        scale: match options.scale {
+            ResidualScale::Initial => 1.0,
+            ResidualScale::RightHandSide if system.rhs_norm() > 0.0 => system.rhs_norm(),
+            ResidualScale::RightHandSide => 1.0,
+        },
         exact: options.exact_inner,
         variant,
         max_iterations: 20 * n.max(10),
     };
 
-    let mut p = vec![0.0; m];
+    let mut p = initial_pressure.map_or_else(|| vec![0.0; m], <[f64]>::to_vec);
+    project(&mut p, options.projected);
     let mut v = vec![0.0; n];
+    let scale = match options.scale {
+        ResidualScale::Initial => None,
+        ResidualScale::RightHandSide => Some(system.rhs_norm()),
+    };
     // "Current" outer residual before the first solve: that of (0, p⁰).
     let mut last_residual = system.residual(&v, &p);
     let mut rows: Vec<UzawaRow> = Vec::new();
@@ -631,6 +842,8 @@ pub fn uzawa(
     let mut initial = 0.0;
     // CG-SSOR state: d = p^k − p^{k−1} and S d.
     let mut direction: Option<(Vec<f64>, Vec<f64>)> = None;
+    // CgRule::Safeguarded: the face of the last step.
+    let mut face: Option<Vec<bool>> = None;
     let mut rhs_v = vec![0.0; n];
     let mut av = vec![0.0; n];
     let mut btv = vec![0.0; m];
@@ -663,9 +876,19 @@ pub fn uzawa(
             let momentum: f64 = av.iter().zip(&rhs_v).map(|(a, r)| (a - r) * (a - r)).sum();
             system.bt.multiply_into(&v, &mut btv);
             let s: Vec<f64> = (0..m).map(|j| system.g[j] - btv[j] - cp[j]).collect();
-            let residual = (momentum + dot(&s, &s)).sqrt();
+            let mass = if options.projected {
+                // Natural residual of the complementarity: min(p_j, λ_j), λ = −s.
+                s.iter()
+                    .zip(&p)
+                    .map(|(s, p)| p.min(-s).powi(2))
+                    .sum::<f64>()
+            } else {
+                dot(&s, &s)
+            };
+            let residual = (momentum + mass).sqrt();
             let tight = inner.tolerance(residual);
             if !residual.is_finite()
+                || inner.factor.is_some()
                 || momentum.sqrt() <= tight
                 || tight >= inner.tolerance(tolerance_residual)
             {
@@ -685,10 +908,10 @@ pub fn uzawa(
                 initial,
             });
         }
-        let relative_residual = if initial > 0.0 {
-            residual / initial
-        } else {
-            0.0
+        let relative_residual = match scale {
+            None if initial > 0.0 => residual / initial,
+            Some(scale) if scale > 0.0 => residual / scale,
+            _ => residual,
         };
         let pressure_error = reference_pressure.map(|reference| {
             let e: f64 = p
@@ -737,6 +960,60 @@ pub fn uzawa(
             Variant::GaussSeidel => {
                 sweep(system, &d, &btv, &mut p, 0..m, options.projected);
             }
+            Variant::CgSsor if options.cg_rule == CgRule::Safeguarded => {
+                // The face {p_j > 0} (every unknown without projection); the chopped residual
+                // c_j = max(s_j, 0) at p_j = 0 (the bound unknowns the descent direction
+                // s = −∇J would raise).
+                let bounded = options.projected;
+                let free: Vec<bool> = p.iter().map(|&x| !bounded || x > 0.0).collect();
+                let step = CgStep {
+                    system,
+                    inner: &inner,
+                    relative: inner.tolerance(last_residual)
+                        / velocity_rhs_norm.max(f64::MIN_POSITIVE),
+                    projected: bounded,
+                    iteration: k,
+                    fresh: options.direction_product == DirectionProduct::Fresh,
+                };
+                if bounded {
+                    let chopped: Vec<f64> = (0..m)
+                        .map(|j| if free[j] { 0.0 } else { s[j].max(0.0) })
+                        .collect();
+                    let on_face: f64 = (0..m).filter(|&j| free[j]).map(|j| s[j] * s[j]).sum();
+                    if dot(&chopped, &chopped) > on_face {
+                        // Proportioning: release along c with the exact step ‖c‖²/cᵀSc.
+                        inner_iterations += step.release(&mut p, &chopped)?;
+                        direction = None;
+                        face = None;
+                        continue;
+                    }
+                }
+                if face.as_ref() != Some(&free) {
+                    direction = None;
+                }
+                let old = p.clone();
+                sweep(system, &d, &btv, &mut p, (0..m).filter(|&j| free[j]), false);
+                system.b.multiply_into(&p, &mut rhs_v);
+                for (r, f) in rhs_v.iter_mut().zip(&system.f) {
+                    *r += f;
+                }
+                inner_iterations +=
+                    inner.solve(&rhs_v, &mut v, inner.tolerance(last_residual), k)?;
+                system.bt.multiply_into(&v, &mut btv);
+                let backward = (0..m).rev().filter(|&j| free[j]);
+                sweep(system, &d, &btv, &mut p, backward, false);
+                // The SSOR correction need not be a descent direction (the sweeps freeze
+                // BᵀA⁻¹B); if it is not, the diagonally scaled residual on the face is.
+                let q_s: f64 = (0..m).map(|j| (p[j] - old[j]) * s[j]).sum();
+                if q_s.is_nan() || q_s <= 0.0 {
+                    for j in 0..m {
+                        p[j] = old[j] + if free[j] { s[j] / d[j] } else { 0.0 };
+                    }
+                    direction = None;
+                }
+                inner_iterations += step.run_on_face(&old, &mut p, &s, &mut direction)?;
+                face = Some(free);
+            }
             Variant::Ssor | Variant::CgSsor => {
                 let old = p.clone();
                 // Forward sweep from v^k, then v^{k+½} = A⁻¹(f + B p^{k+¼}), backward sweep.
@@ -757,6 +1034,7 @@ pub fn uzawa(
                             / velocity_rhs_norm.max(f64::MIN_POSITIVE),
                         projected: options.projected,
                         iteration: k,
+                        fresh: options.direction_product == DirectionProduct::Fresh,
                     };
                     inner_iterations += step.run(&old, &mut p, &s, &mut direction)?;
                 }
@@ -807,9 +1085,131 @@ struct CgStep<'a> {
     relative: f64,
     projected: bool,
     iteration: usize,
+    /// [`DirectionProduct::Fresh`]: S d by a solve, not by the recurrence.
+    fresh: bool,
 }
 
 impl CgStep<'_> {
+    /// Projected [`CgRule::Safeguarded`], proportioning: p ← p + t c with c ≥ 0 the chopped residual and
+    /// t = cᵀr/cᵀSc = ‖c‖²/cᵀSc, the minimiser of J along c (feasible: c only raises
+    /// pressures). Returns the inner iterations.
+    fn release(&self, p: &mut [f64], c: &[f64]) -> Result<usize, UzawaError> {
+        let (sc, its) = schur_product(self.system, self.inner, c, self.relative, self.iteration)?;
+        let csc = dot(c, &sc);
+        if csc > 0.0 {
+            let t = dot(c, c) / csc;
+            for (p, c) in p.iter_mut().zip(c) {
+                *p += t * c;
+            }
+        }
+        Ok(its)
+    }
+
+    /// [`CgRule::Safeguarded`]: after the SSOR step on the face, `old` = p^k → `p` = p^{k+½}
+    /// (q = p^{k+½} − p^k vanishes off the face), with the Schur residual `r` = b_S − S p^k:
+    /// the two-term step w = αq + βd (α = qᵀr/qᵀSq along q alone after a restart,
+    /// `direction` = None); taken whole if p^k + w ≥ 0, else the better of P(p^k + w) and
+    /// p^k + t_max w (t_max the largest feasible step), and the direction is dropped
+    /// (restart). Leaves p^{k+1} ≥ 0 in `p`; returns the inner iterations.
+    fn run_on_face(
+        &self,
+        old: &[f64],
+        p: &mut [f64],
+        r: &[f64],
+        direction: &mut Option<(Vec<f64>, Vec<f64>)>,
+    ) -> Result<usize, UzawaError> {
+        let (system, inner) = (self.system, self.inner);
+        let q: Vec<f64> = p.iter().zip(old).map(|(a, b)| a - b).collect();
+        p.copy_from_slice(old);
+        let (sq, mut its) = schur_product(system, inner, &q, self.relative, self.iteration)?;
+        let (qsq, qr) = (dot(&q, &sq), dot(&q, r));
+        if qsq.is_nan() || qsq <= 0.0 {
+            // No SSOR correction on the face: nothing to step along.
+            *direction = None;
+            return Ok(its);
+        }
+        let (alpha, beta) = match direction.as_ref() {
+            Some((d, sd)) => {
+                let dsd = dot(d, sd);
+                let qsd = dot(&q, sd);
+                let dr = dot(d, r);
+                let den = qsq * dsd - qsd * qsd;
+                let beta = if dsd > 0.0 && den > 1e-14 * qsq * dsd {
+                    (qsq * dr - qsd * qr) / den
+                } else {
+                    0.0
+                };
+                ((qr - beta * qsd) / qsq, beta)
+            }
+            None => (qr / qsq, 0.0),
+        };
+        let mut w = q.clone();
+        let mut sw = sq.clone();
+        for x in w.iter_mut().chain(sw.iter_mut()) {
+            *x *= alpha;
+        }
+        if let Some((d, sd)) = direction.as_ref() {
+            if beta != 0.0 {
+                for j in 0..w.len() {
+                    w[j] += beta * d[j];
+                    sw[j] += beta * sd[j];
+                }
+            }
+        }
+        // Largest feasible step along w and the unknown that blocks it.
+        let (t_max, blocking) = (0..w.len())
+            .filter(|&j| self.projected && w[j] < 0.0)
+            .map(|j| (old[j] / -w[j], j))
+            .fold(
+                (f64::INFINITY, usize::MAX),
+                |a, b| if b.0 < a.0 { b } else { a },
+            );
+        if t_max >= 1.0 {
+            for j in 0..p.len() {
+                p[j] = old[j] + w[j];
+            }
+            project(p, self.projected);
+            if self.fresh {
+                let (fresh, more) =
+                    schur_product(system, inner, &w, self.relative, self.iteration)?;
+                its += more;
+                sw = fresh;
+            }
+            *direction = Some((w, sw));
+            return Ok(its);
+        }
+        // J(p^k + u) − J(p^k) = −uᵀr + ½uᵀSu. Along the segment p^k + t w, J decreases up to
+        // t = 1 (w minimises J on a plane through p^k containing w), so its best feasible
+        // point is the truncation at t_max. Along the projected path P(p^k + t w), t = 1, ½,
+        // ¼, … while t > t_max, the first point below the truncation is taken.
+        let truncated = -t_max * dot(&w, r) + 0.5 * t_max * t_max * dot(&w, &sw);
+        let mut t = 1.0;
+        let mut taken = false;
+        for _ in 0..PROJECTED_SEARCH_STEPS {
+            if t <= t_max {
+                break;
+            }
+            let projected: Vec<f64> = (0..p.len()).map(|j| (old[j] + t * w[j]).max(0.0)).collect();
+            let wp: Vec<f64> = projected.iter().zip(old).map(|(a, b)| a - b).collect();
+            let (swp, more) = schur_product(system, inner, &wp, self.relative, self.iteration)?;
+            its += more;
+            if -dot(&wp, r) + 0.5 * dot(&wp, &swp) < truncated {
+                p.copy_from_slice(&projected);
+                taken = true;
+                break;
+            }
+            t *= 0.5;
+        }
+        if !taken {
+            for j in 0..p.len() {
+                p[j] = (old[j] + t_max * w[j]).max(0.0);
+            }
+            p[blocking] = 0.0;
+        }
+        *direction = None;
+        Ok(its)
+    }
+
     /// After the SSOR step `old` = p^k → `p` = p^{k+½}, with the Schur residual `r` =
     /// b_S − S p^k: leave p^{k+1} in `p` and update (d, Sd). Returns the inner iterations.
     fn run(
@@ -854,11 +1254,12 @@ impl CgStep<'_> {
         }
         let d_new: Vec<f64> = p.iter().zip(old).map(|(a, b)| a - b).collect();
         let sd_new = match (coefficients, direction.as_ref()) {
-            (Some((alpha, beta)), Some((_, sd))) if !clipped => sq
+            (Some((alpha, beta)), Some((_, sd))) if !clipped && !self.fresh => sq
                 .iter()
                 .zip(sd)
                 .map(|(a, b)| alpha * a + beta * b)
                 .collect(),
+            // p = p^{k+½}: d_new = q exactly.
             (None, _) if !clipped => sq,
             _ => {
                 let (sd, more) =
@@ -1042,7 +1443,9 @@ mod tests {
         let s = &blocks.system;
         let inner = Inner {
             a: &s.a,
+            factor: None,
             floor: 1e-14 * norm(&s.f),
+            scale: 1.0,
             exact: true,
             variant: "power",
             max_iterations: 10_000,
@@ -1126,6 +1529,114 @@ mod tests {
             let out = uzawa(&negated, &options, Some(&negative)).unwrap();
             assert!(out.pressure.iter().all(|&p| p >= 0.0), "{variant}");
             assert!(out.rows.iter().all(|r| r.residual.is_finite()), "{variant}");
+        }
+    }
+
+    /// The Cholesky inner solver gives the run of exact inner CG solves on (III.88): CG-SSOR
+    /// as printed reaches 1e-6 at the same iteration (48) and the direct pressure to 1e-9;
+    /// every row spends whole A-solves (one per product).
+    #[test]
+    fn cholesky_inner_solves_match_exact_cg() {
+        let (blocks, reference) = channel();
+        let first = |options: &UzawaOptions| {
+            let out = uzawa(&blocks.system, options, Some(&reference)).unwrap();
+            let k = out
+                .rows
+                .iter()
+                .find(|r| r.relative_residual <= 1e-6)
+                .map(|r| r.iteration);
+            (k, out)
+        };
+        let exact = UzawaOptions {
+            exact_inner: true,
+            max_iterations: 150,
+            relative_tolerance: 1e-11,
+            ..UzawaOptions::new(Variant::CgSsor)
+        };
+        let cholesky = UzawaOptions {
+            inner: InnerSolver::Cholesky,
+            ..exact
+        };
+        let (k_exact, _) = first(&exact);
+        let (k_cholesky, out) = first(&cholesky);
+        println!("1e-6 at {k_exact:?} (exact CG), {k_cholesky:?} (Cholesky)");
+        assert_eq!(k_exact, k_cholesky);
+        assert!(out.converged);
+        assert!(out.rows.last().unwrap().pressure_error.unwrap() <= 1e-9);
+        assert!(out.rows[1..]
+            .iter()
+            .all(|r| (3..=4).contains(&r.inner_iterations)));
+    }
+
+    /// The safeguarded rule on (III.88) converges to the direct pressure too (in about as many
+    /// iterations as (III.92) as printed), the relative residual with
+    /// [`ResidualScale::RightHandSide`] is r_k/‖(f, g)‖, and a warm start from the direct
+    /// pressure stops in row 0 or 1; a warm start of the wrong length is an error.
+    #[test]
+    fn safeguarded_rule_scale_and_warm_start() {
+        let (blocks, reference) = channel();
+        let s = &blocks.system;
+        let options = UzawaOptions {
+            cg_rule: CgRule::Safeguarded,
+            scale: ResidualScale::RightHandSide,
+            relative_tolerance: 1e-12,
+            ..UzawaOptions::new(Variant::CgSsor)
+        };
+        let out = uzawa(s, &options, Some(&reference)).unwrap();
+        let last = out.rows.last().unwrap();
+        println!("safeguarded: {} rows, {:?}", out.rows.len(), last);
+        assert!(out.converged && last.iteration <= 150);
+        assert!(last.pressure_error.unwrap() <= 1e-9);
+        let row0 = &out.rows[0];
+        assert!((row0.relative_residual - row0.residual / s.rhs_norm()).abs() <= 1e-15);
+        let warm = uzawa_from(s, &options, Some(&reference), Some(&reference)).unwrap();
+        assert!(
+            warm.converged && warm.rows.len() <= 2,
+            "{}",
+            warm.rows.len()
+        );
+        let err = uzawa_from(s, &options, None, Some(&reference[1..])).unwrap_err();
+        assert!(err.to_string().contains("initial pressure"), "{err}");
+    }
+
+    /// A two-pressure complementarity problem solved by hand: A = I₂, B = I₂, C = 0, so
+    /// S = I and the solution of min ½|p|² − b_Sᵀp over p ≥ 0 is p = max(b_S, 0) with
+    /// b_S = g − f. With b_S = (2, −3): p = (2, 0), λ = Sp − b_S = (0, 3). The projected
+    /// safeguarded run finds it with a zero natural residual; the unprojected run finds
+    /// p = b_S.
+    #[test]
+    fn projected_safeguarded_run_solves_a_hand_sized_complementarity_problem() {
+        let identity = || CsrMatrix::from_triplets(2, 2, vec![(0, 0, 1.0), (1, 1, 1.0)]);
+        let system = SaddlePoint::new(
+            identity(),
+            identity(),
+            CsrMatrix::from_triplets(2, 2, vec![]),
+            vec![1.0, 1.0],
+            vec![3.0, -2.0],
+        )
+        .unwrap();
+        for projected in [false, true] {
+            let options = UzawaOptions {
+                cg_rule: CgRule::Safeguarded,
+                projected,
+                max_iterations: 20,
+                relative_tolerance: 1e-14,
+                ..UzawaOptions::new(Variant::CgSsor)
+            };
+            let out = uzawa(&system, &options, None).unwrap();
+            let expected = if projected { [2.0, 0.0] } else { [2.0, -3.0] };
+            assert!(
+                out.converged,
+                "projected {projected}: {:?}",
+                out.rows.last()
+            );
+            for (p, e) in out.pressure.iter().zip(expected) {
+                assert!(
+                    (p - e).abs() <= 1e-12,
+                    "projected {projected}: {:?}",
+                    out.pressure
+                );
+            }
         }
     }
 }

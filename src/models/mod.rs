@@ -8,4 +8,5 @@ pub mod obstacle;
 pub mod reynolds;
 pub mod stokes_channel;
 pub mod substokes;
+pub mod substokes_uzawa;
 pub mod thin_film;

@@ -49,11 +49,12 @@
 //! of the 1089 vertices are free), the free pressures give C (m = 1076: 13 outflow vertices are
 //! fixed), and B couples them.
 
+use crate::fe::blocks::SaddleBlocks;
 use crate::fe::cell_values::CellValues;
 use crate::fe::quadrature::square_rule;
 use crate::fe::{LocalDofs, System};
 use crate::linalg::uzawa::{
-    uzawa, CsrMatrix, DirectSolution, SaddlePoint, UzawaError, UzawaOptions, UzawaRow, Variant,
+    uzawa, DirectSolution, SaddlePoint, UzawaError, UzawaOptions, UzawaRow, Variant,
 };
 use crate::linalg::Ordering;
 use crate::mesh::Mesh;
@@ -223,7 +224,8 @@ impl StokesChannel {
     }
 
     /// Assemble on [`StokesChannel::mesh`] and split into the blocks of (III.86) with the
-    /// Dirichlet values eliminated.
+    /// Dirichlet values eliminated ([`SaddleBlocks::new`], shared with the SubStokes Uzawa
+    /// solver).
     pub fn blocks(&self) -> Result<ChannelBlocks, String> {
         let mesh = self.mesh();
         let mut system = self.system(&mesh);
@@ -233,91 +235,16 @@ impl StokesChannel {
         if n_vertices * N_COMPONENTS != n_dofs || !system.dofs.vertices.hanging.is_empty() {
             return Err("stokes channel: the uniform grid has hanging vertices".into());
         }
-        // Block index of each free dof (velocity or pressure numbering).
-        const NONE: usize = usize::MAX;
-        let mut index = vec![NONE; n_dofs];
-        let (mut velocity_dofs, mut pressure_dofs) = (Vec::new(), Vec::new());
-        for (d, slot) in index.iter_mut().enumerate() {
-            if !system.constraints.is_free(d) {
-                continue;
-            }
-            if d % N_COMPONENTS == PRESSURE {
-                *slot = pressure_dofs.len();
-                pressure_dofs.push(d);
-            } else {
-                *slot = velocity_dofs.len();
-                velocity_dofs.push(d);
-            }
-        }
-        let (n, m) = (velocity_dofs.len(), pressure_dofs.len());
-        let fixed = system.constraints.eliminated();
-        let mut lift = vec![0.0; n_dofs];
-        for &(d, value) in &fixed {
-            lift[d] = value;
-        }
-        let matrix = system.matrix();
-        let k_lift = matrix.multiply(&lift);
-        let is_pressure = |d: usize| d % N_COMPONENTS == PRESSURE;
-        let (mut a, mut b, mut c) = (Vec::new(), Vec::new(), Vec::new());
-        // Full symmetric storage: column j holds the entries (i, j); take each block from the
-        // rows of its first block row.
-        for j in 0..n_dofs {
-            if index[j] == NONE {
-                continue;
-            }
-            for p in matrix.col_ptr[j]..matrix.col_ptr[j + 1] {
-                let (i, value) = (matrix.row_idx[p], matrix.values[p]);
-                if index[i] == NONE || value == 0.0 {
-                    continue;
-                }
-                match (is_pressure(i), is_pressure(j)) {
-                    (false, false) => a.push((index[i], index[j], value)),
-                    (false, true) => b.push((index[i], index[j], -value)),
-                    (true, true) => c.push((index[i], index[j], -value)),
-                    (true, false) => {}
-                }
-            }
-        }
-        // Reduced right-hand side: load (zero) minus the couplings to the fixed values; the
-        // pressure rows are negated back (−Bᵀv − Cp = −g).
-        let f: Vec<f64> = velocity_dofs
-            .iter()
-            .map(|&d| system.rhs[d] - k_lift[d])
-            .collect();
-        let g: Vec<f64> = pressure_dofs
-            .iter()
-            .map(|&d| -(system.rhs[d] - k_lift[d]))
-            .collect();
-        let saddle = SaddlePoint::new(
-            CsrMatrix::from_triplets(n, n, a),
-            CsrMatrix::from_triplets(n, m, b),
-            CsrMatrix::from_triplets(m, m, c),
-            f,
-            g,
-        )?;
-        // Order the block unknowns as the nested dissection orders their system dofs.
-        let nd = system.ordering();
-        let mut order: Vec<usize> = (0..n + m).collect();
-        let system_dof = |k: usize| {
-            if k < n {
-                velocity_dofs[k]
-            } else {
-                pressure_dofs[k - n]
-            }
-        };
-        order.sort_by_key(|&k| nd.inv[system_dof(k)]);
-        let mut inv = vec![0usize; n + m];
-        for (new, &old) in order.iter().enumerate() {
-            inv[old] = new;
-        }
+        // The block unknowns ordered as the nested dissection orders their system dofs.
+        let blocks = SaddleBlocks::new(&system, PRESSURE)?;
         Ok(ChannelBlocks {
-            system: saddle,
+            system: blocks.system,
             dim_velocity_space: 2 * n_vertices,
             dim_pressure_space: n_vertices,
-            velocity_dofs,
-            pressure_dofs,
-            fixed,
-            ordering: Ordering { fwd: order, inv },
+            velocity_dofs: blocks.velocity_dofs,
+            pressure_dofs: blocks.pressure_dofs,
+            fixed: blocks.eliminated,
+            ordering: blocks.ordering,
         })
     }
 }

@@ -408,7 +408,7 @@ impl SubStokesProblem {
 /// ‖Kx − f‖/‖f̃‖ over the dofs `rows`, where x holds the eliminated values (hanging dofs at 0)
 /// as the solver returns it and f̃ = f − K x_eliminated is the right-hand side of the reduced
 /// system (f itself on the rows when it vanishes).
-fn relative_residual(
+pub(crate) fn relative_residual(
     matrix: Csc<'_>,
     rhs: &[f64],
     x: &[f64],
