@@ -1649,13 +1649,13 @@ fn substokes_checks_name_file_and_field() {
             "chi1",
         ),
         (
-            "unknown-field",
+            "unknown-solver",
             with(
                 "cavitation = \"on\"",
                 "cavitation = \"on\"\nsolver = \"umfpack\"",
             ),
             "scene.substokes.solver",
-            "stabilisation_residual",
+            "ldlt",
         ),
     ];
     for (case, text, field, needle) in &cases {

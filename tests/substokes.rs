@@ -386,3 +386,31 @@ fn reynolds_on_the_last_mesh_along_the_cut() {
         .cavitated_substokes
         .is_none());
 }
+
+/// `solver = "uzawa"` (CG-SSOR (III.92), projected with cavitation) gives the meshes of the
+/// LDLᵀ runs and their estimates to 1e-8 (IV.50, IV.70 on the quick tier; the report compares
+/// the full tier).
+#[test]
+fn uzawa_solves_the_tables_as_ldlt_does() {
+    use tribo::experiment::{FilmSolver, Problem};
+    for table in ["IV.50", "IV.70"] {
+        let mut s = spec(table);
+        if let Problem::SubStokes(d) = &mut s.problem {
+            assert_eq!(d.compare_with, Some(FilmSolver::Uzawa), "{table}");
+            d.solver = FilmSolver::Uzawa;
+        }
+        s.study.quick_rows = 4;
+        let uzawa = tribo::study::run(&s, tribo::study::Tier::Quick, &|_, _, _| {}).unwrap();
+        let ldlt = quick(table);
+        for (a, b) in ldlt.rows.iter().zip(&uzawa.rows) {
+            assert_eq!(a.value("dofs"), b.value("dofs"), "{table} row {}", a.cycle);
+            let (ea, eb) = (a.estimate().unwrap(), b.estimate().unwrap());
+            assert!(
+                rel(eb, ea).abs() <= 1e-8,
+                "{table} row {}: {eb} vs {ea}",
+                a.cycle
+            );
+            assert!(b.count_of("uzawa_iterations").is_some_and(|k| k >= 1));
+        }
+    }
+}

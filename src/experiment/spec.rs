@@ -519,6 +519,35 @@ pub struct SubStokesData {
     /// The stabilisation term of the Theorem III.23 estimate (default `literal`).
     #[serde(default)]
     pub stabilisation_residual: SubStokesStabilisation,
+    /// The solver of the coupled system (default `ldlt`).
+    #[serde(default)]
+    pub solver: FilmSolver,
+    /// A solver the report runs the table with again, to compare (IV.50, IV.70: `uzawa`).
+    #[serde(default)]
+    pub compare_with: Option<FilmSolver>,
+}
+
+/// The solver of a SubStokes system (`crate::models::substokes`,
+/// `crate::models::substokes_uzawa`).
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum FilmSolver {
+    /// The sparse LDLᵀ of the quasi-definite system (with cavitation: the primal–dual active
+    /// set on it).
+    #[default]
+    Ldlt,
+    /// CG-accelerated SSOR Uzawa (III.92), projected with cavitation.
+    Uzawa,
+}
+
+impl FilmSolver {
+    /// The experiment-file spelling.
+    pub fn name(self) -> &'static str {
+        match self {
+            FilmSolver::Ldlt => "ldlt",
+            FilmSolver::Uzawa => "uzawa",
+        }
+    }
 }
 
 /// The Uzawa comparison of Fig. III.6 on the test problem (III.88): [0, 4]², 32×32 cells

@@ -36,6 +36,26 @@ pub fn alternative_readings(experiment: &Experiment) -> Vec<AlternativeReading> 
                 }
             })
             .collect(),
+        Problem::SubStokes(data) => match data.compare_with {
+            Some(solver) if solver != data.solver => {
+                let mut alt = experiment.clone();
+                if let Problem::SubStokes(d) = &mut alt.problem {
+                    d.solver = solver;
+                    d.compare_with = None;
+                }
+                vec![AlternativeReading {
+                    label: format!(
+                        "the same table solved by solver = \"{}\" instead of \"{}\" (the \
+                         thesis's Uzawa family, (III.92), projected with cavitation)",
+                        solver.name(),
+                        data.solver.name()
+                    ),
+                    suffix: solver.name().into(),
+                    experiment: alt,
+                }]
+            }
+            _ => Vec::new(),
+        },
         Problem::Contact { contact, .. }
             if contact.model == ContactModel::ModelAdaptive
                 && contact.model_error_solution == ModelErrorSolution::Mixed
@@ -55,7 +75,6 @@ pub fn alternative_readings(experiment: &Experiment) -> Vec<AlternativeReading> 
         }
         Problem::Elasticity(_)
         | Problem::Contact { .. }
-        | Problem::SubStokes(_)
         | Problem::StokesChannel(_)
         | Problem::FilmModels { .. } => Vec::new(),
     }
