@@ -398,32 +398,7 @@ impl Gap {
 
     /// Exact (min, max) of g over [0, 1]².
     fn range_on_unit_square(&self) -> (f64, f64) {
-        use std::f64::consts::TAU;
-        match *self {
-            Gap::Plain { g0 } => (g0, g0),
-            Gap::Linear { g0, slope } => (g0 + slope.min(0.0), g0 + slope.max(0.0)),
-            Gap::WaveHorizontal {
-                g0,
-                amplitude: a,
-                frequency,
-            } => {
-                let (lo, hi) = sin_range(0.0, TAU * frequency);
-                let (p, q) = (a * lo, a * hi);
-                (g0 + p.min(q), g0 + p.max(q))
-            }
-            Gap::Hill {
-                g0,
-                amplitude: a,
-                frequency,
-            } => {
-                // s = sin²(2πf t) on [0, 1] ranges over [0, smax] (s(0) = 0); the product of two
-                // independent factors ranges over [0, smax²].
-                let (lo, hi) = sin_range(0.0, TAU * frequency);
-                let smax = (lo * lo).max(hi * hi);
-                let p = a * smax * smax;
-                (g0 + p.min(0.0), g0 + p.max(0.0))
-            }
-        }
+        self.range_on_box([0.0, 0.0, 1.0, 1.0])
     }
 
     /// Exact (min, max) of g over the closed box [x0, x1] × [y0, y1] given as `[x0, y0, x1, y1]`
