@@ -12,7 +12,7 @@ files (e.g. `IV.64.self-consistent.csv`). The script checks:
   * the same set of CSV files exists under `data/` in both folders;
   * per file, the same header (same column names in the same order) and the
     same number of rows;
-  * columns whose name starts with `seconds_` are timings and are not compared
+  * columns named `seconds` or starting with `seconds_` are timings and are not compared
     (a timing column present on one side only is still a header difference);
   * integer columns (every non-empty value on both sides is written without a
     decimal point or exponent) and string columns must be exactly equal;
@@ -43,6 +43,8 @@ from pathlib import Path
 
 MAX_LINES_PER_FILE = 10
 TIMING_PREFIX = "seconds_"
+# The cumulative seconds of a solver study (data/fig-III.6.csv).
+TIMING_COLUMN = "seconds"
 
 
 class Totals:
@@ -160,7 +162,11 @@ def compare_file(name, path_a, path_b, rtol, totals):
         problems.append("row count differs: A has %d, B has %d" % (len(rows_a), len(rows_b)))
 
     # Compare the common, non-timing columns over the common rows.
-    columns = [c for c in header_a if c in header_b and not c.startswith(TIMING_PREFIX)]
+    columns = [
+        c
+        for c in header_a
+        if c in header_b and not (c.startswith(TIMING_PREFIX) or c == TIMING_COLUMN)
+    ]
     row_count = min(len(rows_a), len(rows_b))
     value_differences = 0
     for column in columns:
