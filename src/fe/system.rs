@@ -23,7 +23,13 @@ impl System {
     /// pattern with them condensed. Dirichlet data are added by the problem
     /// ([`Constraints::fix`], [`Constraints::fix_side`]).
     pub fn new(mesh: &Mesh, n_components: usize) -> System {
-        let dofs = DofMap::new(mesh, n_components);
+        System::of_dofs(DofMap::new(mesh, n_components))
+    }
+
+    /// The system of a numbering `dofs`: its hanging-node constraints and the pattern with them
+    /// condensed (a subset of the mesh's vertices, e.g. the SubStokes region of a model-adaptive
+    /// film).
+    pub fn of_dofs(dofs: DofMap) -> System {
         let constraints = Constraints::new(&dofs);
         let pattern = SparsityPattern::new(&dofs, &constraints);
         System {

@@ -62,7 +62,7 @@ use rayon::prelude::*;
 
 use crate::estimators::face_segments;
 use crate::fe::cell_values::evaluate_at;
-use crate::fe::{Constraints, DofMap, Hanging, LocalDofs, SparsityPattern, System, Vertices};
+use crate::fe::{DofMap, Hanging, LocalDofs, System, Vertices};
 use crate::linalg::DirectSolver;
 use crate::mesh::{bilinear, CellId, Mesh, Neighbor, VertexKey, FACES};
 use crate::models::reynolds::{CellData, Load, ReynoldsProblem};
@@ -347,16 +347,7 @@ impl Region {
     /// The discrete system of the region: its dofs, the hanging-node constraints inside it and
     /// the sparsity pattern (no value fixed yet).
     pub fn system(&self) -> System {
-        let dofs = self.dofs.clone();
-        let constraints = Constraints::new(&dofs);
-        let pattern = SparsityPattern::new(&dofs, &constraints);
-        System {
-            dofs,
-            constraints,
-            pattern,
-            matrix: Vec::new(),
-            rhs: Vec::new(),
-        }
+        System::of_dofs(self.dofs.clone())
     }
 
     /// Values (χ₁, χ₂, ψ) per region vertex, placed at the vertices of the whole mesh

@@ -434,6 +434,80 @@ pub(crate) fn relative_residual(
     }
 }
 
+/// The free ψ dofs of a cavitation system (interior, non-hanging vertices), where ψ ≥ 0 is
+/// imposed, and ‖G‖∞ over them (the scale of the tolerances): what the LDLᵀ active set
+/// ([`solve_cavitation`]) and the projected Uzawa
+/// ([`crate::models::substokes_uzawa::solve_cavitation_uzawa`]) check their solutions against.
+pub(crate) struct PsiBounds {
+    pub bounded: Vec<bool>,
+    pub load_scale: f64,
+}
+
+impl PsiBounds {
+    pub(crate) fn of(system: &System) -> PsiBounds {
+        let n = system.dofs.n_dofs();
+        let bounded: Vec<bool> = (0..n)
+            .map(|d| d % N_COMPONENTS == PSI && system.constraints.is_free(d))
+            .collect();
+        let load_scale = (0..n)
+            .filter(|&d| bounded[d])
+            .fold(0.0f64, |m, d| m.max(system.rhs[d].abs()));
+        PsiBounds {
+            bounded,
+            load_scale,
+        }
+    }
+
+    /// λ_j = (F − Kx)_j on the negated mass rows = (Bᵀχ + Cψ − G)_j at the bounded dofs, 0
+    /// elsewhere, from `u` with the hanging dofs at 0 (their columns hold only the diagonal).
+    pub(crate) fn multipliers(&self, system: &System, u: &[f64]) -> Vec<f64> {
+        let ku = system.matrix().multiply(u);
+        (0..u.len())
+            .map(|d| {
+                if self.bounded[d] {
+                    system.rhs[d] - ku[d]
+                } else {
+                    0.0
+                }
+            })
+            .collect()
+    }
+
+    /// The checks of a cavitation solution `u` (hanging values distributed) with multipliers
+    /// `lambda`: ψ ≥ 0 at every vertex, and max_j |min(ψ_j, λ_j)| ≤
+    /// `max_complementarity`·max(1, ‖G‖∞), which it returns. Messages start with `what`; `after`
+    /// ends the complementarity message (how the solver got there).
+    pub(crate) fn check(
+        &self,
+        u: &[f64],
+        lambda: &[f64],
+        max_complementarity: f64,
+        what: &str,
+        after: &str,
+    ) -> Result<f64, String> {
+        let n = u.len();
+        if let Some(d) = (0..n).find(|&d| d % N_COMPONENTS == PSI && u[d] < 0.0) {
+            return Err(format!(
+                "{what}: ψ = {} < 0 at vertex {}",
+                u[d],
+                d / N_COMPONENTS
+            ));
+        }
+        let complementarity = (0..n)
+            .filter(|&d| self.bounded[d])
+            .map(|d| u[d].min(lambda[d]).abs())
+            .fold(0.0f64, f64::max);
+        let tolerance = max_complementarity * self.load_scale.max(1.0);
+        if !complementarity.is_finite() || complementarity > tolerance {
+            return Err(format!(
+                "{what}: complementarity max|min(ψ, λ)| = {complementarity:e} exceeds \
+                 {tolerance:e}{after}"
+            ));
+        }
+        Ok(complementarity)
+    }
+}
+
 /// Solve the assembled cavitation `system` ([`SubStokesProblem::assemble_cavitation`]) under
 /// ψ_j ≥ 0 at the free ψ dofs (interior, non-hanging vertices; hanging values are means of their
 /// parents, boundary values ψ₀), i.e. the discrete problem (III.79) in its multiplier form:
@@ -471,18 +545,14 @@ pub fn solve_cavitation(
         ));
     }
     let rhs = &system.rhs;
-    let bounded: Vec<bool> = (0..n)
-        .map(|d| d % N_COMPONENTS == PSI && system.constraints.is_free(d))
-        .collect();
+    let psi_bounds = PsiBounds::of(system);
+    let (bounded, load_scale) = (&psi_bounds.bounded, psi_bounds.load_scale);
     let bounds = Bounds::Uniform {
-        at: &bounded,
+        at: bounded,
         sense: Sense::Lower,
         value: 0.0,
     };
     let initial: Vec<bool> = bounds.iter().map(|b| initial_active[b.dof()]).collect();
-    let load_scale = (0..n)
-        .filter(|&d| bounded[d])
-        .fold(0.0f64, |m, d| m.max(rhs[d].abs()));
     let eliminated = system.constraints.eliminated();
     let matrix = system.matrix();
     let problem = NodalBounds {
@@ -522,10 +592,7 @@ pub fn solve_cavitation(
              exceeds {MAX_RELATIVE_RESIDUAL:e}"
         ));
     }
-    let ku = matrix.multiply(&u);
-    let lambda: Vec<f64> = (0..n)
-        .map(|d| if bounded[d] { rhs[d] - ku[d] } else { 0.0 })
-        .collect();
+    let lambda = psi_bounds.multipliers(system, &u);
     let psi_scale = (0..n)
         .filter(|&d| d % N_COMPONENTS == PSI)
         .fold(0.0f64, |m, d| m.max(u[d].abs()));
@@ -542,24 +609,8 @@ pub fn solve_cavitation(
         u[d] = 0.0;
     }
     system.constraints.distribute(&mut u);
-    if let Some(d) = (0..n).find(|&d| d % N_COMPONENTS == PSI && u[d] < 0.0) {
-        return Err(format!(
-            "SubStokes cavitation: ψ = {} < 0 at vertex {}",
-            u[d],
-            d / N_COMPONENTS
-        ));
-    }
-    let complementarity = (0..n)
-        .filter(|&d| bounded[d])
-        .map(|d| u[d].min(lambda[d]).abs())
-        .fold(0.0f64, f64::max);
-    let tolerance = MAX_COMPLEMENTARITY * load_scale.max(1.0);
-    if !complementarity.is_finite() || complementarity > tolerance {
-        return Err(format!(
-            "SubStokes cavitation: complementarity max|min(ψ, λ)| = {complementarity:e} \
-             exceeds {tolerance:e}"
-        ));
-    }
+    let complementarity =
+        psi_bounds.check(&u, &lambda, MAX_COMPLEMENTARITY, "SubStokes cavitation", "")?;
     Ok(SubStokesCavitationSolution {
         solution: SubStokesSolution {
             dofs: system.dofs.clone(),

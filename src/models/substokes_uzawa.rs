@@ -74,8 +74,8 @@ use std::time::Instant;
 use crate::fe::{SaddleBlocks, System};
 use crate::linalg::uzawa::{uzawa_from, CgRule, ResidualScale, UzawaOptions, UzawaRun, Variant};
 use crate::models::substokes::{
-    relative_residual, SubStokesCavitationSolution, SubStokesSolution, MAX_COMPLEMENTARITY,
-    N_COMPONENTS, PSI,
+    relative_residual, PsiBounds, SubStokesCavitationSolution, SubStokesSolution,
+    MAX_COMPLEMENTARITY, PSI,
 };
 
 /// Default relative residual (relative to ‖(f, g)‖) at which the SubStokes Uzawa runs stop
@@ -233,45 +233,27 @@ pub fn solve_cavitation_uzawa(
     let (blocks, out, stats) = run(system, initial, &options.uzawa, true)?;
     let n = system.dofs.n_dofs();
     let mut u = blocks.field(&out.velocity, &out.pressure);
-    let bounded: Vec<bool> = (0..n)
-        .map(|d| d % N_COMPONENTS == PSI && system.constraints.is_free(d))
-        .collect();
-    let rhs = &system.rhs;
-    let load_scale = (0..n)
-        .filter(|&d| bounded[d])
-        .fold(0.0f64, |m, d| m.max(rhs[d].abs()));
-    let matrix = system.matrix();
-    // λ_j = (F − Kx)_j on the negated mass rows = (Bᵀχ + Cψ − G)_j, from x with the hanging
-    // dofs at 0 (their columns hold only the diagonal), as solve_cavitation.
-    let ku = matrix.multiply(&u);
-    let lambda: Vec<f64> = (0..n)
-        .map(|d| if bounded[d] { rhs[d] - ku[d] } else { 0.0 })
-        .collect();
+    let psi_bounds = PsiBounds::of(system);
+    let bounded = &psi_bounds.bounded;
+    let load_scale = psi_bounds.load_scale;
+    // λ from x with the hanging dofs at 0, as solve_cavitation.
+    let lambda = psi_bounds.multipliers(system, &u);
     let active: Vec<bool> = (0..n).map(|d| bounded[d] && u[d] == 0.0).collect();
     let eliminated = system.constraints.eliminated();
-    let relative = relative_residual(matrix, rhs, &u, &eliminated, |i| {
+    let relative = relative_residual(system.matrix(), &system.rhs, &u, &eliminated, |i| {
         system.constraints.is_free(i) && !active[i]
     });
     system.constraints.distribute(&mut u);
-    if let Some(d) = (0..n).find(|&d| d % N_COMPONENTS == PSI && u[d] < 0.0) {
-        return Err(format!(
-            "SubStokes cavitation Uzawa: ψ = {} < 0 at vertex {}",
-            u[d],
-            d / N_COMPONENTS
-        ));
-    }
-    let complementarity = (0..n)
-        .filter(|&d| bounded[d])
-        .map(|d| u[d].min(lambda[d]).abs())
-        .fold(0.0f64, f64::max);
-    let tolerance = options.max_complementarity * load_scale.max(1.0);
-    if !complementarity.is_finite() || complementarity > tolerance {
-        return Err(format!(
-            "SubStokes cavitation Uzawa: complementarity max|min(ψ, λ)| = {complementarity:e} \
-             exceeds {tolerance:e} after {} outer iterations (relative residual {:e})",
+    let complementarity = psi_bounds.check(
+        &u,
+        &lambda,
+        options.max_complementarity,
+        "SubStokes cavitation Uzawa",
+        &format!(
+            " after {} outer iterations (relative residual {:e})",
             stats.outer_iterations, stats.relative_residual
-        ));
-    }
+        ),
+    )?;
     Ok((
         SubStokesCavitationSolution {
             solution: SubStokesSolution {
@@ -296,7 +278,9 @@ mod tests {
     use crate::linalg::DirectSolver;
     use crate::mesh::Mesh;
     use crate::models::substokes::fixtures::{problem, uniform, with_hanging};
-    use crate::models::substokes::{solve_cavitation, solve_system, SubStokesProblem};
+    use crate::models::substokes::{
+        solve_cavitation, solve_system, SubStokesProblem, N_COMPONENTS,
+    };
 
     fn assembled(eq: &str, mesh: &Mesh, cavitation: bool) -> System {
         let p = problem(eq);

@@ -48,6 +48,13 @@ fn uzawa_options() -> UzawaOptions {
     }
 }
 
+/// ψ at every vertex of the SubStokes values `u` (χ₁, χ₂, ψ per vertex) on `dofs`.
+fn psi_values(dofs: &DofMap, u: &[f64]) -> Vec<f64> {
+    (0..dofs.vertices.len() as u32)
+        .map(|v| u[dofs.dof(v, PSI)])
+        .collect()
+}
+
 /// The counter columns of a Uzawa solve.
 fn uzawa_counters(stats: &UzawaStats) -> Vec<(String, i64)> {
     vec![
@@ -152,32 +159,28 @@ impl SubStokesFilm {
         system: &System,
         free_solution: Option<&[f64]>,
     ) -> Result<Solution, String> {
-        if self.film_solver == FilmSolver::Uzawa {
-            let cavitation_options = CavitationUzawaOptions {
-                uzawa: uzawa_options(),
-                ..CavitationUzawaOptions::default()
-            };
-            let (sol, stats) = solve_cavitation_uzawa(system, free_solution, &cavitation_options)?;
-            let psi: Vec<f64> = (0..system.dofs.vertices.len() as u32)
-                .map(|v| sol.solution.psi(v))
-                .collect();
-            self.switch.after_cavitation_solve(&psi);
-            self.lambda = Some(sol.lambda);
-            return Ok(Solution {
-                u: sol.solution.u,
-                counters: uzawa_counters(&stats),
-            });
-        }
-        let initial = self.initial_active(&system.dofs, free_solution);
-        let sol = solve_cavitation(system, &mut self.solver, &initial)?;
-        let psi: Vec<f64> = (0..system.dofs.vertices.len() as u32)
-            .map(|v| sol.solution.psi(v))
-            .collect();
-        self.switch.after_cavitation_solve(&psi);
+        let (sol, counters) = match self.film_solver {
+            FilmSolver::Uzawa => {
+                let options = CavitationUzawaOptions {
+                    uzawa: uzawa_options(),
+                    ..CavitationUzawaOptions::default()
+                };
+                let (sol, stats) = solve_cavitation_uzawa(system, free_solution, &options)?;
+                (sol, uzawa_counters(&stats))
+            }
+            FilmSolver::Ldlt => {
+                let initial = self.initial_active(&system.dofs, free_solution);
+                let sol = solve_cavitation(system, &mut self.solver, &initial)?;
+                let iterations = sol.iterations as i64;
+                (sol, vec![("active_set_iterations".into(), iterations)])
+            }
+        };
+        self.switch
+            .after_cavitation_solve(&psi_values(&system.dofs, &sol.solution.u));
         self.lambda = Some(sol.lambda);
         Ok(Solution {
             u: sol.solution.u,
-            counters: vec![("active_set_iterations".into(), sol.iterations as i64)],
+            counters,
         })
     }
 
@@ -201,10 +204,10 @@ impl SubStokesFilm {
                 (u, uzawa_counters(&stats))
             }
         };
-        let psi: Vec<f64> = (0..system.dofs.vertices.len() as u32)
-            .map(|v| u[system.dofs.dof(v, PSI)])
-            .collect();
-        if !self.switch.after_free_solve(solve, &psi) {
+        if !self
+            .switch
+            .after_free_solve(solve, &psi_values(&system.dofs, &u))
+        {
             return Ok(Solution { u, counters });
         }
         clock.time(Phase::Assemble, || self.assemble_form(disc, system));
