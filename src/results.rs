@@ -358,6 +358,12 @@ pub struct Cuts {
 }
 
 impl Cuts {
+    /// Whether these are a SubStokes table's cuts, with the Reynolds model beside it (else one
+    /// model's pressure: a Reynolds table's, or the model-adaptive film's).
+    pub fn compares_models(&self) -> bool {
+        self.column("psi_substokes").is_some()
+    }
+
     /// The column `name`, if there is one.
     pub fn column(&self, name: &str) -> Option<&[f64]> {
         self.columns
@@ -394,6 +400,9 @@ pub struct RunResult {
     pub domain: [f64; 4],
     /// Readings of the thesis and known differences that apply to this table (shown in the report).
     pub notes: Vec<String>,
+    /// Tables of the same scene solved another way, drawn beside this one where the report has
+    /// them (`related` of the experiment file).
+    pub related: Vec<String>,
     /// What is legal but suspicious in the experiment or the run (`field: message`, shown in
     /// the report and on stderr).
     pub warnings: Vec<String>,
@@ -418,6 +427,7 @@ impl RunResult {
             uzawa: Vec::new(),
             domain,
             notes: Vec::new(),
+            related: Vec::new(),
             warnings: Vec::new(),
         }
     }

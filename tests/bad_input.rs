@@ -1854,6 +1854,30 @@ fn model_fluid_checks_name_file_and_field() {
             "scene.effects",
             "alone",
         ),
+        (
+            "related-not-an-id",
+            with(
+                "related = [\"IV.46\", \"IV.60\"]",
+                "related = [\"IV.46\", \"Table 60\"]",
+            ),
+            "related[1]",
+            "another table or figure experiment",
+        ),
+        (
+            "related-itself",
+            with(
+                "related = [\"IV.46\", \"IV.60\"]",
+                "related = [\"fig-IV.116\"]",
+            ),
+            "related[0]",
+            "another table",
+        ),
+        (
+            "related-past-the-tables",
+            with("related = [\"IV.46\", \"IV.60\"]", "related = [\"IV.76\"]"),
+            "related[0]",
+            "`IV.76`",
+        ),
     ];
     for (case, text, field, needle) in &cases {
         expect_error_in("fig-IV.116.toml", case, text, field, needle);

@@ -75,3 +75,55 @@ pub fn full_tier_rules(table: &str, r: &RunResult) {
         assert!(q < 1.0, "{table} cycle {}: ratio {q}", row.cycle);
     }
 }
+
+/// With its related tables on the page, the model-adaptive film gets Figs IV.117 and IV.118 and
+/// the cost of accuracy of (IV.17) solved three ways, each with a curve of every related run;
+/// alone, the captions name the tables that are missing and how to add them.
+#[test]
+fn related_figures_set_the_pure_runs_beside_it() {
+    let experiments = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments");
+    let out = crate::outputs::quick_report(
+        &experiments,
+        "related",
+        Some(&format!("IV.46,IV.60,{FIGURE}")),
+    );
+    let figure = |kind: &str| {
+        std::fs::read_to_string(out.join("figures").join(format!("{FIGURE}-{kind}.svg")))
+            .unwrap_or_else(|e| panic!("{FIGURE}-{kind}.svg: {e}"))
+    };
+    for (kind, labels) in [
+        ("substokes-cells", &["pure SubStokes (IV.60)"][..]),
+        (
+            "related-cuts",
+            &["pure Reynolds (IV.46)", "pure SubStokes (IV.60)"][..],
+        ),
+        (
+            "related-cost",
+            &["pure Reynolds (IV.46)", "pure SubStokes (IV.60)"][..],
+        ),
+    ] {
+        let svg = figure(kind);
+        assert!(svg.contains(&format!("model-adaptive ({FIGURE})")) || kind == "substokes-cells");
+        for label in labels {
+            assert!(svg.contains(label), "{kind} lacks the curve {label}");
+        }
+    }
+    // The Reynolds table's cut: ψ on ∂Ω₂ at both ends, 101 points.
+    let cut = std::fs::read_to_string(out.join("data").join("IV.46.cuts.csv")).unwrap();
+    let lines: Vec<&str> = cut.lines().collect();
+    assert_eq!(lines[0], "x,psi");
+    assert_eq!(lines.len(), 102);
+    for line in [lines[1], lines[101]] {
+        let psi: f64 = line.split(',').nth(1).unwrap().parse().unwrap();
+        assert!((psi - 200.0).abs() < 1e-9, "{line}");
+    }
+    let page = std::fs::read_to_string(out.join("index.html")).unwrap();
+    assert!(!page.contains("not in this report"));
+
+    let alone = crate::outputs::quick_report(&experiments, "related-alone", Some(FIGURE));
+    let page = std::fs::read_to_string(alone.join("index.html")).unwrap();
+    assert!(
+        page.contains("IV.46, IV.60 not in this report: run the report with them, e.g. --only fig-IV.116,IV.46,IV.60"),
+        "the captions name the missing related tables"
+    );
+}

@@ -80,6 +80,7 @@ pub fn load(path: &Path) -> Result<Experiment, ExperimentError> {
         study,
         probes,
         notes,
+        related,
         thesis,
     } = file;
     Ok(Experiment {
@@ -103,6 +104,7 @@ pub fn load(path: &Path) -> Result<Experiment, ExperimentError> {
         study,
         probes,
         notes,
+        related,
         thesis: thesis.unwrap_or_default(),
     })
 }
@@ -622,6 +624,14 @@ impl Check<'_> {
         )?;
         for (i, note) in spec.notes.iter().enumerate() {
             self.printable(&format!("notes[{i}]"), note, true)?;
+        }
+        for (i, id) in spec.related.iter().enumerate() {
+            self.ensure(
+                (table_number(id).is_some() || figure_number(id).is_some()) && *id != spec.table,
+                &format!("related[{i}]"),
+                "the id of another table or figure experiment, e.g. `IV.46`",
+                format!("`{id}`"),
+            )?;
         }
         Ok(())
     }

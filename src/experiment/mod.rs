@@ -34,6 +34,8 @@ pub struct Experiment {
     pub probes: Probes,
     /// Readings of the thesis and known differences, shown in the report for this table.
     pub notes: Vec<String>,
+    /// Tables of the same scene solved another way ([`ExperimentFile::related`]).
+    pub related: Vec<String>,
     pub thesis: ThesisRows,
 }
 

@@ -33,6 +33,11 @@ pub struct ExperimentFile {
     /// Readings of the thesis and known differences, shown in the report for this table.
     #[serde(default)]
     pub notes: Vec<String>,
+    /// Tables of the same scene solved another way, drawn beside this one where the report has
+    /// them (the model-adaptive film of Fig. IV.116 with the pure Reynolds and pure SubStokes
+    /// runs of (IV.17), IV.46 and IV.60: Figs IV.117, IV.118 and the cost of accuracy).
+    #[serde(default)]
+    pub related: Vec<String>,
     /// The printed table; a figure experiment has none.
     #[serde(default)]
     pub thesis: Option<ThesisRows>,

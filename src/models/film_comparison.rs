@@ -35,6 +35,45 @@ pub fn cut_height(film: &ThinFilm) -> f64 {
     }
 }
 
+/// The abscissae of a cut over `x_range`: [`CUT_POINTS`] equidistant points, both ends included.
+pub fn cut_abscissae(x_range: [f64; 2]) -> impl Iterator<Item = f64> {
+    (0..CUT_POINTS)
+        .map(move |i| x_range[0] + (x_range[1] - x_range[0]) * i as f64 / (CUT_POINTS - 1) as f64)
+}
+
+/// One film's pressure along the cut x₂ = `y`: columns `x` and `psi` from `pressure` (ψ at a
+/// point, `None` outside the mesh), ψ₀ = `boundary_pressure`. The data of a single model's cut:
+/// a Reynolds table's, or the model-adaptive film's (Fig. IV.118 sets them beside a SubStokes
+/// table's [`Comparison::cuts`]).
+pub fn pressure_cut(
+    y: f64,
+    x_range: [f64; 2],
+    boundary_pressure: f64,
+    pressure: impl Fn([f64; 2]) -> Option<f64>,
+) -> Result<Cuts, String> {
+    let (mut xs, mut psi) = (
+        Vec::with_capacity(CUT_POINTS),
+        Vec::with_capacity(CUT_POINTS),
+    );
+    for x in cut_abscissae(x_range) {
+        match pressure([x, y]) {
+            Some(v) if v.is_finite() => {
+                xs.push(x);
+                psi.push(v);
+            }
+            Some(v) => return Err(format!("the cut: ψ = {v} at ({x}, {y}) is not finite")),
+            None => return Err(format!("the cut point ({x}, {y}) lies outside the mesh")),
+        }
+    }
+    Ok(Cuts {
+        y,
+        boundary_pressure,
+        columns: vec![("x".into(), xs), ("psi".into(), psi)],
+        cavitated_substokes: None,
+        cavitated_reynolds: None,
+    })
+}
+
 /// What to compare: the film, ψ₀, and whether (with which γ₃c) the runs have cavitation.
 #[derive(Clone, Copy, Debug)]
 pub struct Comparison {
@@ -117,8 +156,7 @@ impl Comparison {
             .iter()
             .map(|n| (n.to_string(), Vec::with_capacity(CUT_POINTS)))
             .collect();
-        for i in 0..CUT_POINTS {
-            let x = x_range[0] + (x_range[1] - x_range[0]) * i as f64 / (CUT_POINTS - 1) as f64;
+        for x in cut_abscissae(x_range) {
             let values = self.at([x, y], mesh, dofs, u, &reynolds)?;
             for (column, v) in columns.iter_mut().zip(values) {
                 column.1.push(v);

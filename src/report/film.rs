@@ -11,7 +11,9 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::html::fmt_short;
-use super::plots::{log_range, log_tick, plot_err, series_legend, Curve, NiceLog};
+use super::plots::{
+    log_log_chart, log_range, log_tick, loggable, plot_err, series_legend, Curve, NiceLog,
+};
 use crate::results::{Cuts, RunResult};
 
 const SUBSTOKES: RGBColor = RGBColor(31, 90, 180);
@@ -193,6 +195,194 @@ pub(super) fn uzawa(path: &Path, run: &RunResult) -> io::Result<()> {
                 });
         }
         series_legend(&mut chart, SeriesLabelPosition::UpperRight, 14)?;
+        root.present().map_err(plot_err)?;
+    }
+    fs::write(path, svg)
+}
+
+/// The model of a run the model-adaptive film is compared with: a SubStokes table (its cuts
+/// compare SubStokes with Reynolds), else a Reynolds table.
+fn is_substokes(run: &RunResult) -> bool {
+    run.cuts.as_ref().is_some_and(Cuts::compares_models)
+}
+
+/// The legend name of a related run: its table and model.
+fn related_label(run: &RunResult) -> String {
+    let model = if is_substokes(run) {
+        "pure SubStokes"
+    } else {
+        "pure Reynolds"
+    };
+    format!("{model} ({})", run.table)
+}
+
+/// The colour of a related run: its model's.
+fn related_color(run: &RunResult) -> RGBColor {
+    if is_substokes(run) {
+        SUBSTOKES
+    } else {
+        REYNOLDS
+    }
+}
+
+/// Colour of the model-adaptive run in the cross-run figures.
+const MODEL_ADAPTIVE: RGBColor = RGBColor(0, 0, 0);
+
+/// Fig. IV.117: the a-posteriori estimate against the number of SubStokes cells — the
+/// model-adaptive run's Theorem III.23 estimate with the model error, √(η_S² + η_m²) (the
+/// thesis's "total error"), and with the Reynolds part as well (tribo's `estimate`, dashed),
+/// beside each related SubStokes table's estimate against its cells (all of them SubStokes).
+/// Cycles without SubStokes cells have no point on the log axis.
+pub(super) fn estimate_vs_substokes_cells(
+    path: &Path,
+    run: &RunResult,
+    related: &[&RunResult],
+) -> io::Result<()> {
+    let points = |f: &dyn Fn(&crate::results::Row) -> Option<(f64, f64)>, r: &RunResult| {
+        r.rows
+            .iter()
+            .filter_map(f)
+            .filter(loggable)
+            .collect::<Vec<_>>()
+    };
+    let cells = |r: &crate::results::Row| r.count_of("substokes_cells").map(|n| n as f64);
+    let mut curves = vec![
+        Curve {
+            label: format!("{}: III.23 + model error", run.table),
+            color: MODEL_ADAPTIVE,
+            dashed: false,
+            points: points(
+                &|r| {
+                    let s = r.value("estimate_substokes")?;
+                    let m = r.value("model_error")?;
+                    Some((cells(r)?, s.hypot(m)))
+                },
+                run,
+            ),
+        },
+        Curve {
+            label: format!("{}: with the Reynolds part", run.table),
+            color: MODEL_ADAPTIVE,
+            dashed: true,
+            points: points(&|r| Some((cells(r)?, r.estimate()?)), run),
+        },
+    ];
+    for r in related.iter().filter(|r| is_substokes(r)) {
+        curves.push(Curve {
+            label: related_label(r),
+            color: related_color(r),
+            dashed: false,
+            points: points(
+                &|row| Some((row.active_cells()? as f64, row.estimate()?)),
+                r,
+            ),
+        });
+    }
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (760, 520)).into_drawing_area();
+        log_log_chart(
+            &root,
+            &format!("{} — estimate vs SubStokes cells", run.table),
+            ("SubStokes cells", "estimate"),
+            &curves,
+            (&[], ""),
+            "no SubStokes cells",
+        )?;
+        root.present().map_err(plot_err)?;
+    }
+    fs::write(path, svg)
+}
+
+/// Fig. IV.118: the pressure ψ along the cut of the model-adaptive run beside the last solutions
+/// of the related runs (ψ^S of a SubStokes table, ψ of a Reynolds table) along the same cut;
+/// a related run cut at another height is left out.
+pub(super) fn related_cuts(path: &Path, run: &RunResult, related: &[&RunResult]) -> io::Result<()> {
+    let Some(cuts) = &run.cuts else {
+        return Ok(());
+    };
+    let curve = |c: &Cuts, column: &str, label: String, color: RGBColor, dashed: bool| Curve {
+        label,
+        color,
+        dashed,
+        points: c
+            .column("x")
+            .unwrap_or_default()
+            .iter()
+            .copied()
+            .zip(c.column(column).unwrap_or_default().iter().copied())
+            .filter(|(_, v)| v.is_finite())
+            .collect(),
+    };
+    let mut curves = vec![curve(
+        cuts,
+        "psi",
+        format!("model-adaptive ({})", run.table),
+        MODEL_ADAPTIVE,
+        false,
+    )];
+    for r in related {
+        let Some(c) = r.cuts.as_ref().filter(|c| c.y == cuts.y) else {
+            continue;
+        };
+        let column = if is_substokes(r) {
+            "psi_substokes"
+        } else {
+            "psi"
+        };
+        curves.push(curve(c, column, related_label(r), related_color(r), true));
+    }
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (760, 420)).into_drawing_area();
+        root.fill(&WHITE).map_err(plot_err)?;
+        panel(
+            &root,
+            &format!("{} — ψ along x₂ = {}", run.table, fmt_short(cuts.y)),
+            "ψ",
+            &curves,
+        )?;
+        root.present().map_err(plot_err)?;
+    }
+    fs::write(path, svg)
+}
+
+/// The cost of accuracy of one scene solved three ways: each run's estimate against its
+/// cumulative wall seconds, log–log. Each estimate is in its own norm (Theorem III.16's for
+/// Reynolds, III.23's for SubStokes, their combination with the model error for the
+/// model-adaptive film), so the curves compare slopes and seconds, not levels.
+pub(super) fn related_cost(path: &Path, run: &RunResult, related: &[&RunResult]) -> io::Result<()> {
+    let curve = |r: &RunResult, label: String, color: RGBColor| Curve {
+        label,
+        color,
+        dashed: false,
+        points: r
+            .rows
+            .iter()
+            .zip(r.cumulative_seconds())
+            .filter_map(|(row, t)| Some((t, row.estimate()?)))
+            .filter(loggable)
+            .collect(),
+    };
+    let mut curves = vec![curve(
+        run,
+        format!("model-adaptive ({})", run.table),
+        MODEL_ADAPTIVE,
+    )];
+    for r in related {
+        curves.push(curve(r, related_label(r), related_color(r)));
+    }
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (760, 520)).into_drawing_area();
+        log_log_chart(
+            &root,
+            &format!("{} — cost of accuracy, one scene three ways", run.table),
+            ("cumulative wall seconds", "estimate (each in its own norm)"),
+            &curves,
+            (&[], ""),
+            "no timed rows",
+        )?;
         root.present().map_err(plot_err)?;
     }
     fs::write(path, svg)

@@ -14,7 +14,7 @@ use super::{
     Failure, FailureKind, Figure, ReportMeta, Section, Summary, MAX_SHOWN_THESIS_ROWS,
 };
 use crate::results::columns::{self, PREVIOUS_ESTIMATE, THEOREM_ESTIMATE};
-use crate::results::{Row, RunResult, Value};
+use crate::results::{Cuts, Row, RunResult, Value};
 use crate::thesis::ThesisTable;
 
 /// The figures written for one section, in the order they appear, or why there are none.
@@ -258,10 +258,9 @@ fn header(h: &mut String, entries: &[Entry], meta: &ReportMeta) {
 
 fn contents(h: &mut String, entries: &[Entry]) {
     h.push_str("<nav>\n<h2>Contents</h2>\n<ol>\n<li><a href=\"#summary\">Summary</a></li>\n");
-    if entries
-        .iter()
-        .any(|e| matches!(e, Entry::Done(s) if s.run.cuts.is_some()))
-    {
+    if entries.iter().any(
+        |e| matches!(e, Entry::Done(s) if s.run.cuts.as_ref().is_some_and(Cuts::compares_models)),
+    ) {
         h.push_str("<li><a href=\"#substokes-row-zero\">SubStokes: the estimate on the initial grid</a></li>\n");
     }
     for entry in entries {
@@ -366,7 +365,7 @@ fn substokes_row_zero(h: &mut String, entries: &[Entry]) {
     let sections: Vec<&Section> = entries
         .iter()
         .filter_map(|e| match e {
-            Entry::Done(s) if s.run.cuts.is_some() => Some(s),
+            Entry::Done(s) if s.run.cuts.as_ref().is_some_and(Cuts::compares_models) => Some(s),
             _ => None,
         })
         .collect();

@@ -140,12 +140,21 @@ pub fn write_report(out_dir: &Path, entries: &[Entry], meta: &ReportMeta) -> io:
     let mut files = Vec::new();
     let mut figure_failures = Vec::new();
     let mut rendered = Vec::with_capacity(entries.len());
+    // Every run of the page, for the figures that set a run beside its related tables.
+    let runs: Vec<&RunResult> = entries
+        .iter()
+        .filter_map(|e| match e {
+            Entry::Done(s) => Some(s.run),
+            Entry::Failed(_) => None,
+        })
+        .collect();
     for entry in entries {
         let Entry::Done(section) = entry else {
             rendered.push(html::SectionFigures::default());
             continue;
         };
-        let drawn = panic::catch_unwind(AssertUnwindSafe(|| write_figures(&fig_dir, section)));
+        let drawn =
+            panic::catch_unwind(AssertUnwindSafe(|| write_figures(&fig_dir, section, &runs)));
         let figures = match drawn {
             Ok(Ok(figures)) => html::SectionFigures {
                 figures,
@@ -288,7 +297,11 @@ pub(crate) struct Figure {
 /// and cost plots (one mesh hierarchy refined cycle after cycle), the mesh figure (axis-parallel
 /// cell boxes) and the partition figure (faces on the undeformed strip) do not apply; it gets the
 /// per-step chart, a frame per step and their animation instead.
-fn write_figures(fig_dir: &Path, section: &Section) -> io::Result<Vec<Figure>> {
+fn write_figures(
+    fig_dir: &Path,
+    section: &Section,
+    runs: &[&RunResult],
+) -> io::Result<Vec<Figure>> {
     let run = section.run;
     let stem = file_stem(&run.table);
     let load_steps = run.is_load_steps();
@@ -457,11 +470,7 @@ fn write_figures(fig_dir: &Path, section: &Section) -> io::Result<Vec<Figure>> {
         plots::field(&path, &run.table, pic, run.domain)?;
     }
 
-    if let Some(cuts) = run
-        .cuts
-        .as_ref()
-        .filter(|c| c.column("psi_substokes").is_some())
-    {
+    if let Some(cuts) = run.cuts.as_ref().filter(|c| c.compares_models()) {
         let mut caption = format!(
             "{}: SubStokes (solid) and Reynolds (dashed) on the last mesh along x₂ = {} — \
              pressure ψ/g and flow rate χ₁, the latter rebuilt by (I.86) for Reynolds \
@@ -482,6 +491,10 @@ fn write_figures(fig_dir: &Path, section: &Section) -> io::Result<Vec<Figure>> {
         film::cuts(&path, run, cuts)?;
     }
 
+    if !run.related.is_empty() {
+        related_figures(run, runs, &mut push)?;
+    }
+
     if let Some((path, frames)) = animation {
         if let Some(figure) = figures.iter_mut().find(|f| fig_dir.join(&f.file) == path) {
             figure.links = frames
@@ -491,6 +504,73 @@ fn write_figures(fig_dir: &Path, section: &Section) -> io::Result<Vec<Figure>> {
         }
     }
     Ok(figures)
+}
+
+/// The figures that set a run beside its related tables (`related` of the experiment: the
+/// model-adaptive film of Fig. IV.116 with the pure Reynolds and pure SubStokes runs of its
+/// scene): Fig. IV.117 (estimate vs SubStokes cells), Fig. IV.118 (ψ along the cut) and the cost
+/// of accuracy of the three. A related table that is not on this page is named in the captions.
+fn related_figures(
+    run: &RunResult,
+    runs: &[&RunResult],
+    push: &mut dyn FnMut(&str, String) -> PathBuf,
+) -> io::Result<()> {
+    let related: Vec<&RunResult> = run
+        .related
+        .iter()
+        .filter_map(|id| runs.iter().find(|r| r.table == *id).copied())
+        .collect();
+    let missing: Vec<&str> = run
+        .related
+        .iter()
+        .filter(|id| !related.iter().any(|r| r.table == **id))
+        .map(String::as_str)
+        .collect();
+    let absent = if missing.is_empty() {
+        String::new()
+    } else {
+        format!(
+            " ({} not in this report: run the report with them, e.g. --only {},{})",
+            missing.join(", "),
+            run.table,
+            run.related.join(",")
+        )
+    };
+    let path = push(
+        "substokes-cells",
+        format!(
+            "{}: the a-posteriori estimate against the number of SubStokes cells (thesis Fig. \
+             IV.117) — Theorem III.23 on the SubStokes cells with the model error (the \
+             thesis's total error, solid black), the same with the Reynolds estimate of the \
+             Reynolds cells (dashed), and the pure SubStokes run, all of whose cells are \
+             SubStokes; log–log, cycles without SubStokes cells left out{absent}",
+            run.table
+        ),
+    );
+    film::estimate_vs_substokes_cells(&path, run, &related)?;
+    if let Some(cuts) = &run.cuts {
+        let path = push(
+            "related-cuts",
+            format!(
+                "{}: ψ along x₂ = {} of the last model-adaptive solution (solid) and of the last \
+                 solutions of the pure runs (dashed; thesis Fig. IV.118){absent}",
+                run.table,
+                html::fmt_short(cuts.y)
+            ),
+        );
+        film::related_cuts(&path, run, &related)?;
+    }
+    let path = push(
+        "related-cost",
+        format!(
+            "{}: cost of accuracy of one scene solved three ways — each run's estimate against \
+             its cumulative wall seconds, log–log; each estimate is in its own norm (Theorem \
+             III.16 for Reynolds, III.23 for SubStokes, the total of Fig. IV.117 for the \
+             model-adaptive film), so compare slopes and seconds, not levels{absent}",
+            run.table
+        ),
+    );
+    film::related_cost(&path, run, &related)
 }
 
 /// The caption of a load-step run's animation.

@@ -57,7 +57,7 @@ fn log_log_grid<DB: DrawingBackend>(
 }
 
 /// A point that can sit on a log–log axis.
-fn loggable(p: &(f64, f64)) -> bool {
+pub(super) fn loggable(p: &(f64, f64)) -> bool {
     p.0.is_finite() && p.1.is_finite() && p.0 > 0.0 && p.1 > 0.0
 }
 
@@ -308,7 +308,7 @@ pub fn convergence(path: &Path, run: &RunResult, thesis: &ThesisTable) -> io::Re
 /// A log–log chart of `curves` (solid with dots, or dashed with hollow triangles) on `root`
 /// (760×520 pixels) with an optional dashed grey guide line, a legend, and `empty` written where
 /// there is nothing to draw.
-fn log_log_chart(
+pub(super) fn log_log_chart(
     root: &DrawingArea<SVGBackend<'_>, Shift>,
     title: &str,
     (x_label, y_label): (&str, &str),

@@ -74,6 +74,7 @@ use crate::estimators::substokes::{cell_parts_in_region, Options};
 use crate::experiment::{Experiment, SubStokesData};
 use crate::fe::DofMap;
 use crate::mesh::Mesh;
+use crate::models::film_comparison::cut_abscissae;
 use crate::models::film_coupling::{
     model_indicators, CoupledSolution, Coupling, Region, ReynoldsSolution,
 };
@@ -96,8 +97,6 @@ pub const GRID_COARSEN: f64 = 0.03;
 pub const MODEL_REFINE: f64 = 0.05;
 pub const MODEL_COARSEN: f64 = 0.01;
 pub const MODEL_EPS0: f64 = 1e-7;
-/// Points of the cut y = ½ through the last solution.
-pub const CUT_POINTS: usize = 101;
 
 /// What a run adapts with: the coupled problem, the initial mesh, the grid and the model
 /// fractions. [`Settings::thesis`] is §IV.3.4's; an experiment file (`fig-IV.116`) gives its own
@@ -424,9 +423,8 @@ fn run_observed(
             seconds_refine: 0.0,
         };
         if cycle + 1 == cycles {
-            run.cut = (0..CUT_POINTS)
-                .map(|i| {
-                    let x = i as f64 / (CUT_POINTS - 1) as f64;
+            run.cut = cut_abscissae([0.0, 1.0])
+                .map(|x| {
                     let psi = solution
                         .pressure_at(&mesh, [x, 0.5])
                         .expect("the cut lies in Ω₂");
@@ -499,6 +497,7 @@ pub fn run_experiment(
         [d.x[0], d.x[1], d.y[0], d.y[1]],
     );
     result.notes = experiment.notes.clone();
+    result.related = experiment.related.clone();
     let mut previous: Option<f64> = None;
     for r in &run.rows {
         let ratio = previous.map(|p| r.estimate_total / p);
@@ -599,7 +598,7 @@ mod tests {
         let run = run_fig_iv116(3).unwrap();
         assert_eq!(run.rows.len(), 3);
         assert_eq!(run.meshes.len(), 3);
-        assert_eq!(run.cut.len(), CUT_POINTS);
+        assert_eq!(run.cut.len(), crate::models::film_comparison::CUT_POINTS);
         check_finite(&run);
         let r0 = &run.rows[0];
         assert_eq!((r0.active_cells, r0.substokes_cells, r0.dofs), (64, 0, 81));

@@ -30,6 +30,7 @@ impl<'a> Recorder<'a> {
             experiment,
             result: RunResult {
                 notes: experiment.notes.clone(),
+                related: experiment.related.clone(),
                 ..RunResult::new(
                     &experiment.table,
                     &experiment.section,

@@ -18,6 +18,7 @@ use crate::estimators::reynolds::{VolumeResidual, ZoneResidual};
 use crate::experiment::{Rectangle, ReynoldsData, ReynoldsEstimator};
 use crate::fe::{DofMap, System};
 use crate::linalg::DirectSolver;
+use crate::models::film_comparison::{cut_height, pressure_cut};
 use crate::models::reynolds::{solve_cavitation, CellDataCache, Load, ReynoldsProblem};
 use crate::results::columns;
 
@@ -41,6 +42,8 @@ pub struct ReynoldsFilm {
     previous: Option<PreviousSolution>,
     solver: DirectSolver,
     domain: Rectangle,
+    /// Why the cut of the last solution could not be sampled, if it could not (a note).
+    cut_failure: Option<String>,
 }
 
 impl ReynoldsFilm {
@@ -56,6 +59,7 @@ impl ReynoldsFilm {
             previous: None,
             solver: DirectSolver::cholesky(),
             domain: *domain,
+            cut_failure: None,
         }
     }
 
@@ -229,10 +233,25 @@ impl Problem for ReynoldsFilm {
             dofs,
             u: &solution.u,
         };
+        // ψ_h along the cut of the SubStokes comparisons (x₂ = ½, 0.375 over the hill): the
+        // pure Reynolds solution of Fig. IV.118.
+        let cut = pressure_cut(
+            cut_height(&self.problem.film),
+            self.domain.x,
+            self.problem.boundary_pressure,
+            |p| field.value(0, p),
+        );
+        let cuts = match cut {
+            Ok(cuts) => Some(cuts),
+            Err(e) => {
+                self.cut_failure = Some(e);
+                None
+            }
+        };
         Pictures {
             deformed: Vec::new(),
             fields: vec![field.picture(cycle, "psi", 0, self.switch.is_on())],
-            ..Pictures::default()
+            cuts,
         }
     }
 
@@ -241,6 +260,10 @@ impl Problem for ReynoldsFilm {
     }
 
     fn notes(&self) -> Vec<String> {
-        self.switch.note().into_iter().collect()
+        let failure = self
+            .cut_failure
+            .as_ref()
+            .map(|e| format!("The cut of ψ_h on the last mesh could not be sampled: {e}"));
+        self.switch.note().into_iter().chain(failure).collect()
     }
 }

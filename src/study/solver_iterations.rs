@@ -34,6 +34,7 @@ pub fn run(experiment: &Experiment, tier: Tier, progress: Progress) -> Result<Ru
         [d.x[0], d.x[1], d.y[0], d.y[1]],
     );
     result.notes = experiment.notes.clone();
+    result.related = experiment.related.clone();
     for (k, name) in data.variants.iter().enumerate() {
         let variant = Variant::from_name(name)
             .ok_or_else(|| fail(format!("unknown Uzawa variant `{name}`")))?;
