@@ -225,3 +225,68 @@ fn model_and_grid_tables_draw_convergence_and_partitions() {
          est_interior,estimate,ratio,"
     ));
 }
+
+/// Without a terminal on stderr (CI, a log file) the report prints one line per finished cycle
+/// instead of a bar; `--no-progress` prints none.
+#[test]
+fn progress_without_a_terminal_is_one_line_per_cycle() {
+    let run = |extra: &[&str], name: &str| {
+        let out = report()
+            .args([
+                "--quick",
+                "--no-alternatives",
+                "--only",
+                "IV.52",
+                "--experiments",
+            ])
+            .arg(experiments())
+            .arg("--out")
+            .arg(temp_dir(name))
+            .args(extra)
+            .output()
+            .unwrap();
+        assert!(out.status.success());
+        String::from_utf8_lossy(&out.stderr).into_owned()
+    };
+    let err = run(&[], "progress-lines");
+    let lines: Vec<&str> = err.lines().filter(|l| l.contains("IV.52: cycle")).collect();
+    // The quick tier of IV.52: one unprinted solve and five printed rows.
+    assert_eq!(lines.len(), 6, "{err}");
+    assert!(lines[5].ends_with("IV.52: cycle 6 of 6 done"), "{err}");
+    let quiet = run(&["--no-progress"], "progress-none");
+    assert!(!quiet.contains("cycle"), "{quiet}");
+}
+
+/// The page header records where the report came from: the commit of the checkout, the UTC
+/// date, the machine and the command line.
+#[test]
+fn the_header_records_commit_date_machine_and_command() {
+    let out = temp_dir("provenance");
+    assert!(quick_table("IV.52", &out, &[]).status.success());
+    let page = std::fs::read_to_string(out.join("index.html")).unwrap();
+    let field = |name: &str| -> String {
+        let start = format!("<dt>{name}</dt><dd>");
+        let at = page
+            .find(&start)
+            .unwrap_or_else(|| panic!("no {name} in the header"))
+            + start.len();
+        page[at..].split("</dd>").next().unwrap().to_string()
+    };
+    let commit = field("commit");
+    let hex = commit.split(' ').next().unwrap();
+    if Path::new(env!("CARGO_MANIFEST_DIR")).join(".git").exists() {
+        assert!(
+            hex.len() == 12 && hex.chars().all(|c| c.is_ascii_hexdigit()),
+            "{commit}"
+        );
+    } else {
+        assert_eq!(commit, "unknown");
+    }
+    let date = field("date");
+    assert!(
+        date.len() == 20 && date.starts_with("20") && date.ends_with(" UTC"),
+        "{date}"
+    );
+    assert!(field("machine").contains(" cores, "));
+    assert!(field("command").contains("--only IV.52"));
+}

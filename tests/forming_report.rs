@@ -246,6 +246,7 @@ fn report_of(name: &str, sections: &[(&RunResult, &ThesisTable)]) -> (PathBuf, W
         generated_by: "tribo test".into(),
         total_seconds: 0.1,
         threads: 1,
+        provenance: Default::default(),
     };
     let dir = crate::cli::temp_dir(&format!("forming-{name}"));
     let written = report::write_report(&dir, &entries, &meta).unwrap();

@@ -365,6 +365,7 @@ fn meta() -> tribo::report::ReportMeta {
         generated_by: "test".into(),
         total_seconds: 0.0,
         threads: 1,
+        provenance: Default::default(),
     }
 }
 

@@ -8,6 +8,7 @@
 //! listed and an output folder that cannot be written end the program before anything is solved,
 //! with exit status 2.
 
+use std::io::IsTerminal;
 use std::panic::{self, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -43,7 +44,8 @@ struct Cli {
     #[arg(long, value_name = "DIR", default_value = "report")]
     out: PathBuf,
 
-    /// Do not show the progress bar.
+    /// Do not show progress. By default a terminal shows a bar with the time left, and
+    /// anything else (a log file, CI) gets one line per finished cycle.
     #[arg(long)]
     no_progress: bool,
 
@@ -90,6 +92,10 @@ enum Outcome {
 /// Returns Ok(false) when some table failed (the others are still reported).
 fn run(cli: &Cli) -> Result<bool, String> {
     let started = Instant::now();
+    let provenance = report::provenance::Provenance::collect(
+        std::env::args(),
+        Path::new(env!("CARGO_MANIFEST_DIR")),
+    );
     let only: Option<Vec<String>> = cli.only.as_ref().map(|v| {
         v.iter()
             .map(|s| s.trim().to_string())
@@ -125,16 +131,28 @@ fn run(cli: &Cli) -> Result<bool, String> {
         .filter_map(|(_, loaded)| loaded.as_ref().ok())
         .map(|s| cycles(s) * (1 + readings_of(s).len() as u64))
         .sum();
-    let bar = if cli.no_progress {
+    // A bar in a terminal; elsewhere (a log file, CI) one line per finished cycle.
+    let lines = !cli.no_progress && !std::io::stderr().is_terminal();
+    let bar = if cli.no_progress || lines {
         ProgressBar::hidden()
     } else {
         ProgressBar::new(total_cycles)
     };
     bar.set_style(
-        ProgressStyle::with_template("{elapsed_precise} [{bar:30}] {pos}/{len} cycles  {msg}")
-            .expect("valid template")
-            .progress_chars("=> "),
+        ProgressStyle::with_template(
+            "{elapsed_precise} [{bar:30}] {pos}/{len} cycles, about {eta} left  {msg}",
+        )
+        .expect("valid template")
+        .progress_chars("=> "),
     );
+    let cycle_done = |table: &str, done: usize, total: usize| {
+        if lines && done > 0 {
+            eprintln!(
+                "[{:>7.1} s] {table}: cycle {done} of {total} done",
+                started.elapsed().as_secs_f64()
+            );
+        }
+    };
     let report_failure = |f: &Failure| {
         bar.suspend(|| eprintln!("{}: {}", f.kind.name(), f.message));
     };
@@ -175,7 +193,10 @@ fn run(cli: &Cli) -> Result<bool, String> {
         let base = bar.position();
         let readings = readings_of(&spec);
         let runs_of_spec = 1 + readings.len() as u64;
-        let progress = |_: &str, done: usize, _: usize| bar.set_position(base + done as u64);
+        let progress = |_: &str, done: usize, total: usize| {
+            bar.set_position(base + done as u64);
+            cycle_done(&spec.table, done, total);
+        };
         let outcome = match run_isolated(&spec, tier, budget, &progress)
             .map(|run| {
                 if cli.no_alternatives {
@@ -194,8 +215,11 @@ fn run(cli: &Cli) -> Result<bool, String> {
                 for alt in readings {
                     bar.set_message(format!("{} {} ({})", spec.table, spec.title, alt.suffix));
                     let base = bar.position();
-                    let progress =
-                        |_: &str, done: usize, _: usize| bar.set_position(base + done as u64);
+                    let label = format!("{} ({})", spec.table, alt.suffix);
+                    let progress = |_: &str, done: usize, total: usize| {
+                        bar.set_position(base + done as u64);
+                        cycle_done(&label, done, total);
+                    };
                     let outcome = run_isolated(&alt.experiment, tier, budget, &progress).and_then(
                         |mut run| {
                             run.table = format!("{}.{}", spec.table, alt.suffix);
@@ -248,6 +272,7 @@ fn run(cli: &Cli) -> Result<bool, String> {
         generated_by: format!("tribo {}", env!("CARGO_PKG_VERSION")),
         total_seconds: started.elapsed().as_secs_f64(),
         threads: rayon::current_num_threads(),
+        provenance,
     };
     let written = report::write_report(&cli.out, &entries, &meta)
         .map_err(|e| format!("cannot write the report into {}: {e}", cli.out.display()))?;

@@ -17,6 +17,7 @@ mod forming;
 mod html;
 mod model_plots;
 mod plots;
+pub mod provenance;
 
 use std::any::Any;
 use std::fs;
@@ -110,6 +111,8 @@ pub struct ReportMeta {
     pub total_seconds: f64,
     /// Worker threads used (rayon pool size).
     pub threads: usize,
+    /// Commit, date, machine and command line of the run.
+    pub provenance: provenance::Provenance,
 }
 
 /// Printed thesis rows beyond this many are left out of a section's table and figures (the page
