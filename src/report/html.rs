@@ -110,6 +110,11 @@ fn fmt_value(column: &str, v: f64) -> String {
     }
 }
 
+/// An order of convergence to two decimals, with a true minus sign.
+fn fmt_order(order: f64) -> String {
+    format!("{order:.2}").replace('-', "−")
+}
+
 fn fmt_seconds(s: f64) -> String {
     if !s.is_finite() {
         return fmt_sig(s);
@@ -319,11 +324,14 @@ fn summary(h: &mut String, entries: &[Entry]) {
          tribo, caught) or not loaded (the experiment file was rejected); a failed table's \
          section has the message; figure: no printed table (the thesis shows the result as a \
          figure only, so tribo's rows are shown alone). Geometric mean of the estimate ratio over \
-         the cycles that have one (the mean reduction per cycle). Largest relative difference to the thesis over the \
+         the cycles that have one (the mean reduction per cycle). Order: the experimental order of \
+         convergence, the least-squares slope of log estimate against log dofs over the rows \
+         (−½ is optimal for Q₁ elements in two dimensions). Largest relative difference to the thesis over the \
          computed cycles; <span class=\"swatch\"></span> beyond 3 % (dofs) or 5 % (estimate).</p>\n\
          <div class=\"scroll\"><table>\n<thead><tr><th class=\"text\">table</th><th class=\"text\">section</th>\
          <th class=\"text\">title</th><th class=\"text\">status</th><th>rows (tribo / thesis)</th>\
-         <th>last dofs</th><th>last estimate</th><th>geo-mean ratio</th><th>max Δ dofs</th>\
+         <th>last dofs</th><th>last estimate</th><th>geo-mean ratio</th>\
+         <th>order (tribo / thesis)</th><th>max Δ dofs</th>\
          <th>max Δ estimate</th><th>seconds</th></tr></thead>\n<tbody>\n",
     );
     for entry in entries {
@@ -343,7 +351,7 @@ fn summary(h: &mut String, entries: &[Entry]) {
         let _ = writeln!(
             h,
             "<tr><td class=\"text\"><a href=\"#{}\">{}</a>{dup}</td><td class=\"text\">{}</td>\
-             <td class=\"text\">{}</td>{}<td>{} / {}</td>{}{}{}{}{}<td>{}</td></tr>",
+             <td class=\"text\">{}</td>{}<td>{} / {}</td>{}{}{}<td>{} / {}</td>{}{}<td>{}</td></tr>",
             anchor(&s.run.table),
             escape(&s.run.table),
             escape(&s.run.section),
@@ -358,6 +366,8 @@ fn summary(h: &mut String, entries: &[Entry]) {
             opt_cell(sm.last_dofs.map(|d| d.to_string())),
             opt_cell(sm.last_estimate.map(fmt_sig)),
             opt_cell(sm.geo_mean_ratio.map(fmt_sig)),
+            sm.order.map_or("—".into(), fmt_order),
+            sm.thesis_order.map_or("—".into(), fmt_order),
             diff_cell("dofs", sm.max_dofs_diff),
             diff_cell("estimate", sm.max_estimate_diff),
             fmt_seconds(sm.total_seconds),
@@ -1036,6 +1046,17 @@ fn comparison_table(h: &mut String, s: &Section) {
          <span class=\"swatch\"></span> |Δ| beyond 3 % (cells, dofs) or 5 % (other columns). \
          — : not computed in this tier or not printed.</p>\n",
     );
+    let order = super::Summary::of(s);
+    if order.order.is_some() || order.thesis_order.is_some() {
+        let _ = writeln!(
+            h,
+            "<p class=\"legend\">Experimental order of convergence, the least-squares slope of \
+             log estimate against log dofs over the rows: tribo {}, thesis {} (−½ is optimal \
+             for Q₁ elements in two dimensions).</p>",
+            order.order.map_or("—".into(), fmt_order),
+            order.thesis_order.map_or("—".into(), fmt_order),
+        );
+    }
     if thesis.len() > MAX_SHOWN_THESIS_ROWS {
         let _ = writeln!(
             h,

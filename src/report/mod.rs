@@ -654,6 +654,10 @@ pub(crate) struct Summary {
     pub max_dofs_diff: Option<f64>,
     pub max_estimate_diff: Option<f64>,
     pub total_seconds: f64,
+    /// The experimental order of convergence of tribo's rows and of the printed ones
+    /// ([`convergence_order`]).
+    pub order: Option<f64>,
+    pub thesis_order: Option<f64>,
 }
 
 impl Summary {
@@ -676,8 +680,75 @@ impl Summary {
             max_estimate_diff: max_abs_diff(section, "estimate"),
             // A fold from +0.0: an empty `sum()` of floats is −0.0, which would print as "-0.000 s".
             total_seconds: run.rows.iter().fold(0.0, |acc, r| acc + r.seconds.total()),
+            order: tribo_order(run),
+            thesis_order: thesis_order(section),
         }
     }
+}
+
+/// The experimental order of convergence: the least-squares slope of log(estimate) against
+/// log(dofs) over `points` (dofs, estimate). An adaptive method that is optimal for Q₁ elements
+/// in two dimensions has η ∝ N^{-1/2}, order −½. `None` with fewer than three usable points or
+/// without two different dofs.
+pub(crate) fn convergence_order(points: &[(f64, f64)]) -> Option<f64> {
+    let logs: Vec<(f64, f64)> = points
+        .iter()
+        .filter(|(n, e)| n.is_finite() && e.is_finite() && *n > 0.0 && *e > 0.0)
+        .map(|(n, e)| (n.ln(), e.ln()))
+        .collect();
+    if logs.len() < 3 {
+        return None;
+    }
+    let k = logs.len() as f64;
+    let (mx, my) = logs
+        .iter()
+        .fold((0.0, 0.0), |(a, b), (x, y)| (a + x / k, b + y / k));
+    let sxx: f64 = logs.iter().map(|(x, _)| (x - mx).powi(2)).sum();
+    let sxy: f64 = logs.iter().map(|(x, y)| (x - mx) * (y - my)).sum();
+    (sxx > 1e-12).then(|| sxy / sxx)
+}
+
+/// The order of tribo's rows: each row's estimate on its own mesh against its dofs. None for a
+/// load-step run (the rows are load steps) and a model-adaptive one (one fixed mesh).
+fn tribo_order(run: &RunResult) -> Option<f64> {
+    if run.is_load_steps() || run.is_model_adaptive() {
+        return None;
+    }
+    let points: Vec<(f64, f64)> = run
+        .rows
+        .iter()
+        .filter_map(|r| Some((r.dofs()? as f64, r.estimate()?)))
+        .collect();
+    convergence_order(&points)
+}
+
+/// The order of the printed rows. Where the thesis prints each row's mesh beside the estimate
+/// of the solve before it (the fluid tables), the estimate of row k belongs to the mesh of row
+/// k − 1, and the two are paired so.
+fn thesis_order(section: &Section) -> Option<f64> {
+    if section.run.is_load_steps() || section.run.is_model_adaptive() {
+        return None;
+    }
+    let thesis = section.thesis;
+    let column = |name: &str| -> Vec<f64> {
+        let Some(c) = thesis.columns.iter().position(|n| n == name) else {
+            return Vec::new();
+        };
+        thesis
+            .rows
+            .iter()
+            .take(MAX_SHOWN_THESIS_ROWS)
+            .map(|r| r.get(c).copied().unwrap_or(f64::NAN))
+            .collect()
+    };
+    let (dofs, estimates) = (column("dofs"), column("estimate"));
+    let shift = usize::from(compares_previous_estimate(section.run));
+    let points: Vec<(f64, f64)> = dofs
+        .iter()
+        .zip(estimates.iter().skip(shift))
+        .map(|(n, e)| (*n, *e))
+        .collect();
+    convergence_order(&points)
 }
 
 /// Whether the run's estimates are compared with the thesis one solve late: the fluid tables
@@ -795,5 +866,37 @@ mod tests {
         assert_eq!(compared_value(&plain, 0, "estimate"), Some(4.0));
         assert_eq!(compared_value(&plain, 1, "ratio"), Some(0.5));
         assert_eq!(compared_value(&plain, 2, "estimate"), None);
+    }
+}
+
+#[cfg(test)]
+mod order_tests {
+    use super::convergence_order;
+
+    /// η = C N^p is recovered exactly; a wobble around it moves the slope a little; too few or
+    /// degenerate points give none.
+    #[test]
+    fn the_order_is_the_log_log_slope() {
+        let exact: Vec<(f64, f64)> = [100.0, 200.0, 400.0, 800.0]
+            .iter()
+            .map(|&n: &f64| (n, 3.0 * n.powf(-0.5)))
+            .collect();
+        assert!((convergence_order(&exact).unwrap() + 0.5).abs() < 1e-12);
+        let wobble: Vec<(f64, f64)> = exact
+            .iter()
+            .enumerate()
+            .map(|(i, &(n, e))| (n, e * if i % 2 == 0 { 1.05 } else { 0.95 }))
+            .collect();
+        let p = convergence_order(&wobble).unwrap();
+        assert!((p + 0.5).abs() > 1e-3 && (p + 0.5).abs() < 0.1, "{p}");
+        assert_eq!(convergence_order(&exact[..2]), None);
+        assert_eq!(
+            convergence_order(&[(10.0, 1.0), (10.0, 2.0), (10.0, 3.0)]),
+            None
+        );
+        assert_eq!(
+            convergence_order(&[(10.0, 1.0), (20.0, f64::NAN), (40.0, 0.5)]),
+            None
+        );
     }
 }
