@@ -403,6 +403,9 @@ pub struct RunResult {
     /// Tables of the same scene solved another way, drawn beside this one where the report has
     /// them (`related` of the experiment file).
     pub related: Vec<String>,
+    /// A thin film: whether the cavitation model was in use at the end of the run (with
+    /// `cavitation = "auto"`, whether it switched on); `None` for the other problems.
+    pub cavitation_ran: Option<bool>,
     /// What is legal but suspicious in the experiment or the run (`field: message`, shown in
     /// the report and on stderr).
     pub warnings: Vec<String>,
@@ -428,6 +431,7 @@ impl RunResult {
             domain,
             notes: Vec::new(),
             related: Vec::new(),
+            cavitation_ran: None,
             warnings: Vec::new(),
         }
     }

@@ -290,3 +290,42 @@ fn the_header_records_commit_date_machine_and_command() {
     assert!(field("machine").contains(" cores, "));
     assert!(field("command").contains("--only IV.52"));
 }
+
+/// The readings of the cavitation source apply only where the cavitation model runs: with
+/// `cavitation = "auto"` on (IV.7), whose pressure never drops below zero, they are not run and
+/// the page says why; on (IV.8), which cavitates, both run.
+#[test]
+fn cavitation_readings_run_only_where_cavitation_switches_on() {
+    let dir = temp_dir("auto-readings");
+    for (table, auto) in [("IV.36", "never"), ("IV.64", "switches")] {
+        let text = std::fs::read_to_string(experiments().join(format!("{table}.toml"))).unwrap();
+        let edited = text
+            .replacen("cavitation = \"off\"", "cavitation = \"auto\"", 1)
+            .replacen("cavitation = \"on\"", "cavitation = \"auto\"", 1);
+        assert_ne!(text, edited, "{auto}: test setup");
+        std::fs::write(dir.join(format!("{table}.toml")), edited).unwrap();
+    }
+    let out = dir.join("out");
+    let run = report()
+        .args(["--quick", "--no-progress", "--experiments"])
+        .arg(&dir)
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let data = |name: &str| out.join("data").join(name).exists();
+    assert!(!data("IV.36.self-consistent.csv") && !data("IV.36.reynolds.csv"));
+    assert!(data("IV.64.self-consistent.csv") && data("IV.64.reynolds.csv"));
+    let page = std::fs::read_to_string(out.join("index.html")).unwrap();
+    assert_eq!(
+        page.matches("the cavitation model never switched on, so it would repeat the table")
+            .count(),
+        2,
+        "one note per reading of IV.36"
+    );
+}

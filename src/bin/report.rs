@@ -207,12 +207,20 @@ fn run(cli: &Cli) -> Result<bool, String> {
             })
             .and_then(|run| write_data(&cli.out, &spec, run))
         {
-            Ok(run) => {
+            Ok(mut run) => {
                 for w in &run.warnings {
                     bar.suspend(|| eprintln!("warning: table {}: {w}", spec.table));
                 }
                 let mut alternatives = Vec::new();
                 for alt in readings {
+                    if !alt.applies_to(&run) {
+                        run.notes.push(format!(
+                            "Alternative reading not run: {} — the cavitation model never \
+                             switched on, so it would repeat the table.",
+                            alt.label
+                        ));
+                        continue;
+                    }
                     bar.set_message(format!("{} {} ({})", spec.table, spec.title, alt.suffix));
                     let base = bar.position();
                     let label = format!("{} ({})", spec.table, alt.suffix);

@@ -246,4 +246,10 @@ pub trait Problem {
     fn notes(&self) -> Vec<String> {
         Vec::new()
     }
+
+    /// A thin film: whether the cavitation model was in use at the end of the run (`None` for
+    /// the problems without one).
+    fn cavitation_ran(&self) -> Option<bool> {
+        None
+    }
 }

@@ -12,6 +12,17 @@ pub struct AlternativeReading {
     /// Suffix of the alternative's data file (`report/data/<table>.<suffix>.csv`).
     pub suffix: String,
     pub experiment: Experiment,
+    /// Whether the reading changes only the cavitation model, so that it applies only to a run
+    /// whose cavitation model was in use ([`AlternativeReading::applies_to`]).
+    pub needs_cavitation: bool,
+}
+
+impl AlternativeReading {
+    /// Whether the reading can differ from `run`, the run as written: a reading of the
+    /// cavitation model does not apply to a run whose cavitation never switched on.
+    pub fn applies_to(&self, run: &crate::results::RunResult) -> bool {
+        !self.needs_cavitation || run.cavitation_ran != Some(false)
+    }
 }
 
 /// The alternative readings the report compares an experiment with: for Reynolds with
@@ -33,6 +44,7 @@ pub fn alternative_readings(experiment: &Experiment) -> Vec<AlternativeReading> 
                     label: reading.label.into(),
                     suffix: reading.suffix.into(),
                     experiment: alt,
+                    needs_cavitation: true,
                 }
             })
             .collect(),
@@ -52,6 +64,7 @@ pub fn alternative_readings(experiment: &Experiment) -> Vec<AlternativeReading> 
                     ),
                     suffix: solver.name().into(),
                     experiment: alt,
+                    needs_cavitation: false,
                 }]
             }
             _ => Vec::new(),
@@ -71,6 +84,7 @@ pub fn alternative_readings(experiment: &Experiment) -> Vec<AlternativeReading> 
                     .into(),
                 suffix: "z-solution".into(),
                 experiment: alt,
+                needs_cavitation: false,
             }]
         }
         Problem::Elasticity(_)

@@ -124,6 +124,7 @@ impl<'a> Recorder<'a> {
     /// The result, with the problem's notes and the warnings of the file and the run.
     pub fn finish(mut self, problem: &dyn Problem) -> RunResult {
         self.result.notes.extend(problem.notes());
+        self.result.cavitation_ran = problem.cavitation_ran();
         self.result.warnings = super::warnings::of_run(self.experiment, &self.result.rows)
             .iter()
             .map(ToString::to_string)

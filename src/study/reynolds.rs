@@ -259,6 +259,10 @@ impl Problem for ReynoldsFilm {
         (name == "psi").then_some(0)
     }
 
+    fn cavitation_ran(&self) -> Option<bool> {
+        Some(self.switch.is_on())
+    }
+
     fn notes(&self) -> Vec<String> {
         let failure = self
             .cut_failure

@@ -337,6 +337,10 @@ impl Problem for SubStokesFilm {
         COMPONENTS.iter().position(|&c| c == name)
     }
 
+    fn cavitation_ran(&self) -> Option<bool> {
+        Some(self.switch.is_on())
+    }
+
     fn notes(&self) -> Vec<String> {
         let failure = self.comparison_failure.as_ref().map(|e| {
             format!("The Reynolds comparison on the last mesh could not be computed: {e}")
