@@ -12,7 +12,7 @@ use plotters::prelude::*;
 
 use super::html::fmt_short;
 use super::plots::{
-    log_log_chart, log_range, log_tick, loggable, plot_err, series_legend, Curve, NiceLog,
+    log_range, log_tick, loggable, plot_err, series_legend, write_log_log, Curve, NiceLog,
 };
 use crate::results::{Cuts, RunResult};
 
@@ -278,20 +278,14 @@ pub(super) fn estimate_vs_substokes_cells(
             ),
         });
     }
-    let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, (760, 520)).into_drawing_area();
-        log_log_chart(
-            &root,
-            &format!("{} — estimate vs SubStokes cells", run.table),
-            ("SubStokes cells", "estimate"),
-            &curves,
-            (&[], ""),
-            "no SubStokes cells",
-        )?;
-        root.present().map_err(plot_err)?;
-    }
-    fs::write(path, svg)
+    write_log_log(
+        path,
+        &format!("{} — estimate vs SubStokes cells", run.table),
+        ("SubStokes cells", "estimate"),
+        &curves,
+        (&[], ""),
+        "no SubStokes cells",
+    )
 }
 
 /// Fig. IV.118: the pressure ψ along the cut of the model-adaptive run beside the last solutions
@@ -372,18 +366,12 @@ pub(super) fn related_cost(path: &Path, run: &RunResult, related: &[&RunResult])
     for r in related {
         curves.push(curve(r, related_label(r), related_color(r)));
     }
-    let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, (760, 520)).into_drawing_area();
-        log_log_chart(
-            &root,
-            &format!("{} — cost of accuracy, one scene three ways", run.table),
-            ("cumulative wall seconds", "estimate (each in its own norm)"),
-            &curves,
-            (&[], ""),
-            "no timed rows",
-        )?;
-        root.present().map_err(plot_err)?;
-    }
-    fs::write(path, svg)
+    write_log_log(
+        path,
+        &format!("{} — cost of accuracy, one scene three ways", run.table),
+        ("cumulative wall seconds", "estimate (each in its own norm)"),
+        &curves,
+        (&[], ""),
+        "no timed rows",
+    )
 }

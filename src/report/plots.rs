@@ -289,17 +289,29 @@ pub fn convergence(path: &Path, run: &RunResult, thesis: &ThesisTable) -> io::Re
     } else {
         Vec::new()
     };
+    write_log_log(
+        path,
+        &format!("{} — convergence", run.table),
+        ("degrees of freedom", "estimate"),
+        &curves,
+        (&guide_pts, "slope −1/2"),
+        "no positive estimates to plot",
+    )
+}
+
+/// Write one 760×520 [`log_log_chart`] as an SVG file.
+pub(super) fn write_log_log(
+    path: &Path,
+    title: &str,
+    labels: (&str, &str),
+    curves: &[Curve],
+    guide: (&[(f64, f64)], &str),
+    empty: &str,
+) -> io::Result<()> {
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, (760, 520)).into_drawing_area();
-        log_log_chart(
-            &root,
-            &format!("{} — convergence", run.table),
-            ("degrees of freedom", "estimate"),
-            &curves,
-            (&guide_pts, "slope −1/2"),
-            "no positive estimates to plot",
-        )?;
+        log_log_chart(&root, title, labels, curves, guide, empty)?;
         root.present().map_err(plot_err)?;
     }
     fs::write(path, svg)
@@ -308,7 +320,7 @@ pub fn convergence(path: &Path, run: &RunResult, thesis: &ThesisTable) -> io::Re
 /// A log–log chart of `curves` (solid with dots, or dashed with hollow triangles) on `root`
 /// (760×520 pixels) with an optional dashed grey guide line, a legend, and `empty` written where
 /// there is nothing to draw.
-pub(super) fn log_log_chart(
+fn log_log_chart(
     root: &DrawingArea<SVGBackend<'_>, Shift>,
     title: &str,
     (x_label, y_label): (&str, &str),
