@@ -74,7 +74,7 @@ use crate::estimators::substokes::{cell_parts_in_region, Options};
 use crate::experiment::{Experiment, SubStokesData};
 use crate::fe::DofMap;
 use crate::mesh::Mesh;
-use crate::models::film_comparison::cut_abscissae;
+use crate::models::film_comparison::pressure_cut;
 use crate::models::film_coupling::{
     model_indicators, CoupledSolution, Coupling, Region, ReynoldsSolution,
 };
@@ -153,9 +153,9 @@ pub struct ModelFluidRun {
     /// Per cycle: every active cell of the solved mesh, its box [x0, y0, x1, y1] and whether
     /// it is a SubStokes cell (the last entry is the final mesh).
     pub meshes: Vec<(usize, Vec<CellModel>)>,
-    /// The coupled pressure of the last solve along y = ½: (x₁, ψ) at x₁ = i/100, i = 0…100
-    /// ([`CoupledSolution::pressure_at`]).
-    pub cut: Vec<(f64, f64)>,
+    /// The coupled pressure of the last solve along y = ½ ([`pressure_cut`] of
+    /// [`CoupledSolution::pressure_at`]: columns `x`, `psi`); none before the last cycle.
+    pub cut: Option<Cuts>,
 }
 
 /// The indicators of one cycle (step 2 of the module docs), per active cell.
@@ -393,7 +393,7 @@ fn run_observed(
     let mut run = ModelFluidRun {
         rows: Vec::with_capacity(cycles),
         meshes: Vec::with_capacity(cycles),
-        cut: Vec::new(),
+        cut: None,
     };
     for cycle in 0..cycles {
         let at = |e: String| format!("model-adaptive fluid (Fig. IV.116), cycle {cycle}: {e}");
@@ -423,14 +423,10 @@ fn run_observed(
             seconds_refine: 0.0,
         };
         if cycle + 1 == cycles {
-            run.cut = cut_abscissae([0.0, 1.0])
-                .map(|x| {
-                    let psi = solution
-                        .pressure_at(&mesh, [x, 0.5])
-                        .expect("the cut lies in Ω₂");
-                    (x, psi)
-                })
-                .collect();
+            let cut = pressure_cut(0.5, [0.0, 1.0], coupling.substokes.boundary_pressure, |p| {
+                solution.pressure_at(&mesh, p)
+            });
+            run.cut = Some(cut.map_err(at)?);
         } else {
             let solved = mesh.clone();
             let adapted = clock
@@ -539,16 +535,7 @@ pub fn run_experiment(
                 .collect(),
         })
         .collect();
-    result.cuts = Some(Cuts {
-        y: 0.5,
-        boundary_pressure: settings.coupling.substokes.boundary_pressure,
-        columns: vec![
-            ("x".into(), run.cut.iter().map(|p| p.0).collect()),
-            ("psi".into(), run.cut.iter().map(|p| p.1).collect()),
-        ],
-        cavitated_substokes: None,
-        cavitated_reynolds: None,
-    });
+    result.cuts = run.cut;
     Ok(result)
 }
 
@@ -571,6 +558,13 @@ mod tests {
         g0 + amplitude * ((w * b[0]).cos() - (w * b[2]).cos()) / (w * (b[2] - b[0]))
     }
 
+    /// The cut of the last solve as (x₁, ψ) pairs.
+    fn cut_points(run: &ModelFluidRun) -> Vec<(f64, f64)> {
+        let cut = run.cut.as_ref().expect("the cut of the last solve");
+        let (x, psi) = (cut.column("x").unwrap(), cut.column("psi").unwrap());
+        x.iter().copied().zip(psi.iter().copied()).collect()
+    }
+
     fn check_finite(run: &ModelFluidRun) {
         for r in &run.rows {
             for v in [
@@ -587,7 +581,9 @@ mod tests {
                 assert!(v.is_finite() && v >= 0.0, "{r:?}");
             }
         }
-        assert!(run.cut.iter().all(|(x, p)| x.is_finite() && p.is_finite()));
+        assert!(cut_points(run)
+            .iter()
+            .all(|(x, p)| x.is_finite() && p.is_finite()));
     }
 
     /// Three cycles (the quick run): rows, meshes and cut complete and finite; row 0 is the
@@ -598,7 +594,8 @@ mod tests {
         let run = run_fig_iv116(3).unwrap();
         assert_eq!(run.rows.len(), 3);
         assert_eq!(run.meshes.len(), 3);
-        assert_eq!(run.cut.len(), crate::models::film_comparison::CUT_POINTS);
+        let cut = cut_points(&run);
+        assert_eq!(cut.len(), crate::models::film_comparison::CUT_POINTS);
         check_finite(&run);
         let r0 = &run.rows[0];
         assert_eq!((r0.active_cells, r0.substokes_cells, r0.dofs), (64, 0, 81));
@@ -616,8 +613,8 @@ mod tests {
             assert!((row.estimate_total - total).abs() <= 1e-12 * total);
         }
         // The cut ends on ∂Ω₂ (ψ = 200) and runs through the interior.
-        assert!((run.cut[0].1 - 200.0).abs() < 1e-9 && (run.cut[100].1 - 200.0).abs() < 1e-9);
-        assert!(run.cut.iter().any(|(_, p)| (p - 200.0).abs() > 1.0));
+        assert!((cut[0].1 - 200.0).abs() < 1e-9 && (cut[100].1 - 200.0).abs() < 1e-9);
+        assert!(cut.iter().any(|(_, p)| (p - 200.0).abs() > 1.0));
         for row in &run.rows {
             println!("{row:?}");
         }
@@ -775,8 +772,7 @@ mod tests {
                 r.seconds_refine
             );
         }
-        let cut: Vec<String> = run
-            .cut
+        let cut: Vec<String> = cut_points(&run)
             .iter()
             .step_by(10)
             .map(|(x, p)| format!("({x:.1}, {p:.2})"))
