@@ -19,19 +19,27 @@ use crate::results::{Cuts, RunResult};
 const SUBSTOKES: RGBColor = RGBColor(31, 90, 180);
 const REYNOLDS: RGBColor = RGBColor(200, 60, 40);
 
-/// Write the comparison figure of `run`'s cuts to `path`.
-pub(super) fn cuts(path: &Path, run: &RunResult, cuts: &Cuts) -> io::Result<()> {
-    let x = cuts.column("x").unwrap_or_default();
-    let curve = |column: &str, label: &str, color: RGBColor, dashed: bool| Curve {
-        label: label.to_string(),
+/// Column `column` of `cuts` against x₁ as a curve (non-finite values left out).
+fn cut_curve(cuts: &Cuts, column: &str, label: String, color: RGBColor, dashed: bool) -> Curve {
+    Curve {
+        label,
         color,
         dashed,
-        points: x
+        points: cuts
+            .column("x")
+            .unwrap_or_default()
             .iter()
             .copied()
             .zip(cuts.column(column).unwrap_or_default().iter().copied())
             .filter(|(_, v)| v.is_finite())
             .collect(),
+    }
+}
+
+/// Write the comparison figure of `run`'s cuts to `path`.
+pub(super) fn cuts(path: &Path, run: &RunResult, cuts: &Cuts) -> io::Result<()> {
+    let curve = |column: &str, label: &str, color: RGBColor, dashed: bool| {
+        cut_curve(cuts, column, label.to_string(), color, dashed)
     };
     let pressure = [
         curve("p_substokes", "SubStokes ψ/g", SUBSTOKES, false),
@@ -295,20 +303,7 @@ pub(super) fn related_cuts(path: &Path, run: &RunResult, related: &[&RunResult])
     let Some(cuts) = &run.cuts else {
         return Ok(());
     };
-    let curve = |c: &Cuts, column: &str, label: String, color: RGBColor, dashed: bool| Curve {
-        label,
-        color,
-        dashed,
-        points: c
-            .column("x")
-            .unwrap_or_default()
-            .iter()
-            .copied()
-            .zip(c.column(column).unwrap_or_default().iter().copied())
-            .filter(|(_, v)| v.is_finite())
-            .collect(),
-    };
-    let mut curves = vec![curve(
+    let mut curves = vec![cut_curve(
         cuts,
         "psi",
         format!("model-adaptive ({})", run.table),
@@ -324,7 +319,13 @@ pub(super) fn related_cuts(path: &Path, run: &RunResult, related: &[&RunResult])
         } else {
             "psi"
         };
-        curves.push(curve(c, column, related_label(r), related_color(r), true));
+        curves.push(cut_curve(
+            c,
+            column,
+            related_label(r),
+            related_color(r),
+            true,
+        ));
     }
     let mut svg = String::new();
     {
