@@ -28,7 +28,7 @@ impl Provenance {
             .duration_since(UNIX_EPOCH)
             .map_or(0, |d| d.as_secs());
         let cores = std::thread::available_parallelism().map_or(0, |n| n.get());
-        let memory = memory_bytes().map_or("unknown memory".into(), |b| {
+        let memory = crate::study::budget::machine_memory().map_or("unknown memory".into(), |b| {
             format!("{:.1} GiB", b / (1024.0 * 1024.0 * 1024.0))
         });
         Provenance {
@@ -60,14 +60,6 @@ fn commit(source: &Path) -> Option<String> {
     } else {
         format!("{head} + local changes")
     })
-}
-
-/// Total memory from `/proc/meminfo` (Linux), in bytes.
-fn memory_bytes() -> Option<f64> {
-    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
-    let line = text.lines().find(|l| l.starts_with("MemTotal:"))?;
-    let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kib * 1024.0)
 }
 
 /// `YYYY-MM-DD HH:MM UTC` of seconds since 1970-01-01 00:00 UTC (the proleptic Gregorian

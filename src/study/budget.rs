@@ -27,6 +27,15 @@ pub const BYTES_PER_CELL: f64 = 2000.0;
 /// tables reach 1.09–1.16 times 1 + 3θ_r − ¾θ_c to the power of their cycles (5 to 9).
 pub const CLOSURE: f64 = 1.02;
 
+/// The machine's total memory in bytes (`MemTotal` of `/proc/meminfo`, Linux); `None` where it
+/// cannot be read.
+pub fn machine_memory() -> Option<f64> {
+    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = text.lines().find(|l| l.starts_with("MemTotal:"))?;
+    let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib * 1024.0)
+}
+
 /// Memory a run may use.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Budget {
@@ -34,17 +43,10 @@ pub struct Budget {
 }
 
 impl Budget {
-    /// The machine's memory (`MemTotal` of `/proc/meminfo`), or 8 GiB where it cannot be read.
+    /// The machine's memory ([`machine_memory`]), or 8 GiB where it cannot be read.
     pub fn machine() -> Budget {
-        let total = std::fs::read_to_string("/proc/meminfo")
-            .ok()
-            .and_then(|text| {
-                let line = text.lines().find(|l| l.starts_with("MemTotal:"))?;
-                let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
-                Some(kib * 1024.0)
-            });
         Budget {
-            bytes: total.unwrap_or(8.0 * GIB),
+            bytes: machine_memory().unwrap_or(8.0 * GIB),
         }
     }
 
