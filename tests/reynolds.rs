@@ -304,8 +304,9 @@ fn linear_gap_sliding_estimates_are_the_thesis_without_its_constant_part() {
     }
 }
 
-/// The rule of tests/common.rs (every ratio in [0.60, 0.85], geometric mean in [0.66, 0.76]).
-/// The quick tier holds a single ratio inside the window [2, 7], and fixed-number marking of
+/// The per-cycle band of the 30 % marking (every ratio in [0.60, 0.85], geometric mean in
+/// [0.66, 0.76]): the quick tier holds too few rows for the order of the full-tier rule
+/// (`common::assert_convergence`). It holds a single ratio inside the window [2, 7], and fixed-number marking of
 /// 30 % makes the ratio alternate with period two (the thesis too: 0.827, 0.659, 0.807, 0.712 in
 /// IV.36), so the quick tier applies the rule to one full period, printed rows 1–2; the full
 /// tier applies `assert_convergence` on [2, 7] (`full_tier::reynolds`, ignored by default).

@@ -690,7 +690,7 @@ impl Summary {
 /// log(dofs) over `points` (dofs, estimate). An adaptive method that is optimal for Q₁ elements
 /// in two dimensions has η ∝ N^{-1/2}, order −½. `None` with fewer than three usable points or
 /// without two different dofs.
-pub(crate) fn convergence_order(points: &[(f64, f64)]) -> Option<f64> {
+pub fn convergence_order(points: &[(f64, f64)]) -> Option<f64> {
     let logs: Vec<(f64, f64)> = points
         .iter()
         .filter(|(n, e)| n.is_finite() && e.is_finite() && *n > 0.0 && *e > 0.0)
