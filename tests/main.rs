@@ -1,6 +1,7 @@
 //! tribo's test suite, one binary so that the heavy dependencies link once.
 
 mod bad_input;
+mod browser;
 mod cli;
 mod common;
 mod contact;

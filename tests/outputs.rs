@@ -4,6 +4,7 @@
 use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::Command;
+use std::sync::OnceLock;
 
 /// Tokens that spell a non-finite number in our outputs (Rust's and polars' spellings).
 fn non_finite(token: &str) -> bool {
@@ -78,12 +79,19 @@ fn assert_finite(out: &Path) {
     assert!(found.is_empty(), "non-finite values:\n{}", found.join("\n"));
 }
 
+/// The quick report of every shipped experiment (without alternative readings), made once per
+/// test run and shared by the tests that read a whole page; left in the temporary folder.
+pub fn whole_quick_report() -> &'static Path {
+    static WHOLE: OnceLock<PathBuf> = OnceLock::new();
+    WHOLE.get_or_init(|| {
+        let experiments = Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments");
+        quick_report(&experiments, "quick", None)
+    })
+}
+
 #[test]
 fn the_quick_tier_writes_no_non_finite_value() {
-    let experiments = Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments");
-    let out = quick_report(&experiments, "quick", None);
-    assert_finite(&out);
-    let _ = fs::remove_dir_all(&out);
+    assert_finite(whole_quick_report());
 }
 
 #[test]

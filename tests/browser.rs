@@ -1,0 +1,141 @@
+//! The report page in a real browser: headless Chromium (Debian package `chromium`, which
+//! `.ci/run` installs when it is missing) opens `index.html` of the quick report of every table
+//! and the test asserts that every figure loads and decodes, that the browser logs no console
+//! message (a missing figure or a broken reference logs "Failed to load resource"), and that
+//! every link of the contents and the summary reaches an element of the page.
+//!
+//! The page itself has no scripts. The test copies it next to the original (so that the
+//! relative `figures/` paths resolve) with one checking script added, lets Chromium run it, and
+//! reads the script's verdict from the DOM Chromium dumps.
+
+use std::fs;
+use std::path::Path;
+use std::process::Command;
+
+use crate::outputs::whole_quick_report;
+
+/// The script added to the copy: it loads every `<img>` of the page afresh (the page's figures
+/// are `loading="lazy"`, so a headless window would fetch only the first screen), follows every
+/// in-page link of the contents and the summary, and writes what it found as JSON into
+/// `<pre id="browser-check">`.
+const CHECK: &str = r##"<script>
+window.__errors = [];
+window.addEventListener('error', e => window.__errors.push(String(e.message || e)));
+window.addEventListener('DOMContentLoaded', async () => {
+  const result = { figures: 0, broken: [], links: 0, dangling: [], errors: [] };
+  for (const img of Array.from(document.images)) {
+    const probe = new Image();
+    probe.src = img.getAttribute('src');
+    try {
+      await probe.decode();
+      if (probe.naturalWidth > 0) { result.figures += 1; } else { result.broken.push(probe.src); }
+    } catch (e) {
+      result.broken.push(img.getAttribute('src') + ': ' + e);
+    }
+  }
+  for (const a of document.querySelectorAll('nav a[href^="#"], #summary a[href^="#"]')) {
+    result.links += 1;
+    if (!document.getElementById(decodeURIComponent(a.getAttribute('href').slice(1)))) {
+      result.dangling.push(a.getAttribute('href'));
+    }
+  }
+  result.errors = window.__errors;
+  const pre = document.createElement('pre');
+  pre.id = 'browser-check';
+  pre.textContent = JSON.stringify(result);
+  document.body.appendChild(pre);
+});
+</script>"##;
+
+/// Chromium's flags for a closed machine: no sandbox (CI runs as root), no GPU, and none of the
+/// background connections that this machine's network refuses.
+const FLAGS: [&str; 9] = [
+    "--headless",
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-quic",
+    "--no-first-run",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+    "--enable-logging=stderr",
+];
+
+/// The value of a JSON field `"name":<digits>` or `"name":[…]` in the script's output (the
+/// verdict is small and flat; no JSON parser needed).
+fn field<'a>(json: &'a str, name: &str) -> &'a str {
+    let key = format!("\"{name}\":");
+    let start = json.find(&key).map(|i| i + key.len()).unwrap_or_else(|| {
+        panic!("the check script wrote no {name}: {json}");
+    });
+    let rest = &json[start..];
+    let end = if rest.starts_with('[') {
+        rest.find(']').map_or(rest.len(), |i| i + 1)
+    } else {
+        rest.find([',', '}']).unwrap_or(rest.len())
+    };
+    &rest[..end]
+}
+
+#[test]
+fn the_page_renders_in_headless_chromium() {
+    let chromium = Path::new("/usr/bin/chromium");
+    assert!(
+        chromium.exists(),
+        "the browser test needs Debian's chromium (apt-get install chromium; .ci/run installs it)"
+    );
+    let out = whole_quick_report();
+    let page = fs::read_to_string(out.join("index.html")).expect("index.html");
+    assert!(
+        !page.contains("<script"),
+        "the report page has a script of its own"
+    );
+    let copy = out.join("browser-check.html");
+    fs::write(
+        &copy,
+        page.replacen("<head>", &format!("<head>\n{CHECK}"), 1),
+    )
+    .unwrap();
+    let profile = out.join("chromium-profile");
+    let output = Command::new(chromium)
+        .args(FLAGS)
+        .arg(format!("--user-data-dir={}", profile.display()))
+        .arg("--virtual-time-budget=60000")
+        .arg("--dump-dom")
+        .arg(format!("file://{}", copy.display()))
+        .output()
+        .expect("chromium starts");
+    let _ = fs::remove_file(&copy);
+    let _ = fs::remove_dir_all(&profile);
+    let dom = String::from_utf8_lossy(&output.stdout);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    let json = dom
+        .split("<pre id=\"browser-check\">")
+        .nth(1)
+        .and_then(|rest| rest.split("</pre>").next())
+        .unwrap_or_else(|| panic!("the check script did not finish: {stderr}"));
+    let json = json.replace("&quot;", "\"").replace("&amp;", "&");
+
+    let figures: usize = field(&json, "figures").parse().unwrap();
+    let expected = page.matches("<img ").count();
+    assert!(expected > 100, "only {expected} figures on the page");
+    assert_eq!(field(&json, "broken"), "[]", "figures that do not load");
+    assert_eq!(figures, expected, "figures loaded");
+    let links: usize = field(&json, "links").parse().unwrap();
+    assert!(
+        links >= 2 * 78,
+        "only {links} links in the contents and the summary"
+    );
+    assert_eq!(
+        field(&json, "dangling"),
+        "[]",
+        "links that reach no section"
+    );
+    assert_eq!(field(&json, "errors"), "[]", "script errors");
+    let console: Vec<&str> = stderr.lines().filter(|l| l.contains(":CONSOLE")).collect();
+    assert!(
+        console.is_empty(),
+        "console messages:\n{}",
+        console.join("\n")
+    );
+}
