@@ -373,6 +373,16 @@ impl Cuts {
     }
 }
 
+/// One parameter of the scene or the study, as the experiment file writes it
+/// ([`crate::experiment::parameters`]): `group` is the file's table (`scene`,
+/// `scene.substokes`, `study`).
+#[derive(Clone, Debug, Serialize, serde::Deserialize, PartialEq)]
+pub struct Parameter {
+    pub group: String,
+    pub key: String,
+    pub value: String,
+}
+
 /// Everything one experiment run produced.
 #[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct RunResult {
@@ -409,6 +419,8 @@ pub struct RunResult {
     /// What is legal but suspicious in the experiment or the run (`field: message`, shown in
     /// the report and on stderr).
     pub warnings: Vec<String>,
+    /// The `[scene]` and `[study]` keys of the experiment file, shown above the section's table.
+    pub parameters: Vec<Parameter>,
 }
 
 impl RunResult {
@@ -433,6 +445,7 @@ impl RunResult {
             related: Vec::new(),
             cavitation_ran: None,
             warnings: Vec::new(),
+            parameters: Vec::new(),
         }
     }
 

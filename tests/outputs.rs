@@ -132,3 +132,30 @@ fn hard_cases_write_no_non_finite_value() {
     let _ = fs::remove_dir_all(&out);
     let _ = fs::remove_dir_all(&dir);
 }
+
+/// Every section states the problem it solved from its experiment file: IV.52's section shows
+/// its gap, wall velocity, boundary value and marking fraction as the file writes them.
+#[test]
+fn each_section_states_the_scene_and_the_study() {
+    let page = fs::read_to_string(whole_quick_report().join("index.html")).unwrap();
+    let section = page
+        .split("<section id=\"t-IV.52\">")
+        .nth(1)
+        .and_then(|s| s.split("</section>").next())
+        .expect("IV.52 section");
+    for line in [
+        "<td class=\"group\" colspan=\"2\">[scene.substokes]</td>",
+        "<td class=\"key\">gap</td><td class=\"value\">{ kind = &quot;plain&quot;, g0 = 0.1 }</td>",
+        "<td class=\"key\">upper_wall_velocity</td><td class=\"value\">[10.0, 0.0, 0.0]</td>",
+        "<td class=\"key\">boundary_pressure</td><td class=\"value\">200.0</td>",
+        "<td class=\"key\">refine_fraction</td><td class=\"value\">0.3</td>",
+    ] {
+        assert!(section.contains(line), "IV.52 lacks {line}");
+    }
+    let boxes = page.matches("<details class=\"params\" open>").count();
+    assert_eq!(
+        boxes,
+        page.matches("<section id=\"t-").count(),
+        "one box per section"
+    );
+}

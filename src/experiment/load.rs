@@ -106,6 +106,7 @@ pub fn load(path: &Path) -> Result<Experiment, ExperimentError> {
         notes,
         related,
         thesis: thesis.unwrap_or_default(),
+        parameters: super::parameters::of_file(&text),
     })
 }
 

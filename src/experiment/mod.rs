@@ -7,6 +7,7 @@
 //! contradictory data — is an [`ExperimentError`] naming the file, the field and what was
 //! expected.
 
+pub mod parameters;
 pub mod spec;
 
 mod error;
@@ -37,6 +38,9 @@ pub struct Experiment {
     /// Tables of the same scene solved another way ([`ExperimentFile::related`]).
     pub related: Vec<String>,
     pub thesis: ThesisRows,
+    /// The `[scene]` and `[study]` keys as the file writes them, for the report
+    /// ([`parameters::of_file`]).
+    pub parameters: Vec<crate::results::Parameter>,
 }
 
 /// The domain and the initial mesh of a scene.

@@ -178,6 +178,12 @@ td.na { color: #b8bec8; }
 tbody tr:hover td { background: #eef3fb; }
 .legend { color: var(--muted); font-size: 13px; margin: 6px 0 10px; }
 .legend .swatch { display: inline-block; width: 12px; height: 12px; background: var(--off); border: 1px solid var(--offink); vertical-align: -1px; }
+.params { margin: 10px 0; }
+.params summary { cursor: pointer; font-weight: 600; }
+.params table { margin: 6px 0; }
+.params td.group { font-weight: 600; background: var(--band); text-align: left; }
+.params td.key { text-align: left; font-family: ui-monospace, monospace; white-space: nowrap; }
+.params td.value { text-align: left; font-family: ui-monospace, monospace; white-space: normal; word-break: break-word; }
 .warning { border: 1px solid #e0a800; border-left: 6px solid #e0a800; background: #fff8e1; padding: 8px 14px; margin: 10px 0; border-radius: 3px; }
 .meta { color: var(--muted); margin: 0 0 8px; }
 .failure { border: 1px solid var(--offink); border-left: 6px solid var(--offink); background: var(--off); padding: 8px 14px; margin: 10px 0; border-radius: 3px; }
@@ -601,6 +607,7 @@ fn table_section(h: &mut String, s: &Section, figs: &SectionFigures) {
         escape(&run.section),
         escape(&run.tier),
     );
+    parameters(h, &run.parameters);
     if let Some(orig) = &thesis.duplicate_of {
         let _ = writeln!(
             h,
@@ -709,6 +716,38 @@ fn table_section(h: &mut String, s: &Section, figs: &SectionFigures) {
         h.push_str("</tbody></table>\n");
     }
     h.push_str("</section>\n");
+}
+
+/// The problem solved, stated from the experiment file: its `[scene]` and `[study]` keys
+/// (domain, mesh, gap or obstacles, velocities, boundary values, loads, material, marking
+/// fractions, estimator reading), grouped by the file's tables. Open by default; nothing for a
+/// run without parameters.
+fn parameters(h: &mut String, parameters: &[crate::results::Parameter]) {
+    if parameters.is_empty() {
+        return;
+    }
+    h.push_str(
+        "<details class=\"params\" open><summary>Problem solved: the scene and the study as the \
+         experiment file states them</summary>\n<table><tbody>\n",
+    );
+    let mut group = "";
+    for p in parameters {
+        if p.group != group {
+            group = &p.group;
+            let _ = writeln!(
+                h,
+                "<tr><td class=\"group\" colspan=\"2\">[{}]</td></tr>",
+                escape(group)
+            );
+        }
+        let _ = writeln!(
+            h,
+            "<tr><td class=\"key\">{}</td><td class=\"value\">{}</td></tr>",
+            escape(&p.key),
+            escape(&p.value)
+        );
+    }
+    h.push_str("</tbody></table></details>\n");
 }
 
 /// What one row of a run is: a load step of the forming (§IV.2.4.7), or a cycle.

@@ -190,6 +190,19 @@ pub fn run_within(
     budget: Budget,
     progress: Progress,
 ) -> Result<RunResult, RunError> {
+    let mut result = run_study_of_kind(experiment, tier, budget, progress)?;
+    result.parameters = experiment.parameters.clone();
+    Ok(result)
+}
+
+/// [`run_within`] by the study's kind: a solver study, the model-adaptive film, or the
+/// adaptive loop of a single problem.
+fn run_study_of_kind(
+    experiment: &Experiment,
+    tier: Tier,
+    budget: Budget,
+    progress: Progress,
+) -> Result<RunResult, RunError> {
     if experiment.study.kind == StudyKind::SolverIterations {
         return solver_iterations::run(experiment, tier, progress);
     }
