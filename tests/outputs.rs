@@ -159,3 +159,51 @@ fn each_section_states_the_scene_and_the_study() {
         "one box per section"
     );
 }
+
+/// The summary row of `table` on `page` (from its `<tr>` to its `</tr>`).
+fn summary_row<'a>(page: &'a str, table: &str) -> &'a str {
+    let summary = page
+        .split("<section id=\"summary\">")
+        .nth(1)
+        .and_then(|s| s.split("</section>").next())
+        .expect("summary");
+    let link = format!("<a href=\"#t-{table}\">{table}</a>");
+    let at = summary
+        .find(&link)
+        .unwrap_or_else(|| panic!("{table} not in the summary"));
+    let start = summary[..at].rfind("<tr").unwrap();
+    let end = at + summary[at..].find("</tr>").unwrap();
+    &summary[start..end]
+}
+
+/// The summary gives every table a verdict: all 75 tables of Chapter IV are in a whole
+/// report's summary, a duplicated table is shown as such and not highlighted, a reproduced
+/// table says so with its rows within tolerance; a report of a few tables still accounts for
+/// the others.
+#[test]
+fn the_summary_has_a_verdict_for_every_table() {
+    let page = fs::read_to_string(whole_quick_report().join("index.html")).unwrap();
+    for n in 1..=75 {
+        summary_row(&page, &format!("IV.{n}"));
+    }
+    let duplicate = summary_row(&page, "IV.17");
+    assert!(
+        duplicate.contains("thesis duplicate of IV.13: not scored"),
+        "{duplicate}"
+    );
+    assert!(!duplicate.contains("diff off"), "{duplicate}");
+    assert!(!duplicate.contains("verdict off"), "{duplicate}");
+    let reproduced = summary_row(&page, "IV.1");
+    assert!(
+        reproduced.contains("<td class=\"text verdict ok\">reproduced</td><td>4 / 4</td>"),
+        "{reproduced}"
+    );
+    assert!(summary_row(&page, "fig-IV.54").contains("figure: no printed table"));
+
+    let experiments = Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments");
+    let out = quick_report(&experiments, "verdict-only", Some("IV.1,IV.7"));
+    let page = fs::read_to_string(out.join("index.html")).unwrap();
+    assert!(page.contains("<td class=\"text\">IV.2 – IV.6</td>"));
+    assert!(page.contains("<td class=\"text\">IV.8 – IV.75</td>"));
+    let _ = fs::remove_dir_all(&out);
+}

@@ -9,6 +9,7 @@
 use std::collections::{BTreeSet, HashMap};
 use std::fmt::Write as _;
 
+use super::verdict::{self, KnownReason, Verdict};
 use super::{
     compared_value, compares_previous_estimate, estimate_ratio, rel_diff, tolerance, Entry,
     Failure, FailureKind, Figure, ReportMeta, Section, Summary, MAX_SHOWN_THESIS_ROWS,
@@ -184,6 +185,11 @@ tbody tr:hover td { background: #eef3fb; }
 .params td.group { font-weight: 600; background: var(--band); text-align: left; }
 .params td.key { text-align: left; font-family: ui-monospace, monospace; white-space: nowrap; }
 .params td.value { text-align: left; font-family: ui-monospace, monospace; white-space: normal; word-break: break-word; }
+.verdict.ok { color: var(--ok); font-weight: 600; }
+.verdict.known { color: #8a5a00; }
+.verdict.off { color: var(--offink); background: var(--off); font-weight: 600; }
+.verdict.neutral { color: var(--muted); }
+tr.absent td { color: var(--muted); }
 .warning { border: 1px solid #e0a800; border-left: 6px solid #e0a800; background: #fff8e1; padding: 8px 14px; margin: 10px 0; border-radius: 3px; }
 .meta { color: var(--muted); margin: 0 0 8px; }
 .failure { border: 1px solid var(--offink); border-left: 6px solid var(--offink); background: var(--off); padding: 8px 14px; margin: 10px 0; border-radius: 3px; }
@@ -316,6 +322,18 @@ fn diff_cell(column: &str, d: Option<f64>) -> String {
     }
 }
 
+/// [`diff_cell`] in the summary: a table that is not scored (a thesis duplicate, a scene the
+/// page does not compare) shows its difference without the highlight.
+fn summary_diff_cell(column: &str, d: Option<f64>, scored: bool) -> String {
+    match d {
+        Some(d) if !scored => format!(
+            "<td class=\"diff\" title=\"not scored\">{}</td>",
+            fmt_pct(d)
+        ),
+        _ => diff_cell(column, d),
+    }
+}
+
 fn opt_cell(v: Option<String>) -> String {
     match v {
         Some(s) => format!("<td>{s}</td>"),
@@ -329,18 +347,33 @@ fn summary(h: &mut String, entries: &[Entry]) {
          <p class=\"legend\">Status: ok, error (the run stopped with an error), panic (a bug in \
          tribo, caught) or not loaded (the experiment file was rejected); a failed table's \
          section has the message; figure: no printed table (the thesis shows the result as a \
-         figure only, so tribo's rows are shown alone). Geometric mean of the estimate ratio over \
+         figure only, so tribo's rows are shown alone). Verdict: reproduced (every row within \
+         tolerance), differs with the reason where it is known (the tooltip says it, the link \
+         leads to the evidence), differs, unexplained; a table the thesis prints as a copy of \
+         another, and a figure, are not scored. Rows within tolerance: the computed rows whose \
+         dofs and estimate are both within 3 % and 5 % of the printed ones, of the rows the \
+         thesis prints. Tables of Chapter IV not on this page are listed as such. Geometric mean of the estimate ratio over \
          the cycles that have one (the mean reduction per cycle). Order: the experimental order of \
          convergence, the least-squares slope of log estimate against log dofs over the rows \
          (−½ is optimal for Q₁ elements in two dimensions). Largest relative difference to the thesis over the \
          computed cycles; <span class=\"swatch\"></span> beyond 3 % (dofs) or 5 % (estimate).</p>\n\
          <div class=\"scroll\"><table>\n<thead><tr><th class=\"text\">table</th><th class=\"text\">section</th>\
-         <th class=\"text\">title</th><th class=\"text\">status</th><th>rows (tribo / thesis)</th>\
+         <th class=\"text\">title</th><th class=\"text\">status</th><th class=\"text\">verdict</th>\
+         <th>rows within tolerance</th><th>rows (tribo / thesis)</th>\
          <th>last dofs</th><th>last estimate</th><th>geo-mean ratio</th>\
          <th>order (tribo / thesis)</th><th>max Δ dofs</th>\
          <th>max Δ estimate</th><th>seconds</th></tr></thead>\n<tbody>\n",
     );
+    let mut next_thesis_table = 1;
     for entry in entries {
+        let id = match entry {
+            Entry::Done(s) => &s.run.table,
+            Entry::Failed(f) => &f.table,
+        };
+        if let Some(n) = verdict::thesis_table_number(id) {
+            absent_summary_rows(h, next_thesis_table..n);
+            next_thesis_table = next_thesis_table.max(n + 1);
+        }
         let s = match entry {
             Entry::Done(s) => s,
             Entry::Failed(f) => {
@@ -349,6 +382,17 @@ fn summary(h: &mut String, entries: &[Entry]) {
             }
         };
         let sm = Summary::of(s);
+        let verdict = verdict::of(s, known_reason(s), None);
+        let scored = !matches!(
+            verdict,
+            Verdict::Duplicate { .. } | Verdict::NotScored { .. }
+        );
+        let within = verdict::rows_within(s);
+        let within = if within.scored == 0 || !scored {
+            "—".to_string()
+        } else {
+            format!("{} / {}", within.within, within.scored)
+        };
         let dup = if s.thesis.duplicate_of.is_some() {
             " <span title=\"the printed table is a copy of another table\">⚠</span>"
         } else {
@@ -357,12 +401,13 @@ fn summary(h: &mut String, entries: &[Entry]) {
         let _ = writeln!(
             h,
             "<tr><td class=\"text\"><a href=\"#{}\">{}</a>{dup}</td><td class=\"text\">{}</td>\
-             <td class=\"text\">{}</td>{}<td>{} / {}</td>{}{}{}<td>{} / {}</td>{}{}<td>{}</td></tr>",
+             <td class=\"text\">{}</td>{}{}<td>{within}</td><td>{} / {}</td>{}{}{}<td>{} / {}</td>{}{}<td>{}</td></tr>",
             anchor(&s.run.table),
             escape(&s.run.table),
             escape(&s.run.section),
             escape(&s.run.title),
             status_cell(s),
+            verdict_cell(&verdict),
             sm.rows,
             if s.is_figure() {
                 "—".to_string()
@@ -374,12 +419,69 @@ fn summary(h: &mut String, entries: &[Entry]) {
             opt_cell(sm.geo_mean_ratio.map(fmt_sig)),
             sm.order.map_or("—".into(), fmt_order),
             sm.thesis_order.map_or("—".into(), fmt_order),
-            diff_cell("dofs", sm.max_dofs_diff),
-            diff_cell("estimate", sm.max_estimate_diff),
+            summary_diff_cell("dofs", sm.max_dofs_diff, scored),
+            summary_diff_cell("estimate", sm.max_estimate_diff, scored),
             fmt_seconds(sm.total_seconds),
         );
     }
+    if next_thesis_table > 1 {
+        absent_summary_rows(h, next_thesis_table..verdict::THESIS_TABLES + 1);
+    }
     h.push_str("</tbody></table></div>\n</section>\n");
+}
+
+/// The verdict cell: the verdict's words, the reason as a tooltip and a link to its evidence.
+fn verdict_cell(v: &Verdict) -> String {
+    match v {
+        Verdict::DiffersKnown(r) => {
+            let words = match &r.anchor {
+                Some(a) => format!("<a href=\"#{}\">{}</a>", escape(a), escape(&v.label())),
+                None => escape(&v.label()),
+            };
+            format!(
+                "<td class=\"text {}\" title=\"{}\">{words}</td>",
+                v.class(),
+                escape(&r.reason)
+            )
+        }
+        _ => format!(
+            "<td class=\"text {}\">{}</td>",
+            v.class(),
+            escape(&v.label())
+        ),
+    }
+}
+
+/// One summary row for the Chapter IV tables `numbers` that are not on this page (left out
+/// with `--only`, or without an experiment file), so that the summary of a report with any of
+/// them accounts for all 75; a run of consecutive tables shares the row.
+fn absent_summary_rows(h: &mut String, numbers: std::ops::Range<usize>) {
+    let (first, last) = match (numbers.clone().next(), numbers.clone().last()) {
+        (Some(first), Some(last)) => (first, last),
+        _ => return,
+    };
+    let (ids, how) = if first == last {
+        (
+            format!("IV.{first}"),
+            format!("not run here: <code>report --only IV.{first}</code> runs it"),
+        )
+    } else {
+        (
+            format!("IV.{first} – IV.{last}"),
+            "not run here (left out with <code>--only</code>)".to_string(),
+        )
+    };
+    let _ = writeln!(
+        h,
+        "<tr class=\"absent\"><td class=\"text\">{ids}</td><td class=\"text na\">—</td>\
+         <td class=\"text na\">—</td><td class=\"status na\">not in this report</td>\
+         <td class=\"text na\" colspan=\"10\">{how}</td></tr>"
+    );
+}
+
+/// Why the section's numbers differ from the printed ones, where the report knows it.
+fn known_reason(_section: &Section) -> Option<KnownReason> {
+    None
 }
 
 /// The first printed estimate of every SubStokes table of the page (runs with a Reynolds
@@ -467,7 +569,7 @@ fn failed_summary_row(h: &mut String, f: &Failure) {
         h,
         "<tr><td class=\"text\"><a href=\"#{}\">{}</a></td><td class=\"text\">{}</td>\
          <td class=\"text\">{}</td><td class=\"status failed\">{}</td>\
-         <td class=\"text na\" colspan=\"7\">{}</td></tr>",
+         <td class=\"text na\" colspan=\"10\">{}</td></tr>",
         anchor(&f.table),
         escape(&f.table),
         escape(f.section.as_deref().unwrap_or("—")),

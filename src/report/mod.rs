@@ -18,6 +18,7 @@ mod html;
 mod model_plots;
 mod plots;
 pub mod provenance;
+pub mod verdict;
 
 use std::any::Any;
 use std::fs;
