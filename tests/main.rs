@@ -7,6 +7,7 @@ mod contact;
 mod elasticity;
 mod forming;
 mod forming_report;
+mod merge;
 mod full_tier;
 mod mesh;
 mod mesh_limits;
