@@ -35,7 +35,12 @@ use tribo::thesis::ThesisTable;
 
 /// Regenerate the Chapter IV tables of Gimbel (2012) and render them beside the thesis tables.
 #[derive(Parser, Debug)]
-#[command(name = "report", version, about, args_conflicts_with_subcommands = true)]
+#[command(
+    name = "report",
+    version,
+    about,
+    args_conflicts_with_subcommands = true
+)]
 struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
@@ -498,9 +503,8 @@ fn merge(shards: &[PathBuf], out: &Path) -> Result<bool, String> {
         Path::new(env!("CARGO_MANIFEST_DIR")),
     );
     let records = record::read_shards(shards)?;
-    let cannot_write = |e: &dyn std::fmt::Display| {
-        format!("cannot write the report into {}: {e}", out.display())
-    };
+    let cannot_write =
+        |e: &dyn std::fmt::Display| format!("cannot write the report into {}: {e}", out.display());
     report::prepare_output(out).map_err(|e| cannot_write(&e))?;
     // Every record is in memory now, so `out` may be one of the shards.
     record::clear(out).map_err(|e| cannot_write(&e))?;
@@ -520,8 +524,9 @@ fn merge(shards: &[PathBuf], out: &Path) -> Result<bool, String> {
                 data::write_csv(&out.join("data"), run).map_err(|e| cannot_write(&e))?;
                 for alt in alternatives {
                     match &alt.outcome {
-                        Ok(run) => data::write_csv(&out.join("data"), run)
-                            .map_err(|e| cannot_write(&e))?,
+                        Ok(run) => {
+                            data::write_csv(&out.join("data"), run).map_err(|e| cannot_write(&e))?
+                        }
                         Err(_) => failed += 1,
                     }
                 }

@@ -189,7 +189,9 @@ fn with_path(e: io::Error, path: &Path) -> io::Error {
 /// value among the run's data) would not come back as written, and is an error naming the
 /// table rather than a record that `report merge` later refuses or misreads.
 pub fn write(out: &Path, record: &Record) -> Result<PathBuf, String> {
-    let path = out.join(DIR).join(format!("{}.json", file_stem(&record.stem)));
+    let path = out
+        .join(DIR)
+        .join(format!("{}.json", file_stem(&record.stem)));
     let text = serde_json::to_string(record)
         .map_err(|e| format!("cannot encode the record of {}: {e}", record.stem))?;
     let same = serde_json::from_str::<Record>(&text)
