@@ -2,10 +2,10 @@
 //! pictures for the report. Everything here comes from running the solvers; the thesis rows live
 //! in [`crate::thesis`] and are only ever shown beside these numbers.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Wall-clock seconds spent in each phase of one cycle (DESIGN.md data flow).
-#[derive(Clone, Copy, Debug, Default, Serialize, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq)]
 pub struct PhaseSeconds {
     /// Dof numbering, constraints and sparsity pattern.
     pub setup: f64,
@@ -97,7 +97,7 @@ pub mod columns {
 }
 
 /// The value of one column in one row.
-#[derive(Clone, Copy, Debug, Serialize, PartialEq)]
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
 pub enum Value {
     /// An integer: cells, dofs, faces, iterations.
     Count(i64),
@@ -135,7 +135,7 @@ impl Value {
 /// One row of a Chapter IV table as computed by tribo: the printed cycle, named columns in a
 /// fixed order, and the seconds per phase. Column names follow the `column` values of
 /// `../shared/thesis/tables.csv` where the thesis prints them.
-#[derive(Clone, Debug, Serialize, PartialEq)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct Row {
     /// Printed cycle number (row index of the thesis table).
     pub cycle: usize,
@@ -230,7 +230,7 @@ impl Row {
 }
 
 /// A solution value at a point after the last cycle (`report/data/<table>.probes.csv`).
-#[derive(Clone, Debug, Serialize, PartialEq)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct Probe {
     pub x: f64,
     pub y: f64,
@@ -240,7 +240,7 @@ pub struct Probe {
 }
 
 /// An axis-parallel cell `[x0, x1] × [y0, y1]` with an optional value to colour it by.
-#[derive(Clone, Copy, Debug, Serialize, PartialEq)]
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
 pub struct CellBox {
     pub x0: f64,
     pub y0: f64,
@@ -249,7 +249,7 @@ pub struct CellBox {
 }
 
 /// The active cells of the mesh after a given cycle (thesis Fig. IV.1).
-#[derive(Clone, Debug, Serialize, PartialEq)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct MeshPicture {
     pub cycle: usize,
     pub cells: Vec<CellBox>,
@@ -259,7 +259,7 @@ pub struct MeshPicture {
 
 /// The deformed body: every active cell as a quadrilateral of displaced corners
 /// `x + scale · s(x)` (counter-clockwise from the lower-left corner), thesis Fig. IV.2.
-#[derive(Clone, Debug, Serialize, PartialEq)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct DeformedPicture {
     pub cycle: usize,
     /// Magnification of the displacement in the picture (1 = true scale).
@@ -276,7 +276,7 @@ pub struct DeformedPicture {
 }
 
 /// A scalar field on the active cells (one value per cell, e.g. the mean film pressure ψ).
-#[derive(Clone, Debug, Serialize, PartialEq)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct FieldPicture {
     pub cycle: usize,
     /// Name of the field, e.g. `psi`.
@@ -290,14 +290,14 @@ pub struct FieldPicture {
 }
 
 /// One arrow of a vector field: its foot and the vector there.
-#[derive(Clone, Copy, Debug, Serialize, PartialEq)]
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
 pub struct Arrow {
     pub at: [f64; 2],
     pub v: [f64; 2],
 }
 
 /// One contact face of a model-adaptive cycle: where it lies, its model and its indicator.
-#[derive(Clone, Debug, Serialize, PartialEq)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct FaceModel {
     /// `bottom` or `top`.
     pub side: String,
@@ -311,7 +311,7 @@ pub struct FaceModel {
 }
 
 /// The partition of the contact faces into z and Signorini in one cycle (thesis Figs IV.35–IV.45).
-#[derive(Clone, Debug, Serialize, PartialEq)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct PartitionPicture {
     pub cycle: usize,
     pub faces: Vec<FaceModel>,
@@ -319,7 +319,7 @@ pub struct PartitionPicture {
 
 /// One cycle of one variant of the cost-of-accuracy study of a model-adaptive scene
 /// (`crate::study::cost`).
-#[derive(Clone, Debug, Serialize, PartialEq)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct CostRow {
     /// `z`, `signorini`, `III.2` or `III.3`.
     pub variant: String,
@@ -343,7 +343,7 @@ pub struct CostRow {
 
 /// Two thin-film models along a horizontal cut (§IV.3.3, §IV.3.7): the columns of
 /// `report/data/<table>.cuts.csv` (`crate::models::film_comparison`).
-#[derive(Clone, Debug, Serialize, PartialEq)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct Cuts {
     /// The height x₂ of the cut.
     pub y: f64,
@@ -384,7 +384,7 @@ pub struct Parameter {
 }
 
 /// Everything one experiment run produced.
-#[derive(Clone, Debug, Serialize, PartialEq)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct RunResult {
     /// Table id, e.g. `IV.1`.
     pub table: String,

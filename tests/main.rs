@@ -9,6 +9,7 @@ mod elasticity;
 mod forming;
 mod forming_report;
 mod full_tier;
+mod merge;
 mod mesh;
 mod mesh_limits;
 mod model_contact;

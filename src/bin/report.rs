@@ -7,6 +7,14 @@
 //! still reported, and the exit status is 1. Usage errors, an experiment folder that cannot be
 //! listed and an output folder that cannot be written end the program before anything is solved,
 //! with exit status 2.
+//!
+//! Every run also writes `report/shard/<table>.json`, the record of each entry
+//! ([`tribo::report::record`]). `report merge DIR… --out DIR` builds one page, its figures and
+//! its data files from the records of several output folders, as a single run of all their
+//! tables would (timings and the header aside): the tables can run as separate processes, on
+//! one machine or a cluster, and be merged afterwards. Its exit status is 1 when a merged entry
+//! failed, 2 when the shards cannot be merged (a folder without records, a table in two folders,
+//! a record that cannot be read).
 
 use std::io::IsTerminal;
 use std::panic::{self, AssertUnwindSafe};
@@ -15,10 +23,11 @@ use std::process::ExitCode;
 use std::sync::Mutex;
 use std::time::Instant;
 
-use clap::Parser;
+use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 
 use tribo::experiment::{self, Experiment};
+use tribo::report::record::{self, Record, RecordEntry};
 use tribo::report::{self, data, Alternative, Entry, Failure, FailureKind, ReportMeta, Section};
 use tribo::results::RunResult;
 use tribo::study::{self, Tier};
@@ -26,8 +35,16 @@ use tribo::thesis::ThesisTable;
 
 /// Regenerate the Chapter IV tables of Gimbel (2012) and render them beside the thesis tables.
 #[derive(Parser, Debug)]
-#[command(name = "report", version, about)]
+#[command(
+    name = "report",
+    version,
+    about,
+    args_conflicts_with_subcommands = true
+)]
 struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+
     /// Only these tables, comma-separated (e.g. `--only IV.1,IV.3`).
     #[arg(long, value_delimiter = ',', value_name = "TABLES")]
     only: Option<Vec<String>>,
@@ -60,6 +77,21 @@ struct Cli {
     memory_budget: Option<study::Budget>,
 }
 
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Build one page from the output folders of separate runs (shards): the page, figures and
+    /// data of all their tables, as one run of them all would write them.
+    Merge {
+        /// Output folders of earlier runs, each with its records in `shard/`.
+        #[arg(required = true, value_name = "SHARD")]
+        shards: Vec<PathBuf>,
+
+        /// Output directory of the merged page.
+        #[arg(long, value_name = "DIR", default_value = "report")]
+        out: PathBuf,
+    },
+}
+
 /// Testing hook: when this environment variable holds a table id, the run of that table panics
 /// just before it starts, so that the tests can check that a panic is isolated to its table.
 /// Nothing else reads it.
@@ -68,7 +100,11 @@ const TEST_PANIC_VARIABLE: &str = "TRIBO_TEST_PANIC";
 fn main() -> ExitCode {
     let cli = Cli::parse();
     install_panic_hook();
-    match run(&cli) {
+    let done = match &cli.command {
+        Some(Command::Merge { shards, out }) => merge(shards, out),
+        None => run(&cli),
+    };
+    match done {
         Ok(true) => ExitCode::SUCCESS,
         Ok(false) => ExitCode::FAILURE,
         Err(message) => {
@@ -114,6 +150,7 @@ fn run(cli: &Cli) -> Result<bool, String> {
         ));
     }
     report::prepare_output(&cli.out)
+        .and_then(|()| record::clear(&cli.out))
         .map_err(|e| format!("cannot write the report into {}: {e}", cli.out.display()))?;
 
     let tier = if cli.quick { Tier::Quick } else { Tier::Full };
@@ -158,8 +195,11 @@ fn run(cli: &Cli) -> Result<bool, String> {
     };
 
     let mut outcomes = Vec::with_capacity(loaded.len());
+    // The file stem of each outcome, for its shard record.
+    let mut stems = Vec::with_capacity(loaded.len());
     let mut failed = 0;
     for (stem, loaded) in loaded {
+        stems.push(stem.clone());
         // Whatever happens below, nothing of an earlier run of this table may stay behind.
         let removed = report::remove_outputs(&cli.out, &stem).map_err(|e| {
             format!(
@@ -287,7 +327,8 @@ fn run(cli: &Cli) -> Result<bool, String> {
     for message in &written.figure_failures {
         eprintln!("error (figures): {message}");
     }
-    let failures = failed + written.figure_failures.len();
+    let record_failures = write_records(&cli.out, &stems, &outcomes, &meta);
+    let failures = failed + written.figure_failures.len() + record_failures;
     let warned = outcomes
         .iter()
         .filter(|o| matches!(o, Outcome::Done { run, .. } if !run.warnings.is_empty()))
@@ -418,4 +459,122 @@ fn failure_of(
         cycle,
         message,
     }
+}
+
+/// Write the shard record of every outcome ([`record::write`]); return how many could not be
+/// written (each named on stderr).
+fn write_records(out: &Path, stems: &[String], outcomes: &[Outcome], meta: &ReportMeta) -> usize {
+    let run_meta = record::RunMeta::of(meta);
+    let mut failures = 0;
+    for (stem, outcome) in stems.iter().zip(outcomes) {
+        let entry = match outcome {
+            Outcome::Done {
+                run,
+                thesis,
+                alternatives,
+            } => RecordEntry::Done {
+                run: run.clone(),
+                thesis: record::PrintedTable::of(thesis),
+                alternatives: alternatives.clone(),
+            },
+            Outcome::Failed(failure) => RecordEntry::Failed(failure.clone()),
+        };
+        let record = Record {
+            format: record::FORMAT,
+            stem: stem.clone(),
+            run: run_meta.clone(),
+            entry,
+        };
+        if let Err(message) = record::write(out, &record) {
+            eprintln!("error (records): {message}");
+            failures += 1;
+        }
+    }
+    failures
+}
+
+/// `report merge`: the page, figures, data files and records of the shards' entries in `out`.
+/// Returns Ok(false) when a merged entry (or one of its alternative readings, or its figures)
+/// failed; Err when the shards cannot be merged or `out` cannot be written.
+fn merge(shards: &[PathBuf], out: &Path) -> Result<bool, String> {
+    let started = Instant::now();
+    let provenance = report::provenance::Provenance::collect(
+        std::env::args(),
+        Path::new(env!("CARGO_MANIFEST_DIR")),
+    );
+    let records = record::read_shards(shards)?;
+    let cannot_write =
+        |e: &dyn std::fmt::Display| format!("cannot write the report into {}: {e}", out.display());
+    report::prepare_output(out).map_err(|e| cannot_write(&e))?;
+    // Every record is in memory now, so `out` may be one of the shards.
+    record::clear(out).map_err(|e| cannot_write(&e))?;
+    let mut theses = Vec::with_capacity(records.len());
+    let mut failed = 0;
+    for r in &records {
+        report::remove_outputs(out, &r.stem).map_err(|e| cannot_write(&e))?;
+        record::write(out, r).map_err(|e| cannot_write(&e))?;
+        match &r.entry {
+            RecordEntry::Done {
+                run,
+                thesis,
+                alternatives,
+            } => {
+                // Checked when the record was read.
+                theses.push(Some(thesis.thesis()?));
+                data::write_csv(&out.join("data"), run).map_err(|e| cannot_write(&e))?;
+                for alt in alternatives {
+                    match &alt.outcome {
+                        Ok(run) => {
+                            data::write_csv(&out.join("data"), run).map_err(|e| cannot_write(&e))?
+                        }
+                        Err(_) => failed += 1,
+                    }
+                }
+            }
+            RecordEntry::Failed(_) => {
+                theses.push(None);
+                failed += 1;
+            }
+        }
+    }
+    let entries: Vec<Entry> = records
+        .iter()
+        .zip(&theses)
+        .filter_map(|(r, thesis)| match &r.entry {
+            RecordEntry::Done {
+                run, alternatives, ..
+            } => thesis.as_ref().map(|thesis| {
+                Entry::Done(Section {
+                    run,
+                    thesis,
+                    alternatives,
+                })
+            }),
+            RecordEntry::Failed(failure) => Some(Entry::Failed(failure)),
+        })
+        .collect();
+    let meta = record::merged_meta(
+        &records,
+        format!("tribo {}", env!("CARGO_PKG_VERSION")),
+        provenance.command,
+    );
+    let written = report::write_report(out, &entries, &meta).map_err(|e| cannot_write(&e))?;
+    for message in &written.figure_failures {
+        eprintln!("error (figures): {message}");
+    }
+    let failures = failed + written.figure_failures.len();
+    eprintln!(
+        "wrote {} ({} tables from {} shards, {} tier, merged in {:.1} s){}",
+        out.join("index.html").display(),
+        entries.len(),
+        shards.len(),
+        meta.tier,
+        started.elapsed().as_secs_f64(),
+        if failures == 0 {
+            String::new()
+        } else {
+            format!("; {failures} failed")
+        },
+    );
+    Ok(failures == 0)
 }

@@ -250,7 +250,7 @@ fn file_kind(file_type: &fs::FileType) -> &'static str {
 
 /// Sort key of a file stem: tables in numeric order, then figures in numeric order, anything
 /// else after them by name.
-fn table_order(stem: &str) -> (u32, String) {
+pub fn table_order(stem: &str) -> (u32, String) {
     let figure = figure_number(stem).map(|n| LAST_TABLE + n);
     (
         table_number(stem).or(figure).unwrap_or(u32::MAX),

@@ -15,7 +15,7 @@ mod load;
 mod warnings;
 
 pub use error::ExperimentError;
-pub use load::{load, load_dir, load_each, Loaded, MAX_FILE_BYTES};
+pub use load::{load, load_dir, load_each, table_order, Loaded, MAX_FILE_BYTES};
 pub use spec::*;
 pub use warnings::Warning;
 

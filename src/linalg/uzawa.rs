@@ -112,7 +112,7 @@
 use std::cell::RefCell;
 use std::time::Instant;
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use super::krylov::{conjugate_gradient, CgError, Identity, Stopping};
 use super::{CholeskyFactor, Csc, DirectSolver, Ordering};
@@ -565,7 +565,7 @@ impl UzawaOptions {
 }
 
 /// One outer iteration of a run (module docs, "Residual and rows").
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct UzawaRow {
     /// [`Variant::name`].
     pub variant: String,

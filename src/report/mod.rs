@@ -18,6 +18,7 @@ mod html;
 mod model_plots;
 mod plots;
 pub mod provenance;
+pub mod record;
 pub mod verdict;
 
 use std::any::Any;
@@ -59,13 +60,14 @@ impl Section<'_> {
 }
 
 /// A run of an alternative reading, with what it changes; or why it has no run.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Alternative {
     pub label: String,
     pub outcome: Result<RunResult, Failure>,
 }
 
 /// A table (or an alternative reading of one) that has no result, and why.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Failure {
     /// Table id; the file stem when the file did not load.
     pub table: String,
@@ -81,7 +83,7 @@ pub struct Failure {
 }
 
 /// How a table failed, as the summary's status column shows it (a table that ran is `ok`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum FailureKind {
     /// The run returned an error (no convergence, a singular system, a non-finite value…).
     Error,

@@ -7,7 +7,7 @@ use std::time::{SystemTime, UNIX_EPOCH};
 
 /// The facts of one report run; every field is text ready for the page, `unknown` where the
 /// fact could not be found.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Provenance {
     /// The git commit of the source tree (12 hex digits), with `+ local changes` when tracked
     /// files differ from it; `unknown` outside a git checkout.
