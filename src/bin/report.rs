@@ -1,7 +1,8 @@
 //! `cargo run --release --bin report` — run every experiment file and render the report.
 //!
 //! Writes `report/index.html`, `report/figures/*.svg`, `report/data/<table>.csv` and
-//! `report/data/<table>.probes.csv`. Each table runs on its own: a file that does not load, a run
+//! `report/data/<table>.probes.csv` (each also as `.parquet`), `<table>.joined.*` (the rows
+//! beside the printed table) and `<table>.vtu` (the last mesh). Each table runs on its own: a file that does not load, a run
 //! that fails and a run that panics each become a failed entry of the page (in the summary with
 //! its status, and in a section with the table, the cycle and the message); the other tables are
 //! still reported, and the exit status is 1. Usage errors, an experiment folder that cannot be
@@ -369,8 +370,6 @@ fn install_panic_hook() {
     }));
 }
 
-/// Write `out/data/<table>.csv` and its probes; a table whose data cannot be written is a failed
-/// entry like one whose run failed.
 /// The run with the cost-of-accuracy study of its scene, where it applies
 /// ([`study::cost::applies`]); a study that fails is a warning of the table, not a failure.
 fn with_costs(spec: &Experiment, mut run: RunResult) -> RunResult {
@@ -383,9 +382,15 @@ fn with_costs(spec: &Experiment, mut run: RunResult) -> RunResult {
     run
 }
 
-fn write_data(out: &Path, spec: &Experiment, run: RunResult) -> Result<RunResult, Failure> {
+/// Write the data files of a table into `out/data/` (CSV and Parquet, the join with the printed
+/// table, the last mesh as `.vtu`: [`data::write_all`]); a table whose data cannot be written is
+/// a failed entry like one whose run failed.
+fn write_data(out: &Path, spec: &Experiment, mut run: RunResult) -> Result<RunResult, Failure> {
     let dir = out.join("data");
-    match data::write_csv(&dir, &run) {
+    let written = data::write_all(&dir, &run, &ThesisTable::of(spec));
+    // The last mesh is written; the page does not need it, and it is as large as the mesh.
+    run.last_mesh = None;
+    match written {
         Ok(()) => Ok(run),
         Err(e) => Err(failure_of(
             spec,
