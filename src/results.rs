@@ -383,6 +383,34 @@ pub struct Parameter {
     pub value: String,
 }
 
+/// A field on the last mesh: `components` values per point or per cell, interleaved
+/// (`values.len()` = `components` × points or cells).
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct MeshField {
+    /// `displacement`, `psi`, `cavitation`, `contact`, `eta_squared`, …
+    pub name: String,
+    /// 1 for a scalar, 2 for a vector in the plane (s₁, s₂ or χ₁, χ₂).
+    pub components: usize,
+    pub values: Vec<f64>,
+}
+
+/// The mesh of the last printed cycle with the solution on it, for `data/<table>.vtu`: every
+/// vertex of the active cells (hanging vertices included, with their constrained values) and
+/// every active cell by its four corners.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct LastMesh {
+    /// The printed cycle (the load step of a load-step run).
+    pub cycle: usize,
+    /// Vertex positions; on a moved grid (the forming) the moved positions.
+    pub points: Vec<[f64; 2]>,
+    /// Four vertex numbers per active cell, counter-clockwise from the lower-left corner.
+    pub cells: Vec<[u32; 4]>,
+    /// Fields with one value (or vector) per point.
+    pub point_fields: Vec<MeshField>,
+    /// Fields with one value per cell.
+    pub cell_fields: Vec<MeshField>,
+}
+
 /// Everything one experiment run produced.
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct RunResult {
@@ -421,6 +449,10 @@ pub struct RunResult {
     pub warnings: Vec<String>,
     /// The `[scene]` and `[study]` keys of the experiment file, shown above the section's table.
     pub parameters: Vec<Parameter>,
+    /// The last printed mesh with its solution fields; the report writes it as
+    /// `data/<table>.vtu` and then drops it (it is as large as the mesh).
+    #[serde(skip)]
+    pub last_mesh: Option<LastMesh>,
 }
 
 impl RunResult {
@@ -446,6 +478,7 @@ impl RunResult {
             cavitation_ran: None,
             warnings: Vec::new(),
             parameters: Vec::new(),
+            last_mesh: None,
         }
     }
 

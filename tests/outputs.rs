@@ -15,14 +15,20 @@ fn non_finite(token: &str) -> bool {
     t == "nan" || t == "inf" || t == "infinity" || t == "∞"
 }
 
-/// Every non-finite cell of the CSV files in `dir`, as `file:line:cell`.
+/// Every non-finite cell of the CSV files in `dir` and every non-finite number of its VTK
+/// files, as `file:line:cell` (the Parquet files are binary; `open_data` reads them back).
 fn scan_csv(dir: &Path) -> Vec<String> {
     let mut found = Vec::new();
     for entry in fs::read_dir(dir).expect("data/") {
         let path = entry.expect("entry").path();
+        let separator: fn(char) -> bool = match path.extension().and_then(|e| e.to_str()) {
+            Some("csv") => |c| c == ',',
+            Some("vtu") => char::is_whitespace,
+            _ => continue,
+        };
         let text = fs::read_to_string(&path).expect("csv");
         for (n, line) in text.lines().enumerate() {
-            for cell in line.split(',') {
+            for cell in line.split(separator) {
                 if non_finite(cell) {
                     found.push(format!("{}:{}: {cell}", path.display(), n + 1));
                 }

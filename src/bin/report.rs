@@ -1,7 +1,8 @@
 //! `cargo run --release --bin report` — run every experiment file and render the report.
 //!
 //! Writes `report/index.html`, `report/figures/*.svg`, `report/data/<table>.csv` and
-//! `report/data/<table>.probes.csv`. Each table runs on its own: a file that does not load, a run
+//! `report/data/<table>.probes.csv` (each also as `.parquet`), `<table>.joined.*` (the rows
+//! beside the printed table) and `<table>.vtu` (the last mesh). Each table runs on its own: a file that does not load, a run
 //! that fails and a run that panics each become a failed entry of the page (in the summary with
 //! its status, and in a section with the table, the cycle and the message); the other tables are
 //! still reported, and the exit status is 1. Usage errors, an experiment folder that cannot be
@@ -410,8 +411,6 @@ fn install_panic_hook() {
     }));
 }
 
-/// Write `out/data/<table>.csv` and its probes; a table whose data cannot be written is a failed
-/// entry like one whose run failed.
 /// The run with the cost-of-accuracy study of its scene, where it applies
 /// ([`study::cost::applies`]); a study that fails is a warning of the table, not a failure.
 fn with_costs(spec: &Experiment, mut run: RunResult) -> RunResult {
@@ -424,9 +423,15 @@ fn with_costs(spec: &Experiment, mut run: RunResult) -> RunResult {
     run
 }
 
-fn write_data(out: &Path, spec: &Experiment, run: RunResult) -> Result<RunResult, Failure> {
+/// Write the data files of a table into `out/data/` (CSV and Parquet, the join with the printed
+/// table, the last mesh as `.vtu`: [`data::write_all`]); a table whose data cannot be written is
+/// a failed entry like one whose run failed.
+fn write_data(out: &Path, spec: &Experiment, mut run: RunResult) -> Result<RunResult, Failure> {
     let dir = out.join("data");
-    match data::write_csv(&dir, &run) {
+    let written = data::write_all(&dir, &run, &ThesisTable::of(spec));
+    // The last mesh is written; the page does not need it, and it is as large as the mesh.
+    run.last_mesh = None;
+    match written {
         Ok(()) => Ok(run),
         Err(e) => Err(failure_of(
             spec,
@@ -493,6 +498,32 @@ fn write_records(out: &Path, stems: &[String], outcomes: &[Outcome], meta: &Repo
     failures
 }
 
+/// The last meshes (`data/*.vtu`) of the shards, copied into `out/data/`: the records do not
+/// hold them (a mesh of 0.7 M cells), so merge takes the files the shard runs wrote.
+fn copy_meshes(shards: &[PathBuf], out: &Path) -> std::io::Result<()> {
+    let target = out.join("data");
+    std::fs::create_dir_all(&target)?;
+    for shard in shards {
+        let Ok(files) = std::fs::read_dir(shard.join("data")) else {
+            continue;
+        };
+        for file in files {
+            let path = file?.path();
+            if path.extension().is_some_and(|e| e == "vtu") {
+                let to = target.join(path.file_name().expect("a file in a folder"));
+                let same = matches!(
+                    (path.canonicalize(), to.canonicalize()),
+                    (Ok(a), Ok(b)) if a == b
+                );
+                if !same {
+                    std::fs::copy(&path, &to)?;
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
 /// `report merge`: the page, figures, data files and records of the shards' entries in `out`.
 /// Returns Ok(false) when a merged entry (or one of its alternative readings, or its figures)
 /// failed; Err when the shards cannot be merged or `out` cannot be written.
@@ -521,12 +552,12 @@ fn merge(shards: &[PathBuf], out: &Path) -> Result<bool, String> {
             } => {
                 // Checked when the record was read.
                 theses.push(Some(thesis.thesis()?));
-                data::write_csv(&out.join("data"), run).map_err(|e| cannot_write(&e))?;
+                let printed = theses.last().and_then(Option::as_ref).expect("pushed above");
+                data::write_all(&out.join("data"), run, printed).map_err(|e| cannot_write(&e))?;
                 for alt in alternatives {
                     match &alt.outcome {
-                        Ok(run) => {
-                            data::write_csv(&out.join("data"), run).map_err(|e| cannot_write(&e))?
-                        }
+                        Ok(run) => data::write_all(&out.join("data"), run, printed)
+                            .map_err(|e| cannot_write(&e))?,
                         Err(_) => failed += 1,
                     }
                 }
@@ -537,6 +568,7 @@ fn merge(shards: &[PathBuf], out: &Path) -> Result<bool, String> {
             }
         }
     }
+    copy_meshes(shards, out).map_err(|e| cannot_write(&e))?;
     let entries: Vec<Entry> = records
         .iter()
         .zip(&theses)

@@ -1,6 +1,11 @@
-//! Per-table result data as CSV (`report/data/<table>.csv`, `report/data/<table>.probes.csv`),
-//! built as polars data frames so that the columns follow the `column` names of
-//! `../shared/thesis/tables.csv` and can be joined against the thesis rows.
+//! Per-table result data (`report/data/<table>.csv`, `<table>.probes.csv`, …), each file also
+//! as Parquet (`<table>.parquet`, `<table>.probes.parquet`, …), built as polars data frames so
+//! that the columns follow the `column` names of the printed tables; the rows beside the printed
+//! columns (`<table>.joined.csv`/`.parquet`); and the last mesh with its fields
+//! (`<table>.vtu`, [`super::vtk`]).
+//!
+//! An undefined value (the first `ratio`) is an empty cell in the CSV files and a null in the
+//! Parquet files; no file holds NaN or an infinity.
 
 use std::fs::File;
 use std::path::Path;
@@ -9,6 +14,7 @@ use polars::prelude::*;
 
 use crate::linalg::uzawa::UzawaRow;
 use crate::results::{CostRow, PhaseSeconds, RunResult, Value};
+use crate::thesis::ThesisTable;
 
 /// One row per cycle: `cycle`, then the rows' named columns in order of first appearance
 /// (`active_cells, dofs, estimate, ratio` and the family's further columns for the
@@ -173,10 +179,17 @@ pub fn uzawa_frame(rows: &[UzawaRow]) -> PolarsResult<DataFrame> {
     )
 }
 
-/// Write the CSV files of a run into `dir`: rows (a solver study's iterations in their place),
-/// probes and, when the run has them, the cuts
-/// (`<table>.cuts.csv`) and the costs (`<table>.cost.csv`).
-pub fn write_csv(dir: &Path, run: &RunResult) -> PolarsResult<()> {
+/// Write `frame` as `<dir>/<name>.csv` and `<dir>/<name>.parquet`.
+fn write_frame(dir: &Path, name: &str, frame: &mut DataFrame) -> PolarsResult<()> {
+    CsvWriter::new(File::create(dir.join(format!("{name}.csv")))?).finish(frame)?;
+    ParquetWriter::new(File::create(dir.join(format!("{name}.parquet")))?).finish(frame)?;
+    Ok(())
+}
+
+/// Write the data files of a run into `dir`, each as CSV and as Parquet: rows (a solver
+/// study's iterations in their place), probes and, when the run has them, the cuts
+/// (`<table>.cuts.*`) and the costs (`<table>.cost.*`).
+pub fn write_frames(dir: &Path, run: &RunResult) -> PolarsResult<()> {
     std::fs::create_dir_all(dir)?;
     let safe = csv_stem(&run.table);
     let mut rows = if run.uzawa.is_empty() {
@@ -184,9 +197,9 @@ pub fn write_csv(dir: &Path, run: &RunResult) -> PolarsResult<()> {
     } else {
         uzawa_frame(&run.uzawa)?
     };
-    CsvWriter::new(File::create(dir.join(format!("{safe}.csv")))?).finish(&mut rows)?;
+    write_frame(dir, &safe, &mut rows)?;
     let mut probes = probes_frame(run)?;
-    CsvWriter::new(File::create(dir.join(format!("{safe}.probes.csv")))?).finish(&mut probes)?;
+    write_frame(dir, &format!("{safe}.probes"), &mut probes)?;
     if let Some(cuts) = &run.cuts {
         let mut frame = DataFrame::new(
             cuts.columns.first().map_or(0, |c| c.1.len()),
@@ -195,11 +208,81 @@ pub fn write_csv(dir: &Path, run: &RunResult) -> PolarsResult<()> {
                 .map(|(name, values)| Column::new(name.as_str().into(), values.as_slice()))
                 .collect(),
         )?;
-        CsvWriter::new(File::create(dir.join(format!("{safe}.cuts.csv")))?).finish(&mut frame)?;
+        write_frame(dir, &format!("{safe}.cuts"), &mut frame)?;
     }
     if !run.costs.is_empty() {
         let mut costs = costs_frame(&run.costs)?;
-        CsvWriter::new(File::create(dir.join(format!("{safe}.cost.csv")))?).finish(&mut costs)?;
+        write_frame(dir, &format!("{safe}.cost"), &mut costs)?;
     }
+    Ok(())
+}
+
+/// tribo's rows beside the printed table: the columns of [`rows_frame`], then for each printed
+/// column `c` (other than `cycle`) `thesis_c`, the printed value of the row's cycle (reference
+/// data from the thesis, never computed), and `c_rel_diff`, tribo/thesis − 1 with the tribo
+/// value the page compares it with (in the fluid tables the printed `estimate` and `ratio`
+/// against `estimate_previous_mesh`). One row per cycle tribo computed; a value that is not
+/// printed, printed as `inf`, or a difference to a printed 0 is empty. `None` for a run without
+/// printed rows (a figure experiment, a solver study).
+pub fn joined_frame(run: &RunResult, thesis: &ThesisTable) -> PolarsResult<Option<DataFrame>> {
+    if thesis.is_empty() || run.rows.is_empty() || !run.uzawa.is_empty() {
+        return Ok(None);
+    }
+    let mut frame = rows_frame(run)?;
+    let rows = &run.rows;
+    for column in thesis.columns.iter().filter(|c| *c != "cycle") {
+        let printed: Vec<Option<f64>> = rows
+            .iter()
+            .map(|r| thesis.value(r.cycle, column).filter(|v| v.is_finite()))
+            .collect();
+        let integral = rows
+            .iter()
+            .any(|r| matches!(r.get(column), Some(Value::Count(_))))
+            && printed.iter().flatten().all(|v| v.fract() == 0.0);
+        let name = format!("thesis_{column}");
+        let printed_column = if integral {
+            let v: Vec<Option<i64>> = printed.iter().map(|v| v.map(|v| v as i64)).collect();
+            Column::new(name.into(), v)
+        } else {
+            Column::new(name.into(), printed.clone())
+        };
+        frame.with_column(printed_column)?;
+        let diffs: Vec<Option<f64>> = printed
+            .iter()
+            .enumerate()
+            .map(|(i, p)| super::rel_diff(super::compared_value(rows, i, column)?, (*p)?))
+            .collect();
+        frame.with_column(Column::new(format!("{column}_rel_diff").into(), diffs))?;
+    }
+    Ok(Some(frame))
+}
+
+/// Write `<table>.joined.csv` and `.parquet` ([`joined_frame`]) where the run has printed rows;
+/// returns whether it wrote them.
+pub fn write_joined(dir: &Path, run: &RunResult, thesis: &ThesisTable) -> PolarsResult<bool> {
+    let Some(mut frame) = joined_frame(run, thesis)? else {
+        return Ok(false);
+    };
+    std::fs::create_dir_all(dir)?;
+    write_frame(dir, &format!("{}.joined", csv_stem(&run.table)), &mut frame)?;
+    Ok(true)
+}
+
+/// Write the run's last mesh as `<table>.vtu` ([`super::vtk`]) where it has one; returns
+/// whether it wrote it.
+pub fn write_vtu(dir: &Path, run: &RunResult) -> std::io::Result<bool> {
+    let Some(mesh) = &run.last_mesh else {
+        return Ok(false);
+    };
+    std::fs::create_dir_all(dir)?;
+    super::vtk::write_file(&dir.join(format!("{}.vtu", csv_stem(&run.table))), mesh)?;
+    Ok(true)
+}
+
+/// Every data file of a run: [`write_frames`], [`write_joined`] and [`write_vtu`].
+pub fn write_all(dir: &Path, run: &RunResult, thesis: &ThesisTable) -> PolarsResult<()> {
+    write_frames(dir, run)?;
+    write_joined(dir, run, thesis)?;
+    write_vtu(dir, run)?;
     Ok(())
 }

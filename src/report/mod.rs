@@ -20,6 +20,7 @@ mod plots;
 pub mod provenance;
 pub mod record;
 pub mod verdict;
+pub mod vtk;
 
 use std::any::Any;
 use std::fs;
@@ -237,7 +238,8 @@ fn with_path(e: io::Error, path: &Path) -> io::Error {
 }
 
 /// Remove the output a table left in `out_dir` from an earlier run: `data/<table>.csv`,
-/// `data/<table>.<word>….csv` (its probes and alternative readings) and
+/// `data/<table>.<word>….csv` (its probes and alternative readings), the same names ending in
+/// `.parquet` and `.vtu`, and
 /// `figures/<table>-<word>….svg`; return the files removed.
 ///
 /// Called before a table runs, so that a table that fails leaves no data or figures that look
@@ -250,6 +252,8 @@ pub fn remove_outputs(out_dir: &Path, table: &str) -> io::Result<Vec<PathBuf>> {
     let figure_stem = file_stem(table);
     for (dir, stem, separator, extension) in [
         (out_dir.join("data"), data_stem.as_str(), '.', ".csv"),
+        (out_dir.join("data"), data_stem.as_str(), '.', ".parquet"),
+        (out_dir.join("data"), data_stem.as_str(), '.', ".vtu"),
         (out_dir.join("figures"), figure_stem.as_str(), '-', ".svg"),
     ] {
         let entries = match fs::read_dir(&dir) {

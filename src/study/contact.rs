@@ -20,7 +20,7 @@ use crate::models::contact::{
     ContactBoundary, ContactConstraint, ContactModel, ContactSolution,
 };
 use crate::models::elasticity::Elasticity;
-use crate::results::{columns, DeformedPicture};
+use crate::results::{columns, DeformedPicture, MeshField};
 
 /// Boundary points per face at which the true penetration is sampled.
 pub const PENETRATION_SAMPLES: usize = 8;
@@ -205,6 +205,28 @@ pub fn contact_picture(
     pic
 }
 
+/// The contact set of a cycle as a point field `contact` of the last mesh: 1 at the contact
+/// vertices whose constraint is active (in contact with the obstacle), 0 at every other vertex.
+pub fn contact_set_field(state: &Option<CycleState>, dofs: &DofMap) -> Vec<MeshField> {
+    let Some(state) = state else {
+        return Vec::new();
+    };
+    let mut values = vec![0.0; dofs.vertices.len()];
+    for (c, _) in state
+        .constraints
+        .iter()
+        .zip(&state.solution.active)
+        .filter(|(_, &a)| a)
+    {
+        values[c.vertex as usize] = 1.0;
+    }
+    vec![MeshField {
+        name: "contact".into(),
+        components: 1,
+        values,
+    }]
+}
+
 fn model_label(model: ContactModel) -> &'static str {
     match model {
         ContactModel::Z => "z-contact",
@@ -360,6 +382,10 @@ impl Problem for ContactProblem {
 
     fn component(&self, name: &str) -> Option<usize> {
         displacement_component(name)
+    }
+
+    fn point_sets(&self, dofs: &DofMap) -> Vec<MeshField> {
+        contact_set_field(&self.state, dofs)
     }
 }
 

@@ -52,9 +52,9 @@ use crate::models::contact::{
     ContactBoundary, ContactConstraint, ContactModel, ContactSolution,
 };
 use crate::models::elasticity::Elasticity;
-use crate::results::{columns, Value};
+use crate::results::{columns, MeshField, Value};
 
-use super::contact::{contact_picture, CycleState, PENETRATION_SAMPLES};
+use super::contact::{contact_picture, contact_set_field, CycleState, PENETRATION_SAMPLES};
 
 /// η_Q² per cell and the estimate's columns of a model-and-grid cycle.
 type GridEstimate = (Vec<f64>, Vec<(String, Value)>);
@@ -496,5 +496,9 @@ impl Problem for ModelAdaptiveContact {
 
     fn component(&self, name: &str) -> Option<usize> {
         displacement_component(name)
+    }
+
+    fn point_sets(&self, dofs: &DofMap) -> Vec<MeshField> {
+        contact_set_field(&self.state, dofs)
     }
 }

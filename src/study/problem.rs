@@ -9,7 +9,7 @@ use crate::experiment::Scene;
 use crate::fe::{DofMap, System};
 use crate::linalg::DirectSolver;
 use crate::mesh::{BoundaryFace, Mesh, MeshError};
-use crate::results::{columns, Cuts, DeformedPicture, FieldPicture, Value};
+use crate::results::{columns, Cuts, DeformedPicture, FieldPicture, MeshField, Value};
 
 use super::clock::PhaseClock;
 
@@ -241,6 +241,13 @@ pub trait Problem {
 
     /// The field component of a probe (`s1`, `s2`, `psi`).
     fn component(&self, name: &str) -> Option<usize>;
+
+    /// Sets of vertices of the last printed solve, as point fields of `data/<table>.vtu`
+    /// (1 in the set, 0 elsewhere), e.g. the contact set of a contact problem. The solution
+    /// components themselves are written by the recorder.
+    fn point_sets(&self, _dofs: &DofMap) -> Vec<MeshField> {
+        Vec::new()
+    }
 
     /// Notes the run adds to its table (e.g. where `cavitation = "auto"` switched).
     fn notes(&self) -> Vec<String> {

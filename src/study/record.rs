@@ -9,8 +9,8 @@ use crate::experiment::{Experiment, StudyKind};
 use crate::fe::DofMap;
 use crate::mesh::{Mesh, Side};
 use crate::results::{
-    columns, CellBox, FaceModel, MeshPicture, PartitionPicture, PhaseSeconds, Probe, Row,
-    RunResult, Value,
+    columns, CellBox, FaceModel, LastMesh, MeshField, MeshPicture, PartitionPicture, PhaseSeconds,
+    Probe, Row, RunResult, Value,
 };
 
 /// Builds the [`RunResult`] of one study.
@@ -65,6 +65,8 @@ impl<'a> Recorder<'a> {
         let last = cycle + 1 == self.printed;
         if last {
             self.result.probes = self.probes(disc, dofs, solution, &*problem);
+            self.result.last_mesh =
+                Some(last_mesh(disc, dofs, solution, estimate, &*problem, cycle));
         }
         // A load-step study draws the body after every step (the frames of its animation).
         if last || self.experiment.study.kind == StudyKind::LoadSteps {
@@ -181,6 +183,108 @@ pub fn mesh_picture(mesh: &Mesh, cycle: usize) -> MeshPicture {
             })
             .collect(),
         shaded: Vec::new(),
+    }
+}
+
+/// The solution components written as vectors in the plane: the displacement (s₁, s₂) of the
+/// elasticity and contact problems and the flow rate (χ₁, χ₂) of the SubStokes model.
+const VECTORS: [(&str, [&str; 2]); 2] = [("displacement", ["s1", "s2"]), ("chi", ["chi1", "chi2"])];
+
+/// The last printed mesh and its fields (`data/<table>.vtu`): per vertex the solution
+/// components ([`VECTORS`] and the film pressure `psi`), for a thin film `cavitation` (1 where
+/// the cavitation model is on and ψ_h ≤ 0, the zone the pressure map outlines), `hanging` (1 at
+/// hanging vertices, whose values follow from their edge's ends) and the problem's
+/// [`Problem::point_sets`] (the contact set); per cell the indicators η_Q² of the grid marking
+/// (`eta_squared`, where the estimate has them per cell) and the refinement `level`.
+fn last_mesh(
+    disc: &Discretisation,
+    dofs: &DofMap,
+    solution: &Solution,
+    estimate: &Estimate,
+    problem: &dyn Problem,
+    cycle: usize,
+) -> LastMesh {
+    let vertices = &dofs.vertices;
+    let nc = dofs.n_components;
+    let u = &solution.u;
+    let component = |c: usize| -> Vec<f64> { (0..vertices.len()).map(|v| u[v * nc + c]).collect() };
+    let mut point_fields = Vec::new();
+    for (name, [a, b]) in VECTORS {
+        if let (Some(a), Some(b)) = (problem.component(a), problem.component(b)) {
+            let values = (0..vertices.len())
+                .flat_map(|v| [u[v * nc + a], u[v * nc + b]])
+                .collect();
+            point_fields.push(MeshField {
+                name: name.into(),
+                components: 2,
+                values,
+            });
+        }
+    }
+    if let Some(psi) = problem.component("psi") {
+        let values = component(psi);
+        if let Some(on) = problem.cavitation_ran() {
+            let set = values
+                .iter()
+                .map(|&p| if on && p <= 0.0 { 1.0 } else { 0.0 })
+                .collect();
+            point_fields.push(MeshField {
+                name: "psi".into(),
+                components: 1,
+                values,
+            });
+            point_fields.push(MeshField {
+                name: "cavitation".into(),
+                components: 1,
+                values: set,
+            });
+        } else {
+            point_fields.push(MeshField {
+                name: "psi".into(),
+                components: 1,
+                values,
+            });
+        }
+    }
+    point_fields.extend(problem.point_sets(dofs));
+    point_fields.push(MeshField {
+        name: "hanging".into(),
+        components: 1,
+        values: vertices
+            .is_hanging
+            .iter()
+            .map(|&h| if h { 1.0 } else { 0.0 })
+            .collect(),
+    });
+    let mesh = &disc.mesh;
+    let mut cell_fields = Vec::new();
+    if estimate.cells.len() == mesh.n_active() {
+        cell_fields.push(MeshField {
+            name: "eta_squared".into(),
+            components: 1,
+            values: estimate.cells.clone(),
+        });
+    }
+    cell_fields.push(MeshField {
+        name: "level".into(),
+        components: 1,
+        values: mesh
+            .active()
+            .iter()
+            .map(|&c| f64::from(mesh.level(c)))
+            .collect(),
+    });
+    LastMesh {
+        cycle,
+        points: vertices.coords.clone(),
+        // Lexicographic corners (ll, lr, ul, ur) to counter-clockwise (ll, lr, ur, ul).
+        cells: vertices
+            .cell_vertices
+            .iter()
+            .map(|&[ll, lr, ul, ur]| [ll, lr, ur, ul])
+            .collect(),
+        point_fields,
+        cell_fields,
     }
 }
 
