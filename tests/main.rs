@@ -13,6 +13,7 @@ mod mesh_limits;
 mod model_contact;
 mod model_fluid;
 mod model_grid;
+mod notes;
 mod outputs;
 mod properties;
 mod report_failures;
