@@ -21,12 +21,23 @@ fn experiment_ids() -> BTreeSet<String> {
         .collect()
 }
 
-/// The reference a reader cannot follow in `text`, if any.
+/// The reference a reader cannot follow in `text`, if any: a spec file, a Markdown file, an
+/// issue, or a line number of the thesis text (`l. 4831`, `line 7085`, `lines 5966–5980`).
 fn unfollowable(text: &str) -> Option<&'static str> {
     let lower = text.to_lowercase();
-    ["spec/", "spec §", ".md", "issue", " l. ", " line ", "(l. "]
+    if let Some(p) = ["spec/", "spec §", ".md", "issue"]
         .into_iter()
         .find(|p| lower.contains(p))
+    {
+        return Some(p);
+    }
+    ["l. ", "line ", "lines "].into_iter().find(|p| {
+        lower.match_indices(p).any(|(i, _)| {
+            let before = lower[..i].chars().next_back();
+            let after = lower[i + p.len()..].chars().next();
+            !before.is_some_and(char::is_alphanumeric) && after.is_some_and(|c| c.is_ascii_digit())
+        })
+    })
 }
 
 #[test]
@@ -187,6 +198,8 @@ fn a_page_shows_each_family_box_once_and_links_the_errata() {
             );
         }
         assert!(errata_part.contains(&format!("href=\"#t-{t}\"")), "{t}");
+        assert!(unfollowable("as printed (thesis l. 5925)").is_some());
+        assert!(unfollowable("the normal line misses the obstacle").is_none());
         for item in s.split("<li>").skip(1) {
             let text = item.split("</li>").next().unwrap();
             assert!(unfollowable(text).is_none(), "{t}: {text}");
