@@ -358,7 +358,7 @@ pub static ERRATA: &[Erratum] = &[
         evidence: "Row k of the fluid tables prints the cells and dofs of the mesh after refinement \
                    next to the estimate computed before it (mesh of solve k+1, estimate of solve \
                    k); Table IV.72 alone prints its initial grid as row 0 (64 cells, 243 dofs, \
-                   estimate nan), the other tables start from the first refined mesh.",
+                   no estimate), the other tables start from the first refined mesh.",
         reading: "tribo's column estimate_previous_mesh holds the estimate of the previous solve \
                   and is compared with the printed estimate; Table IV.72 is compared row by row \
                   with its own layout.",
