@@ -15,6 +15,7 @@ mod mesh_limits;
 mod model_contact;
 mod model_fluid;
 mod model_grid;
+mod notes;
 mod open_data;
 mod outputs;
 mod properties;

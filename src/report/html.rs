@@ -10,6 +10,8 @@ use std::collections::{BTreeSet, HashMap};
 use std::fmt::Write as _;
 
 use super::verdict::{self, KnownReason, Verdict};
+use super::errata::{self, Erratum};
+use super::families::{self, Family};
 use super::{
     compared_value, compares_previous_estimate, estimate_ratio, rel_diff, tolerance, Entry,
     Failure, FailureKind, Figure, ReportMeta, Section, Summary, MAX_SHOWN_THESIS_ROWS,
@@ -191,6 +193,11 @@ tbody tr:hover td { background: #eef3fb; }
 .verdict.neutral { color: var(--muted); }
 tr.absent td { color: var(--muted); }
 .warning { border: 1px solid #e0a800; border-left: 6px solid #e0a800; background: #fff8e1; padding: 8px 14px; margin: 10px 0; border-radius: 3px; }
+.family { border: 1px solid var(--rule); border-left: 6px solid #5b7db1; background: #f5f8fc; padding: 4px 16px 10px; margin: 24px 0; border-radius: 3px; }
+dl.model { display: grid; grid-template-columns: max-content 1fr; gap: 4px 14px; }
+dl.model dt { font-weight: 600; }
+dl.model dd { margin: 0; }
+.erratum { border-top: 1px solid var(--rule); margin-top: 10px; }
 .meta { color: var(--muted); margin: 0 0 8px; }
 .failure { border: 1px solid var(--offink); border-left: 6px solid var(--offink); background: var(--off); padding: 8px 14px; margin: 10px 0; border-radius: 3px; }
 .failure pre { white-space: pre-wrap; margin: 6px 0 0; font-size: 13px; }
@@ -226,12 +233,23 @@ pub(crate) fn page(entries: &[Entry], figures: &[SectionFigures], meta: &ReportM
     contents(&mut h, entries);
     summary(&mut h, entries);
     substokes_row_zero(&mut h, entries);
+    let mut boxes_shown = BTreeSet::new();
     for (entry, figs) in entries.iter().zip(figures) {
+        let table = match entry {
+            Entry::Done(s) => s.run.table.as_str(),
+            Entry::Failed(f) => f.table.as_str(),
+        };
+        if let Some(family) = families::family_of(table) {
+            if boxes_shown.insert(family.id) {
+                family_box(&mut h, family);
+            }
+        }
         match entry {
             Entry::Done(section) => table_section(&mut h, section, figs),
             Entry::Failed(failure) => failed_section(&mut h, failure),
         }
     }
+    errata_section(&mut h, entries);
     let _ = writeln!(
         h,
         "<footer>Written by {}. Thesis values are the printed tables of Chapter IV, shown for \
@@ -308,7 +326,7 @@ fn contents(h: &mut String, entries: &[Entry]) {
             ),
         };
     }
-    h.push_str("</ol>\n</nav>\n");
+    h.push_str("<li><a href=\"#errata\">Thesis errata</a></li>\n</ol>\n</nav>\n");
 }
 
 /// A `<td>` holding a relative difference, highlighted beyond the column's tolerance.
@@ -479,9 +497,21 @@ fn absent_summary_rows(h: &mut String, numbers: std::ops::Range<usize>) {
     );
 }
 
-/// Why the section's numbers differ from the printed ones, where the report knows it.
-fn known_reason(_section: &Section) -> Option<KnownReason> {
-    None
+/// Why the section's numbers differ from the printed ones, where the report knows it
+/// ([`errata::known_difference`]), linked to the first thesis erratum affecting the table, or
+/// else to the table's own section, whose readings give the evidence.
+fn known_reason(section: &Section) -> Option<KnownReason> {
+    let table = &section.run.table;
+    let known = errata::known_difference(table)?;
+    let anchor = errata::errata_for(table)
+        .first()
+        .map(|e| e.id.to_string())
+        .unwrap_or_else(|| anchor(table));
+    Some(KnownReason {
+        kind: known.kind.name().to_string(),
+        reason: known.reason.to_string(),
+        anchor: Some(anchor),
+    })
 }
 
 /// The first printed estimate of every SubStokes table of the page (runs with a Reynolds
@@ -751,13 +781,7 @@ fn table_section(h: &mut String, s: &Section, figs: &SectionFigures) {
         claim_paragraph(h, &run.costs);
     }
 
-    if !run.notes.is_empty() {
-        h.push_str("<h3>Readings and known differences</h3>\n<ul class=\"notes\">\n");
-        for n in &run.notes {
-            let _ = writeln!(h, "<li>{}</li>", escape(n));
-        }
-        h.push_str("</ul>\n");
-    }
+    readings(h, &run.table, &run.notes);
 
     if let Some(error) = &figs.error {
         let _ = writeln!(
@@ -850,6 +874,147 @@ fn parameters(h: &mut String, parameters: &[crate::results::Parameter]) {
         );
     }
     h.push_str("</tbody></table></details>\n");
+}
+
+/// The "Readings and known differences" block of a table's section: the table's own notes first,
+/// then the known difference, the family's shared notes that hold for it (shown once in the family
+/// box, linked), and the thesis errata that affect the table (linked to the errata section).
+fn readings(h: &mut String, table: &str, notes: &[String]) {
+    let family = families::family_of(table);
+    let shared = family
+        .map(|f| families::notes_for(f, table).len())
+        .unwrap_or(0);
+    let found = errata::errata_for(table);
+    let known = errata::known_difference(table);
+    if notes.is_empty() && family.is_none() && found.is_empty() && known.is_none() {
+        return;
+    }
+    h.push_str("<h3>Readings and known differences</h3>\n");
+    if !notes.is_empty() {
+        h.push_str("<ul class=\"notes\">\n");
+        for n in notes {
+            let _ = writeln!(h, "<li>{}</li>", escape(n));
+        }
+        h.push_str("</ul>\n");
+    }
+    if let Some(k) = known {
+        let _ = writeln!(
+            h,
+            "<p class=\"known\"><b>Known difference ({}):</b> {}</p>",
+            k.kind.name(),
+            escape(k.reason)
+        );
+    }
+    if let Some(f) = family {
+        let what = match shared {
+            0 => "The model and its conventions".to_string(),
+            1 => "The model, its conventions and 1 shared note that holds for this table".into(),
+            n => {
+                format!("The model, its conventions and {n} shared notes that hold for this table")
+            }
+        };
+        let _ = writeln!(
+            h,
+            "<p class=\"family-link\">{what}: <a href=\"#{}\">{}</a>.</p>",
+            f.id,
+            escape(f.name)
+        );
+    }
+    if !found.is_empty() {
+        h.push_str("<p class=\"errata-link\">Thesis errata affecting this table: ");
+        for (i, e) in found.iter().enumerate() {
+            let _ = write!(
+                h,
+                "{}<a href=\"#{}\">{}</a>",
+                if i == 0 { "" } else { " · " },
+                escape(e.id),
+                escape(e.title)
+            );
+        }
+        h.push_str(".</p>\n");
+    }
+}
+
+/// A family's "model and conventions" box with the notes its tables share; shown once, before
+/// the first section of the family on the page.
+fn family_box(h: &mut String, family: &Family) {
+    let _ = write!(
+        h,
+        "<section id=\"{}\" class=\"family\">\n<h2>{} — model and conventions</h2>\n\
+         <p class=\"meta\">{}</p>\n<dl class=\"model\">\n",
+        family.id,
+        escape(family.name),
+        escape(family.sections)
+    );
+    for (head, text) in family.model {
+        let _ = writeln!(h, "<dt>{}</dt><dd>{}</dd>", escape(head), escape(text));
+    }
+    h.push_str("</dl>\n");
+    if !family.notes.is_empty() {
+        h.push_str("<h3>Notes shared by the family</h3>\n<ul class=\"notes\">\n");
+        for n in family.notes {
+            let tables = if n.tables.is_empty() {
+                "All tables".to_string()
+            } else {
+                n.tables
+                    .iter()
+                    .map(|t| entry_name(t))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            };
+            let _ = writeln!(h, "<li><b>{}:</b> {}</li>", escape(&tables), escape(n.text));
+        }
+        h.push_str("</ul>\n");
+    }
+    h.push_str("</section>\n");
+}
+
+/// The errata section: every thesis defect tribo found, with its evidence and the reading used,
+/// and links to the affected tables that are on the page.
+fn errata_section(h: &mut String, entries: &[Entry]) {
+    let on_page: BTreeSet<&str> = entries
+        .iter()
+        .map(|e| match e {
+            Entry::Done(s) => s.run.table.as_str(),
+            Entry::Failed(f) => f.table.as_str(),
+        })
+        .collect();
+    h.push_str(
+        "<section id=\"errata\">\n<h2>Thesis errata</h2>\n<p>Defects of the printed thesis \
+         found while reproducing Chapter IV — duplicated tables, spikes and noise, contradictions \
+         between text and tables, garbled or missing formulas — with the evidence and the reading \
+         tribo uses.</p>\n",
+    );
+    for e in errata::ERRATA {
+        erratum_entry(h, e, &on_page);
+    }
+    h.push_str("</section>\n");
+}
+
+fn erratum_entry(h: &mut String, e: &Erratum, on_page: &BTreeSet<&str>) {
+    let tables = e
+        .tables
+        .iter()
+        .map(|t| {
+            if on_page.contains(t) {
+                format!("<a href=\"#{}\">{}</a>", anchor(t), escape(&entry_name(t)))
+            } else {
+                escape(&entry_name(t))
+            }
+        })
+        .collect::<Vec<_>>()
+        .join(", ");
+    let _ = writeln!(
+        h,
+        "<div class=\"erratum\" id=\"{}\">\n<h3>{}</h3>\n<p class=\"meta\">{} · affects {}</p>\n\
+         <p><b>Evidence.</b> {}</p>\n<p><b>Reading.</b> {}</p>\n</div>",
+        escape(e.id),
+        escape(e.title),
+        e.kind.name(),
+        tables,
+        escape(e.evidence),
+        escape(e.reading)
+    );
 }
 
 /// What one row of a run is: a load step of the forming (§IV.2.4.7), or a cycle.

@@ -12,6 +12,8 @@
 //! those of a load-step run, Fig. IV.54), `html` lays out the page.
 
 pub mod data;
+pub mod errata;
+pub mod families;
 mod film;
 mod forming;
 mod html;
