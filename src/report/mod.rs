@@ -603,15 +603,15 @@ fn write_figures(
                     run.table,
                     pic.cycle,
                     html::fmt_short(pic.scale),
-                    if pic.obstacles.is_empty() {
-                        ""
-                    } else {
-                        "; obstacles brown, hatched on their solid side"
-                    },
                     if pic.accurate_faces.is_empty() {
                         ""
                     } else {
                         "; Signorini faces thick black"
+                    },
+                    if pic.obstacles.is_empty() {
+                        ""
+                    } else {
+                        "; obstacles brown, hatched on their solid side"
                     },
                     cf(&thesis.solution)
                 ),

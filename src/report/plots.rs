@@ -1655,7 +1655,7 @@ pub(super) fn deformed_drawing(
             "<rect x=\"{margin}\" y=\"{y}\" width=\"28\" height=\"9\" fill=\"url(#{OBSTACLE_HATCH}-px)\"/>\
              <path d=\"M{margin} {y}h28\" stroke=\"{OBSTACLE}\" stroke-width=\"3\"/>\
              <path d=\"M{:.1} {y}h0\" stroke=\"#e31a1c\" stroke-width=\"5\" stroke-linecap=\"round\"/>",
-            margin + 250.0
+            margin + 270.0
         );
         text(
             svg,
@@ -1667,7 +1667,7 @@ pub(super) fn deformed_drawing(
         );
         text(
             svg,
-            margin + 258.0,
+            margin + 278.0,
             y + 5.0,
             13.0,
             "start",
