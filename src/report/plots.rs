@@ -746,6 +746,9 @@ fn picture_window<'a>(
     )
 }
 
+/// A box in sub-pixel units `(x0, top, x1, bottom)`.
+type SubBox = (i64, i64, i64, i64);
+
 /// A cell's box in sub-pixel units `(x0, top, x1, bottom)`.
 ///
 /// Cells narrower or lower than a pixel are snapped to the pixel grid they fall in: at that size
@@ -1015,7 +1018,7 @@ fn draw_mesh_levels(
         .filter(|&i| finite_box(&cells[i]) && f.intersects(&cells[i]))
         .collect();
     order.sort_by_key(|&i| std::cmp::Reverse(levels[i]));
-    let mut by_level: Vec<(u8, Vec<(i64, i64, i64, i64)>)> = Vec::new();
+    let mut by_level: Vec<(u8, Vec<SubBox>)> = Vec::new();
     let mut seen = HashSet::new();
     for i in order {
         let b = sub_box(&cells[i], f);
