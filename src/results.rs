@@ -253,6 +253,10 @@ pub struct CellBox {
 pub struct MeshPicture {
     pub cycle: usize,
     pub cells: Vec<CellBox>,
+    /// Refinement level of each cell of `cells` (0 = a cell of the coarse grid), in the same
+    /// order; empty when the producer does not know them (the picture then counts levels by
+    /// halvings of the largest cell drawn).
+    pub levels: Vec<u8>,
     /// Cells drawn grey (the SubStokes cells of a model-adaptive fluid run); usually empty.
     pub shaded: Vec<CellBox>,
 }

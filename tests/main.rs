@@ -6,6 +6,7 @@ mod cli;
 mod common;
 mod contact;
 mod elasticity;
+mod figures;
 mod forming;
 mod forming_report;
 mod full_tier;

@@ -289,7 +289,7 @@ pub(super) fn estimate_vs_substokes_cells(
     write_log_log(
         path,
         &format!("{} — estimate vs SubStokes cells", run.table),
-        ("SubStokes cells", "estimate"),
+        ("SubStokes cells", "η (Thm III.23 + model error III.6)"),
         &curves,
         (&[], ""),
         "no SubStokes cells",
@@ -370,7 +370,7 @@ pub(super) fn related_cost(path: &Path, run: &RunResult, related: &[&RunResult])
     write_log_log(
         path,
         &format!("{} — cost of accuracy, one scene three ways", run.table),
-        ("cumulative wall seconds", "estimate (each in its own norm)"),
+        ("cumulative wall seconds", "η (each in its own norm)"),
         &curves,
         (&[], ""),
         "no timed rows",

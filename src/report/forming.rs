@@ -151,6 +151,8 @@ fn write_animation(
         svg.push_str(&visibility_animation(i, pics.len()));
         svg.push_str("</g>\n");
     }
+    // One window for every frame: its axes are drawn once.
+    plots::axes(&mut svg, f);
     svg.push_str("</svg>\n");
     fs::write(path, svg)
 }

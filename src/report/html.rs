@@ -13,8 +13,8 @@ use super::verdict::{self, KnownReason, Verdict};
 use super::errata::{self, Erratum};
 use super::families::{self, Family};
 use super::{
-    compared_value, compares_previous_estimate, estimate_ratio, rel_diff, tolerance, Entry,
-    Failure, FailureKind, Figure, ReportMeta, Section, Summary, MAX_SHOWN_THESIS_ROWS,
+    compared_value, compares_previous_estimate, estimate_ratio, rel_diff, thesis_figure, tolerance,
+    Entry, Failure, FailureKind, Figure, ReportMeta, Section, Summary, MAX_SHOWN_THESIS_ROWS,
 };
 use crate::results::columns::{self, PREVIOUS_ESTIMATE, THEOREM_ESTIMATE};
 use crate::results::{Cuts, Row, RunResult, Value};
@@ -141,11 +141,6 @@ fn anchor(table: &str) -> String {
 /// (`fig-IV.54`: the thesis shows that result as a figure only).
 fn entry_name(table: &str) -> String {
     thesis_figure(table).unwrap_or_else(|| format!("Table {table}"))
-}
-
-/// The thesis figure a figure experiment's id names (`fig-IV.54` → `Fig. IV.54`).
-fn thesis_figure(table: &str) -> Option<String> {
-    table.strip_prefix("fig-").map(|f| format!("Fig. {f}"))
 }
 
 const CSS: &str = r#"

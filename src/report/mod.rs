@@ -303,6 +303,155 @@ pub(crate) struct Figure {
     pub links: Vec<(String, String)>,
 }
 
+/// The thesis figure a figure experiment's id names (`fig-IV.54` → `Fig. IV.54`).
+pub(crate) fn thesis_figure(table: &str) -> Option<String> {
+    table.strip_prefix("fig-").map(|f| format!("Fig. {f}"))
+}
+
+/// The thesis figures that show a table's run, as the text of Chapter IV assigns them: the
+/// adaptively refined grids, the solution on the last grid, and for the model-adaptive tables
+/// the refined model (the contact faces; with grid adaptivity, the grids with those faces).
+/// A part the thesis does not draw is `None`; a figure experiment (`fig-IV.54`) is its own
+/// figure in every part.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub(crate) struct ThesisFigures {
+    pub grids: Option<String>,
+    pub solution: Option<String>,
+    pub model: Option<String>,
+}
+
+/// The [`ThesisFigures`] of table `table` (`IV.7` → grids Fig. IV.12, solution Fig. IV.13).
+///
+/// The elasticity and contact tables IV.1–IV.17 have a figure of the grids and one of the
+/// deformed body each (IV.2 only the latter; before IV.9's comes the sketch of θ_s, Fig.
+/// IV.16); the model-adaptive Tables
+/// IV.18–IV.29 one of the refined model (IV.19 none), the model-and-grid-adaptive Tables
+/// IV.30–IV.35 one of the grids with the model; the Reynolds and SubStokes tables IV.36–IV.63
+/// and the cavitation tables IV.64–IV.75 a grids figure followed by the solution figure.
+pub(crate) fn thesis_figures(table: &str) -> ThesisFigures {
+    if let Some(fig) = thesis_figure(table) {
+        return ThesisFigures {
+            grids: Some(fig.clone()),
+            solution: Some(fig.clone()),
+            model: Some(fig),
+        };
+    }
+    let Some(n) = table
+        .strip_prefix("IV.")
+        .and_then(|n| n.parse::<u32>().ok())
+    else {
+        return ThesisFigures::default();
+    };
+    let fig = |k: u32| Some(format!("Fig. IV.{k}"));
+    let pair = |first: u32| ThesisFigures {
+        grids: fig(first),
+        solution: fig(first + 1),
+        model: None,
+    };
+    let model = |k: Option<u32>| ThesisFigures {
+        model: k.and_then(fig),
+        ..ThesisFigures::default()
+    };
+    match n {
+        1 => pair(1),
+        2 => ThesisFigures {
+            solution: fig(3),
+            ..ThesisFigures::default()
+        },
+        3..=8 => pair(4 + 2 * (n - 3)),
+        9..=17 => pair(17 + 2 * (n - 9)),
+        18 => model(Some(35)),
+        19 => model(None),
+        20..=29 => model(Some(36 + (n - 20))),
+        30..=35 => ThesisFigures {
+            grids: fig(46 + (n - 30)),
+            model: fig(46 + (n - 30)),
+            ..ThesisFigures::default()
+        },
+        36..=63 => pair(56 + 2 * (n - 36)),
+        64..=75 => pair(119 + 2 * (n - 64)),
+        _ => ThesisFigures::default(),
+    }
+}
+
+/// `" (cf. thesis Fig. IV.12)"` for a figure the thesis has, empty otherwise.
+fn cf(figure: &Option<String>) -> String {
+    figure
+        .as_ref()
+        .map_or(String::new(), |f| format!(" (cf. thesis {f})"))
+}
+
+/// Which estimate a run's `estimate` column holds: the symbol with the norm it bounds, short
+/// for an axis (`η, energy norm (Thm III.12)`) and long for a caption.
+pub(crate) struct EstimateName {
+    pub axis: String,
+    pub caption: String,
+}
+
+/// The [`EstimateName`] of a run, by its thesis section (the run matrix of Chapter IV): Theorem
+/// III.12 for elasticity and III.15 for contact, both bounding the error in the energy norm;
+/// Theorem III.16 (Reynolds norm) for the Reynolds tables, III.17 with cavitation; Theorem
+/// III.23 for SubStokes and III.24 with cavitation, bounding ‖χ − χ_h‖_H¹ + ‖ψ − ψ_h‖_L²; for
+/// the model-adaptive film of Fig. IV.116 the root sum of squares of III.23 on the SubStokes
+/// cells, III.16 on the Reynolds cells and the model error. A run of another section (a scene
+/// of one's own) gets the generic name.
+pub(crate) fn estimate_name(run: &RunResult) -> EstimateName {
+    let s = run.section.as_str();
+    let under = |prefix: &str| s == prefix || s.starts_with(&format!("{prefix}."));
+    let (axis, caption) = if under("IV.1") {
+        (
+            "η, energy norm (Thm III.12)",
+            "the estimate η of Theorem III.12 of the error in the energy norm ‖s − s_h‖_a",
+        )
+    } else if under("IV.2.1") || under("IV.2.2") || under("IV.2.3") {
+        (
+            "η, energy norm (Thm III.15)",
+            "the estimate η of Theorem III.15 of the contact error in the energy norm",
+        )
+    } else if under("IV.2.4") {
+        (
+            "η, energy norm (Thm III.15)",
+            "the estimate η of Theorem III.15 of the contact error in the energy norm, summed \
+             over the z-, Signorini and interior cells, on the model chosen by (III.93)",
+        )
+    } else if under("IV.3.1") {
+        (
+            "η, Reynolds norm (Thm III.16)",
+            "the estimate η of Theorem III.16 of the error ‖ψ − ψ_h‖_R in the Reynolds norm",
+        )
+    } else if under("IV.3.5") {
+        (
+            "η, Reynolds norm (Thm III.17)",
+            "the estimate η of Theorem III.17 (cavitation) of the error in the Reynolds norm",
+        )
+    } else if under("IV.3.2") {
+        (
+            "η, H¹×L² (Thm III.23)",
+            "the estimate η of Theorem III.23 of ‖χ − χ_h‖_H¹ + ‖ψ − ψ_h‖_L²",
+        )
+    } else if under("IV.3.6") {
+        (
+            "η, H¹×L² (Thm III.24)",
+            "the estimate η of Theorem III.24 (cavitation) of ‖χ − χ_h‖_H¹ + ‖ψ − ψ_h‖_L²",
+        )
+    } else if under("IV.3.4") {
+        (
+            "η, III.23 + III.16 + model error",
+            "the estimate η = (η_S² + η_R² + η_m²)^½ — Theorem III.23 on the SubStokes \
+             cells, Theorem III.16 on the Reynolds cells and the model error of Theorem III.6",
+        )
+    } else {
+        (
+            "η (a-posteriori estimate)",
+            "the a-posteriori error estimate η of the scene's solver",
+        )
+    };
+    EstimateName {
+        axis: axis.into(),
+        caption: caption.into(),
+    }
+}
+
 /// Draw every figure one section has data for.
 ///
 /// A load-step run (the forming of §IV.2.4.7, Fig. IV.54) moves its body, so the convergence
@@ -317,6 +466,8 @@ fn write_figures(
     let run = section.run;
     let stem = file_stem(&run.table);
     let load_steps = run.is_load_steps();
+    let thesis = thesis_figures(&run.table);
+    let eta = estimate_name(run);
     let mut figures = Vec::new();
     let mut push = |kind: &str, caption: String| -> PathBuf {
         let file = format!("{stem}-{kind}.svg");
@@ -336,8 +487,9 @@ fn write_figures(
             "model",
             format!(
                 "{}: Signorini faces and model error per cycle, tribo (solid) and thesis \
-                 (dashed); thesis Figs IV.35–IV.45 show the partitions",
-                run.table
+                 (dashed); the partitions are in the next figure{}",
+                run.table,
+                cf(&thesis.model)
             ),
         );
         model_plots::model_adaptivity(&path, run, section.thesis)?;
@@ -348,8 +500,9 @@ fn write_figures(
                 "{}: per load step, the position of the tip (the lower right corner of the \
                  undeformed body), the contact faces on the z-model and on the Signorini \
                  model, and the penetration and model error (log axis; steps where they are 0 \
-                 are not drawn)",
-                run.table
+                 are not drawn); the thesis draws only the bodies{}",
+                run.table,
+                cf(&thesis.solution)
             ),
         );
         forming::steps(&path, run)?;
@@ -368,25 +521,26 @@ fn write_figures(
         let path = push(
             "convergence",
             format!(
-                "{}: estimate vs degrees of freedom, tribo (solid) and thesis (dashed), log–log",
-                run.table
+                "{}: {} against the degrees of freedom, tribo (solid) and thesis (dashed), \
+                 log–log",
+                run.table, eta.caption
             ),
         );
         plots::convergence(&path, run, section.thesis)?;
     }
     if run.has_partitions() && !load_steps {
-        let (mesh, figures) = if run.is_model_adaptive() {
-            ("", "IV.35–IV.45")
+        // Model and grid adaptivity: the faces change with the mesh.
+        let mesh = if run.is_model_adaptive() {
+            ""
         } else {
-            // Model and grid adaptivity: the faces change with the mesh.
-            (" on the adapted mesh", "IV.46–IV.51")
+            " on the adapted mesh"
         };
         let path = push(
             "partition",
             format!(
-                "{}: the contact faces per cycle{mesh}, Signorini black and z light grey (cf. \
-                 thesis Figs {figures})",
-                run.table
+                "{}: the contact faces per cycle{mesh}, Signorini black and z light grey{}",
+                run.table,
+                cf(&thesis.model)
             ),
         );
         model_plots::partitions(&path, run, run.domain)?;
@@ -407,8 +561,9 @@ fn write_figures(
         let path = push(
             "cost",
             format!(
-                "{}: cost of accuracy — estimate vs cumulative wall seconds, and seconds per phase",
-                run.table
+                "{}: cost of accuracy — {} against the cumulative wall seconds, and the \
+                 seconds per phase",
+                run.table, eta.caption
             ),
         );
         plots::cost(&path, run)?;
@@ -424,16 +579,18 @@ fn write_figures(
         let path = push(
             "mesh",
             format!(
-                "{}: active cells after cycle {}{}",
+                "{}: active cells after cycle {}{}{}",
                 run.table,
                 cycles.join(", "),
                 if !partitions.is_empty() {
-                    "; Signorini faces thick black (cf. thesis Figs IV.46–IV.51)"
+                    "; Signorini faces thick black"
                 } else if run.meshes.iter().any(|m| !m.shaded.is_empty()) {
-                    "; SubStokes cells grey, Reynolds cells white (cf. thesis Fig. IV.116)"
+                    "; SubStokes cells grey, Reynolds cells white"
                 } else {
-                    ""
-                }
+                    ", coloured by refinement level, with x₁/x₂ axes; a thin domain is followed \
+                     by a zoom onto its finest cells"
+                },
+                cf(&thesis.grids)
             ),
         );
         plots::meshes(&path, &run.meshes, run.domain, partitions)?;
@@ -451,7 +608,7 @@ fn write_figures(
             let path = push(
                 &kind,
                 format!(
-                    "{}: deformed body after cycle {}, displacement × {}{}",
+                    "{}: deformed body after cycle {}, displacement × {}{}{}{}",
                     run.table,
                     pic.cycle,
                     html::fmt_short(pic.scale),
@@ -459,7 +616,13 @@ fn write_figures(
                         ""
                     } else {
                         "; Signorini faces thick black"
-                    }
+                    },
+                    if pic.obstacles.is_empty() {
+                        ""
+                    } else {
+                        "; obstacles brown, hatched on their solid side"
+                    },
+                    cf(&thesis.solution)
                 ),
             );
             plots::deformed(&path, &run.table, pic)?;
@@ -475,8 +638,11 @@ fn write_figures(
         let path = push(
             &kind,
             format!(
-                "{}: {} on the active cells after cycle {}",
-                run.table, pic.name, pic.cycle
+                "{}: {} on the active cells after cycle {}, x₁/x₂ axes{}",
+                run.table,
+                pic.name,
+                pic.cycle,
+                cf(&thesis.solution)
             ),
         );
         plots::field(&path, &run.table, pic, run.domain)?;
@@ -595,11 +761,12 @@ fn animation_caption(run: &RunResult) -> String {
     };
     format!(
         "{}: the body after each of the {steps} load step{} in one fixed view, {} s per step \
-         and a pause on the last (an SVG animation); obstacles brown{signorini}, vertices in \
-         contact red",
+         and a pause on the last (an SVG animation); obstacles brown, hatched on their solid \
+         side{signorini}, vertices in contact red{}",
         run.table,
         if steps == 1 { "" } else { "s" },
-        html::fmt_short(forming::FRAME_SECONDS)
+        html::fmt_short(forming::FRAME_SECONDS),
+        cf(&thesis_figures(&run.table).solution)
     )
 }
 

@@ -202,7 +202,8 @@ fn thesis_pairs(thesis: &ThesisTable, x: &str, y: &str) -> Vec<(f64, f64)> {
         .collect()
 }
 
-/// Log–log convergence plot: estimate against dofs for tribo (solid) and the thesis (dashed),
+/// Log–log convergence plot: the estimate η against dofs for tribo (solid) and the thesis
+/// (dashed), the axis naming η's theorem and norm ([`super::estimate_name`]),
 /// with a slope −1/2 guide (the optimal rate of Q1 in 2-D, error ∝ N^(−1/2)).
 ///
 /// Model-adaptive tables print `model_error` instead of `estimate`; when the thesis has that
@@ -210,7 +211,7 @@ fn thesis_pairs(thesis: &ThesisTable, x: &str, y: &str) -> Vec<(f64, f64)> {
 pub fn convergence(path: &Path, run: &RunResult, thesis: &ThesisTable) -> io::Result<()> {
     let mut curves = vec![
         Curve {
-            label: "tribo estimate".into(),
+            label: "tribo η".into(),
             color: TRIBO,
             dashed: false,
             points: run
@@ -221,7 +222,7 @@ pub fn convergence(path: &Path, run: &RunResult, thesis: &ThesisTable) -> io::Re
                 .collect(),
         },
         Curve {
-            label: "thesis estimate".into(),
+            label: "thesis η".into(),
             color: THESIS,
             dashed: true,
             points: thesis_pairs(thesis, "dofs", "estimate"),
@@ -292,7 +293,7 @@ pub fn convergence(path: &Path, run: &RunResult, thesis: &ThesisTable) -> io::Re
     write_log_log(
         path,
         &format!("{} — convergence", run.table),
-        ("degrees of freedom", "estimate"),
+        ("degrees of freedom", &super::estimate_name(run).axis),
         &curves,
         (&guide_pts, "slope −1/2"),
         "no positive estimates to plot",
@@ -524,7 +525,7 @@ pub fn cost(path: &Path, run: &RunResult) -> io::Result<()> {
         let root = SVGBackend::with_string(&mut svg, (760, 720)).into_drawing_area();
         root.fill(&WHITE).map_err(plot_err)?;
         let (top, bottom) = root.split_vertically(420);
-        cost_accuracy(&top, &run.table, &points)?;
+        cost_accuracy(&top, &run.table, &super::estimate_name(run).axis, &points)?;
         phase_bars(&bottom, run)?;
         root.present().map_err(plot_err)?;
     }
@@ -535,6 +536,7 @@ pub fn cost(path: &Path, run: &RunResult) -> io::Result<()> {
 fn cost_accuracy(
     area: &DrawingArea<SVGBackend, Shift>,
     table: &str,
+    estimate: &str,
     points: &[(f64, f64, usize)],
 ) -> io::Result<()> {
     let (x_lo, x_hi) = log_range(points.iter().map(|p| p.0));
@@ -548,7 +550,7 @@ fn cost_accuracy(
         .y_label_area_size(70)
         .build_cartesian_2d(NiceLog::new((x_lo, x_hi)), NiceLog::new((y_lo, y_hi)))
         .map_err(plot_err)?;
-    log_log_grid(&mut chart, "cumulative wall seconds", "estimate")?;
+    log_log_grid(&mut chart, "cumulative wall seconds", estimate)?;
     if points.is_empty() {
         area.draw(&Text::new(
             "no positive timings and estimates to plot",
@@ -744,6 +746,9 @@ fn picture_window<'a>(
     )
 }
 
+/// A box in sub-pixel units `(x0, top, x1, bottom)`.
+type SubBox = (i64, i64, i64, i64);
+
 /// A cell's box in sub-pixel units `(x0, top, x1, bottom)`.
 ///
 /// Cells narrower or lower than a pixel are snapped to the pixel grid they fall in: at that size
@@ -876,13 +881,277 @@ const WIDE: f64 = 1600.0;
 const STRIP_ASPECT: f64 = 3.0;
 const MESH_LINE: &str = "#1f3a5f";
 
-/// Draw one mesh into `svg` inside frame `f`, framed by the window boundary.
-fn draw_mesh(svg: &mut String, cells: &[CellBox], f: &Frame, clip_id: &str) {
-    draw_mesh_shaded(svg, cells, &[], f, clip_id);
+/// Left margin in pixels of a picture with x₂ tick labels and the x₂ axis name.
+pub(super) const AXIS_LEFT: f64 = 56.0;
+/// Room in pixels under a picture for the x₁ tick labels and the x₁ axis name.
+pub(super) const AXIS_BELOW: f64 = 34.0;
+
+/// Round tick values inside `[lo, hi]`: the multiples of one step 1, 2 or 5 × 10^k, at most
+/// `max` of them; none for an empty or non-finite range.
+fn ticks(lo: f64, hi: f64, max: usize) -> Vec<f64> {
+    if !(lo.is_finite() && hi.is_finite() && hi > lo) || max == 0 {
+        return Vec::new();
+    }
+    let span = hi - lo;
+    let p = 10f64.powf((span / max as f64).log10().floor());
+    for m in [1.0, 2.0, 5.0, 10.0, 20.0, 50.0] {
+        let step = m * p;
+        let (first, last) = ((lo / step - 1e-9).ceil(), (hi / step + 1e-9).floor());
+        if last - first + 1.0 <= max as f64 {
+            return (first as i64..=last as i64)
+                .map(|k| k as f64 * step)
+                // −0 and rounding noise around 0 print as 0.
+                .map(|v| if v.abs() < 1e-9 * span { 0.0 } else { v })
+                .collect();
+        }
+    }
+    Vec::new()
 }
 
-/// [`draw_mesh`] with the cells `shaded` filled grey under the outlines (the SubStokes cells of
-/// a model-adaptive fluid run, thesis Fig. IV.116).
+/// The x₁ and x₂ axes of the picture frame `f`, in domain coordinates: round ticks with labels
+/// under the bottom edge and left of the left edge, and the axis names x₁ (under the ticks) and
+/// x₂ (left of them). Needs [`AXIS_BELOW`] pixels under the frame and [`AXIS_LEFT`] left of it.
+pub(super) fn axes(svg: &mut String, f: &Frame) {
+    let (l, t, w, h) = (f.left, f.top, f.width(), f.height());
+    let b = t + h;
+    let mut d = String::new();
+    let _ = writeln!(svg, "<g class=\"axes\">");
+    let xs = ticks(f.win[0], f.win[1], ((w / 70.0) as usize).clamp(2, 16));
+    for x in xs {
+        let px = f.px(x);
+        let _ = write!(d, "M{px:.1} {b:.1}v4");
+        text(svg, px, b + 15.0, 11.0, "middle", &fmt_short(x));
+    }
+    let ys = ticks(f.win[2], f.win[3], ((h / 24.0) as usize).clamp(2, 10));
+    for y in ys {
+        let py = f.py(y);
+        let _ = write!(d, "M{l:.1} {py:.1}h-4");
+        text(svg, l - 6.0, py + 4.0, 11.0, "end", &fmt_short(y));
+    }
+    let _ = writeln!(
+        svg,
+        "<path d=\"{d}\" stroke=\"#444\" stroke-width=\"1\" fill=\"none\"/>"
+    );
+    text(svg, l + 0.5 * w, b + 29.0, 12.0, "middle", "x₁");
+    text(
+        svg,
+        l - AXIS_LEFT + 8.0,
+        t + 0.5 * h + 4.0,
+        12.0,
+        "start",
+        "x₂",
+    );
+    svg.push_str("</g>\n");
+}
+
+/// Width in pixels below which a mesh picture leaves out a cell's edges: its colour shows its
+/// level, and edges that close would only turn the region into a dark block.
+const EDGE_MIN_PX: f64 = 2.0;
+
+/// Sequential palette of the refinement levels, light (coarse) to blue (fine); dark enough for
+/// contrast at the fine end, light enough for the cell edges to stay visible.
+const LEVEL_STOPS: [(f64, f64, f64); 7] = [
+    (255.0, 255.0, 217.0),
+    (237.0, 248.0, 177.0),
+    (199.0, 233.0, 180.0),
+    (127.0, 205.0, 187.0),
+    (65.0, 182.0, 196.0),
+    (29.0, 145.0, 192.0),
+    (34.0, 94.0, 168.0),
+];
+
+/// The fill of refinement level `level` when the picture shows the levels `range` (inclusive):
+/// the coarsest is the lightest colour of [`LEVEL_STOPS`], the finest the darkest.
+fn level_color(level: u8, range: (u8, u8)) -> String {
+    let t = if range.1 > range.0 {
+        f64::from(level.saturating_sub(range.0)) / f64::from(range.1 - range.0)
+    } else {
+        0.4
+    };
+    let s = t.clamp(0.0, 1.0) * (LEVEL_STOPS.len() - 1) as f64;
+    let i = (s.floor() as usize).min(LEVEL_STOPS.len() - 2);
+    let u = s - i as f64;
+    let (a, b) = (LEVEL_STOPS[i], LEVEL_STOPS[i + 1]);
+    let mix = |p: f64, q: f64| (p + u * (q - p)).round() as u8;
+    format!(
+        "#{:02x}{:02x}{:02x}",
+        mix(a.0, b.0),
+        mix(a.1, b.1),
+        mix(a.2, b.2)
+    )
+}
+
+/// The refinement level of every cell of `m`: the recorded [`MeshPicture::levels`], or, when
+/// they are missing or do not match the cells, the number of halvings from `coarsest` (the
+/// width of the largest cell of the figure) to the cell's width.
+fn cell_levels(m: &MeshPicture, coarsest: f64) -> Vec<u8> {
+    if m.levels.len() == m.cells.len() {
+        return m.levels.clone();
+    }
+    m.cells
+        .iter()
+        .map(|c| {
+            let l = (coarsest / (c.x1 - c.x0)).log2().round();
+            if l.is_finite() {
+                l.clamp(0.0, 255.0) as u8
+            } else {
+                0
+            }
+        })
+        .collect()
+}
+
+/// One mesh inside frame `f`, framed by the window boundary: every cell filled with the colour
+/// of its refinement level ([`level_color`] over `range`), one `<path class="level-k">` per
+/// level, and the cell edges of the cells at least [`EDGE_MIN_PX`] wide on top. Where snapped
+/// sub-pixel cells share a pixel, the finest level colours it.
+fn draw_mesh_levels(
+    svg: &mut String,
+    cells: &[CellBox],
+    levels: &[u8],
+    range: (u8, u8),
+    f: &Frame,
+    clip_id: &str,
+) {
+    let (l, t, w, h) = (f.left, f.top, f.width(), f.height());
+    let mut order: Vec<usize> = (0..cells.len().min(levels.len()))
+        .filter(|&i| finite_box(&cells[i]) && f.intersects(&cells[i]))
+        .collect();
+    order.sort_by_key(|&i| std::cmp::Reverse(levels[i]));
+    let mut by_level: Vec<(u8, Vec<SubBox>)> = Vec::new();
+    let mut seen = HashSet::new();
+    for i in order {
+        let b = sub_box(&cells[i], f);
+        if !seen.insert(b) {
+            continue;
+        }
+        match by_level.last_mut() {
+            Some((k, boxes)) if *k == levels[i] => boxes.push(b),
+            _ => by_level.push((levels[i], vec![b])),
+        }
+    }
+    let _ = writeln!(
+        svg,
+        "<clipPath id=\"{clip_id}\"><rect x=\"{l:.1}\" y=\"{t:.1}\" width=\"{w:.1}\" height=\"{h:.1}\"/></clipPath>\n\
+         <g clip-path=\"url(#{clip_id})\"><g transform=\"scale({})\">",
+        1.0 / SUB
+    );
+    for (k, boxes) in by_level.into_iter().rev() {
+        let _ = writeln!(
+            svg,
+            "<path class=\"level-{k}\" fill=\"{}\" shape-rendering=\"crispEdges\" d=\"{}\"/>",
+            level_color(k, range),
+            rects_path(boxes)
+        );
+    }
+    let visible = cells
+        .iter()
+        .filter(|c| (c.x1 - c.x0).min(c.y1 - c.y0) * f.scale >= EDGE_MIN_PX);
+    let _ = writeln!(
+        svg,
+        "<path fill=\"none\" stroke=\"{MESH_LINE}\" stroke-width=\"{}\" d=\"{}\"/></g></g>\n\
+         <rect x=\"{l:.1}\" y=\"{t:.1}\" width=\"{w:.1}\" height=\"{h:.1}\" fill=\"none\" stroke=\"black\" stroke-width=\"1\"/>",
+        0.5 * SUB,
+        outline_path(visible, f),
+    );
+}
+
+/// The legend of the refinement levels `range` at `(x, y)` (the swatches' top left corner), as
+/// wide as it needs; returns its width in pixels.
+fn level_legend(svg: &mut String, x: f64, y: f64, range: (u8, u8)) -> f64 {
+    text(svg, x, y + 11.0, 13.0, "start", "refinement level:");
+    let mut at = x + 118.0;
+    for k in range.0..=range.1 {
+        let _ = writeln!(
+            svg,
+            "<rect class=\"legend-level\" x=\"{at:.1}\" y=\"{y:.1}\" width=\"14\" height=\"14\" fill=\"{}\" stroke=\"#444\" stroke-width=\"0.5\"/>",
+            level_color(k, range)
+        );
+        text(
+            svg,
+            at + 18.0,
+            y + 11.0,
+            12.0,
+            "start",
+            &format!("level {k}"),
+        );
+        at += 18.0 + 7.5 * format!("level {k}").len() as f64 + 10.0;
+    }
+    at - x
+}
+
+/// Aspect ratio (width : height) of the detail window of a strip.
+const DETAIL_ASPECT: f64 = 4.0;
+/// The detail window is at most this many finest-cell widths wide, so that in the detail panel
+/// (about 770 pixels) the finest cells are some 8 pixels wide or more.
+const DETAIL_CELLS: f64 = 96.0;
+
+/// The zoom onto the finest cells of a mesh: the bounding box of the cells of the deepest
+/// level, padded by two of their widths, widened to [`DETAIL_ASPECT`], no wider than
+/// [`DETAIL_CELLS`] finest cells and inside `win`. When the deepest cells spread wider than
+/// that, the window starts at the leftmost of them (at the height of the lowest there).
+/// Returns the window `[x0, x1, y0, y1]`, the deepest level and the finest cells' width; `None`
+/// without finite cells.
+fn detail_window(cells: &[CellBox], levels: &[u8], win: [f64; 4]) -> Option<([f64; 4], u8, f64)> {
+    let finite: Vec<(usize, &CellBox)> = cells
+        .iter()
+        .enumerate()
+        .filter(|(i, c)| finite_box(c) && *i < levels.len() && c.x1 > c.x0 && c.y1 > c.y0)
+        .collect();
+    let deepest = finite.iter().map(|(i, _)| levels[*i]).max()?;
+    let finest: Vec<&CellBox> = finite
+        .iter()
+        .filter(|(i, _)| levels[*i] == deepest)
+        .map(|(_, c)| *c)
+        .collect();
+    let h = finest
+        .iter()
+        .map(|c| (c.x1 - c.x0).min(c.y1 - c.y0))
+        .fold(f64::INFINITY, f64::min);
+    let b = bbox(finest.iter().flat_map(|c| [(c.x0, c.y0), (c.x1, c.y1)]))?;
+    let pad = 2.0 * h;
+    let b = [b[0] - pad, b[1] + pad, b[2] - pad, b[3] + pad];
+    let (bw, bh) = (b[1] - b[0], b[3] - b[2]);
+    let (ww, wh) = (win[1] - win[0], win[3] - win[2]);
+    let wide = bw.max(DETAIL_ASPECT * bh).min(DETAIL_CELLS * h);
+    let height = (wide / DETAIL_ASPECT).min(wh);
+    let width = (height * DETAIL_ASPECT).min(ww);
+    let first = finest
+        .iter()
+        .min_by(|p, q| p.x0.total_cmp(&q.x0).then(p.y0.total_cmp(&q.y0)))?;
+    let cx = if bw <= width {
+        0.5 * (b[0] + b[1])
+    } else {
+        b[0] + 0.5 * width
+    };
+    let cy = if bh <= height {
+        0.5 * (b[2] + b[3])
+    } else {
+        first.y0 - pad + 0.5 * height
+    };
+    let clamp = |c: f64, lo: f64, hi: f64, half: f64| {
+        if hi - lo <= 2.0 * half {
+            0.5 * (lo + hi)
+        } else {
+            c.clamp(lo + half, hi - half)
+        }
+    };
+    let cx = clamp(cx, win[0], win[1], 0.5 * width);
+    let cy = clamp(cy, win[2], win[3], 0.5 * height);
+    Some((
+        [
+            cx - 0.5 * width,
+            cx + 0.5 * width,
+            cy - 0.5 * height,
+            cy + 0.5 * height,
+        ],
+        deepest,
+        h,
+    ))
+}
+
+/// One mesh inside frame `f` as cell outlines, the cells `shaded` filled grey under them (the
+/// SubStokes cells of a model-adaptive fluid run, thesis Fig. IV.116).
 fn draw_mesh_shaded(
     svg: &mut String,
     cells: &[CellBox],
@@ -912,12 +1181,17 @@ fn draw_mesh_shaded(
     );
 }
 
-/// Mesh pictures (thesis Fig. IV.1): cell outlines, aspect ratio kept.
+/// Mesh pictures (thesis Fig. IV.1): every cell filled with the colour of its refinement level
+/// (legend on top) under the edges of the cells wide enough to show them, x₁/x₂ axes, aspect
+/// ratio kept. A mesh of hundreds of thousands of cells thus shows where it is refined instead
+/// of a solid block of edges.
 ///
 /// Thin domains (like the strip [−16,16]×[0,1]) are stacked vertically, each strip followed by a
-/// detail around its finest cell — at true aspect ratio the refined ends of a 32:1 strip are a few
-/// pixels wide, and the detail is where the refinement pattern can actually be compared with the
-/// thesis figure. Squarish domains are drawn side by side.
+/// detail zoomed onto its finest cells ([`detail_window`]) — at true aspect ratio the refined
+/// ends of a 32:1 strip are a few pixels wide, and the detail is where the refinement pattern
+/// can actually be compared with the thesis figure. Squarish domains are drawn side by side.
+/// A picture with shaded cells (the SubStokes cells of Fig. IV.116) keeps white and grey cells
+/// under outlines instead of the level colours.
 ///
 /// With `partitions` (model-and-grid adaptivity), the Signorini faces of each drawn cycle are
 /// thick black lines on the boundary (thesis Figs IV.46–IV.51).
@@ -938,7 +1212,7 @@ pub fn meshes(
                 domain[2]
             };
             let (a, b) = (f.x0.max(frame.win[0]), f.x1.min(frame.win[1]));
-            if a < b {
+            if a < b && (frame.win[2]..=frame.win[3]).contains(&y) {
                 let _ = writeln!(
                     body,
                     "<line x1=\"{:.2}\" y1=\"{:.2}\" x2=\"{:.2}\" y2=\"{:.2}\" stroke=\"#000\" \
@@ -954,51 +1228,74 @@ pub fn meshes(
     let Some(win) = picture_window(domain, meshes.iter().flat_map(|m| &m.cells)) else {
         return placeholder(path, "mesh", "no cells with a finite extent to draw");
     };
+    let shaded = meshes.iter().any(|m| !m.shaded.is_empty());
+    let coarsest = meshes
+        .iter()
+        .flat_map(|m| &m.cells)
+        .filter(|c| finite_box(c))
+        .map(|c| c.x1 - c.x0)
+        .fold(0.0f64, f64::max);
+    let levels: Vec<Vec<u8>> = meshes.iter().map(|m| cell_levels(m, coarsest)).collect();
+    let range = levels
+        .iter()
+        .flatten()
+        .fold(None, |r: Option<(u8, u8)>, &k| {
+            Some(r.map_or((k, k), |(a, b)| (a.min(k), b.max(k))))
+        })
+        .unwrap_or((0, 0));
+    let draw = |body: &mut String, i: usize, f: &Frame, clip: &str| {
+        let m = &meshes[i];
+        if shaded {
+            draw_mesh_shaded(body, &m.cells, &m.shaded, f, clip);
+        } else {
+            draw_mesh_levels(body, &m.cells, &levels[i], range, f, clip);
+        }
+        axes(body, f);
+    };
     let (w, h) = (win[1] - win[0], win[3] - win[2]);
     let aspect = w / h;
     let margin = 12.0;
     let label_h = 22.0;
+    let legend_h = if shaded { 0.0 } else { 26.0 };
     let mut body = String::new();
+    if !shaded {
+        level_legend(&mut body, margin, margin, range);
+    }
+    let left = margin + AXIS_LEFT;
 
     let (width, height) = if aspect >= STRIP_ASPECT {
-        let strip_w = WIDE - 2.0 * margin;
+        let strip_w = WIDE - left - margin;
         let detail_w = strip_w * 0.5;
-        let mut y = margin;
+        let mut y = margin + legend_h;
         for (i, m) in meshes.iter().enumerate() {
             text(
                 &mut body,
-                margin,
+                left,
                 y + 15.0,
                 15.0,
                 "start",
                 &format!("cycle {}  ({} cells)", m.cycle, m.cells.len()),
             );
             y += label_h;
-            let strip = Frame::new(win, margin, y, strip_w);
-            draw_mesh(&mut body, &m.cells, &strip, &format!("m{i}"));
+            let strip = Frame::new(win, left, y, strip_w);
+            draw(&mut body, i, &strip, &format!("m{i}"));
             signorini(&mut body, m.cycle, &strip);
-            y += strip.height() + 8.0;
+            y += strip.height() + AXIS_BELOW + 4.0;
 
-            // Detail window: 4 domain heights wide, centred on the smallest cell.
-            let finest = m.cells.iter().filter(|c| finite_box(c)).min_by(|a, b| {
-                let (sa, sb) = ((a.x1 - a.x0).abs(), (b.x1 - b.x0).abs());
-                sa.total_cmp(&sb)
-            });
-            if let Some(c) = finest {
-                let dw = (4.0 * h).min(w);
-                let cx = (0.5 * (c.x0 + c.x1)).clamp(win[0] + dw / 2.0, win[1] - dw / 2.0);
-                let dwin = [cx - dw / 2.0, cx + dw / 2.0, win[2], win[3]];
-                // Mark the detail window on the strip.
+            if let Some((dwin, level, finest)) = detail_window(&m.cells, &levels[i], win) {
+                // Mark the detail window on the strip (at least 3 pixels, so it stays visible).
+                let (x0, x1) = (strip.px(dwin[0]), strip.px(dwin[1]));
+                let (y0, y1) = (strip.py(dwin[3]), strip.py(dwin[2]));
                 let _ = writeln!(
                     body,
-                    "<rect x=\"{:.1}\" y=\"{:.1}\" width=\"{:.1}\" height=\"{:.1}\" fill=\"none\" stroke=\"#d62728\" stroke-width=\"1.5\"/>",
-                    strip.px(dwin[0]),
-                    strip.top,
-                    (dwin[1] - dwin[0]) * strip.scale,
-                    strip.height()
+                    "<rect class=\"detail-mark\" x=\"{:.1}\" y=\"{:.1}\" width=\"{:.1}\" height=\"{:.1}\" fill=\"none\" stroke=\"#d62728\" stroke-width=\"1.5\"/>",
+                    x0.min(x1 - 3.0),
+                    y0.min(y1 - 3.0),
+                    (x1 - x0).max(3.0),
+                    (y1 - y0).max(3.0)
                 );
-                let detail = Frame::new(dwin, margin, y, detail_w);
-                draw_mesh(&mut body, &m.cells, &detail, &format!("d{i}"));
+                let detail = Frame::new(dwin, left, y, detail_w);
+                draw(&mut body, i, &detail, &format!("d{i}"));
                 signorini(&mut body, m.cycle, &detail);
                 let _ = writeln!(
                     body,
@@ -1007,32 +1304,47 @@ pub fn meshes(
                 );
                 text(
                     &mut body,
-                    margin + detail_w + 12.0,
+                    left + detail_w + 16.0,
                     y + 18.0,
                     14.0,
                     "start",
                     &format!(
-                        "detail: x ∈ [{}, {}] around the finest cell (width {})",
+                        "detail: x₁ ∈ [{}, {}], x₂ ∈ [{}, {}]",
                         fmt_short(dwin[0]),
                         fmt_short(dwin[1]),
-                        fmt_short(c.x1 - c.x0)
+                        fmt_short(dwin[2]),
+                        fmt_short(dwin[3])
                     ),
                 );
-                y += detail.height();
+                text(
+                    &mut body,
+                    left + detail_w + 16.0,
+                    y + 38.0,
+                    14.0,
+                    "start",
+                    &format!(
+                        "around the finest cells (level {level}, width {})",
+                        fmt_short(finest)
+                    ),
+                );
+                y += detail.height() + AXIS_BELOW;
             }
-            y += 18.0;
+            y += 14.0;
         }
         (WIDE, y)
     } else {
         // Side by side, wrapping rows at the page width.
         let panel_h = if aspect > 1.0 { 440.0 / aspect } else { 440.0 };
         let panel_w = panel_h * aspect;
-        let per_row = ((WIDE - margin) / (panel_w + margin)).floor().max(1.0) as usize;
+        let step_x = AXIS_LEFT + panel_w + margin;
+        let step_y = label_h + panel_h + AXIS_BELOW + margin;
+        let per_row = ((WIDE - margin) / step_x).floor().max(1.0) as usize;
         let cols = meshes.len().clamp(1, per_row);
         let rows = meshes.len().div_ceil(per_row).max(1);
+        let top0 = margin + legend_h;
         for (i, m) in meshes.iter().enumerate() {
-            let left = margin + (i % per_row) as f64 * (panel_w + margin);
-            let top = margin + (i / per_row) as f64 * (panel_h + label_h + margin);
+            let left = left + (i % per_row) as f64 * step_x;
+            let top = top0 + (i / per_row) as f64 * step_y;
             text(
                 &mut body,
                 left,
@@ -1042,11 +1354,11 @@ pub fn meshes(
                 &format!("cycle {}  ({} cells)", m.cycle, m.cells.len()),
             );
             let f = Frame::new(win, left, top + label_h, panel_w);
-            draw_mesh_shaded(&mut body, &m.cells, &m.shaded, &f, &format!("m{i}"));
+            draw(&mut body, i, &f, &format!("m{i}"));
         }
         (
-            margin + cols as f64 * (panel_w + margin),
-            margin + rows as f64 * (panel_h + label_h + margin),
+            (margin + cols as f64 * step_x).max(640.0),
+            top0 + rows as f64 * step_y,
         )
     };
     let mut svg = svg_open(width, height);
@@ -1084,6 +1396,7 @@ pub(super) fn deformed_in(
     let canvas = DeformedCanvas::new(win);
     let mut svg = svg_open(canvas.width, canvas.height);
     deformed_drawing(&mut svg, title, pic, &canvas.frame, true);
+    axes(&mut svg, &canvas.frame);
     svg.push_str("</svg>\n");
     fs::write(path, svg)
 }
@@ -1142,11 +1455,11 @@ impl DeformedCanvas {
         let margin = Self::MARGIN;
         let aspect = (win[1] - win[0]) / (win[3] - win[2]);
         // Keep tall pictures at a readable height.
-        let plot_w = (WIDE - 2.0 * margin).min(820.0 * aspect);
-        let frame = Frame::new(win, margin, 40.0, plot_w);
+        let plot_w = (WIDE - 2.0 * margin - AXIS_LEFT).min(820.0 * aspect);
+        let frame = Frame::new(win, margin + AXIS_LEFT, 40.0, plot_w);
         DeformedCanvas {
-            width: (plot_w + 2.0 * margin).max(640.0),
-            height: frame.top + frame.height() + 60.0,
+            width: (plot_w + AXIS_LEFT + 2.0 * margin).max(640.0),
+            height: frame.top + frame.height() + AXIS_BELOW + 60.0,
             frame,
         }
     }
@@ -1155,15 +1468,70 @@ impl DeformedCanvas {
 /// Id of the clip path of a deformed-body picture's window.
 pub(super) const DEFORMED_CLIP: &str = "c";
 
-/// The clip path [`DEFORMED_CLIP`] of the window `f`.
+/// Id of the hatch pattern of the obstacles' solid side in a deformed-body picture.
+pub(super) const OBSTACLE_HATCH: &str = "solid";
+/// Colour of the obstacles.
+const OBSTACLE: &str = "#5b3a1a";
+
+/// The clip path [`DEFORMED_CLIP`] of the window `f` and the hatch patterns of the obstacles:
+/// [`OBSTACLE_HATCH`] in the sub-pixel units of the drawing, `…-px` in pixels for the legend.
 pub(super) fn deformed_clip(f: &Frame) -> String {
     format!(
-        "<clipPath id=\"{DEFORMED_CLIP}\"><rect x=\"{:.1}\" y=\"{:.1}\" width=\"{:.1}\" height=\"{:.1}\"/></clipPath>",
+        "<clipPath id=\"{DEFORMED_CLIP}\"><rect x=\"{:.1}\" y=\"{:.1}\" width=\"{:.1}\" height=\"{:.1}\"/></clipPath>\
+         <pattern id=\"{OBSTACLE_HATCH}\" patternUnits=\"userSpaceOnUse\" width=\"{p}\" height=\"{p}\" \
+         patternTransform=\"rotate(45)\"><rect width=\"{w}\" height=\"{p}\" fill=\"{OBSTACLE}\" fill-opacity=\"0.55\"/></pattern>\
+         <pattern id=\"{OBSTACLE_HATCH}-px\" patternUnits=\"userSpaceOnUse\" width=\"8\" height=\"8\" \
+         patternTransform=\"rotate(45)\"><rect width=\"1.5\" height=\"8\" fill=\"{OBSTACLE}\" fill-opacity=\"0.55\"/></pattern>",
         f.left,
         f.top,
         f.width(),
         f.height(),
+        p = 8.0 * SUB,
+        w = 1.5 * SUB,
     )
+}
+
+/// The solid side of each obstacle curve as closed paths (sub-pixel units of `f`): the curve,
+/// closed past the window's edge on the side away from the body. An obstacle whose mean height
+/// lies below the body's mean height is solid below its curve (the obstacles under the strip),
+/// one above it solid above (the upper die of the forming).
+fn obstacle_solid_sides(pic: &DeformedPicture, f: &Frame) -> String {
+    let mean_y = |pts: &mut dyn Iterator<Item = f64>| {
+        let (sum, n) = pts
+            .filter(|y| y.is_finite())
+            .fold((0.0, 0usize), |(s, n), y| (s + y, n + 1));
+        (n > 0).then(|| sum / n as f64)
+    };
+    let Some(body) = mean_y(&mut pic.quads.iter().filter(finite_quad).flatten().map(|p| p[1]))
+    else {
+        return String::new();
+    };
+    let mut d = String::new();
+    for line in &pic.obstacles {
+        let pts: Vec<(i64, i64)> = line
+            .iter()
+            .filter(|p| p[0].is_finite() && p[1].is_finite())
+            .map(|p| f.sub(p[0], p[1]))
+            .collect();
+        let (Some(first), Some(last)) = (pts.first(), pts.last()) else {
+            continue;
+        };
+        let Some(mean) = mean_y(&mut line.iter().map(|p| p[1])) else {
+            continue;
+        };
+        // Past the window's bottom or top edge, so the clip path cuts the fill at the frame.
+        let edge = if mean < body {
+            ((f.top + f.height() + 20.0) * SUB) as i64
+        } else {
+            ((f.top - 20.0) * SUB) as i64
+        };
+        let _ = write!(d, "M{} {edge}", first.0);
+        for (x, y) in &pts {
+            let _ = write!(d, "L{x} {y}");
+        }
+        let _ = write!(d, "L{} {edge}z", last.0);
+    }
+    d
 }
 
 /// Everything of one deformed-body picture inside an open `<svg>`: the title, the body, the
@@ -1177,7 +1545,7 @@ pub(super) fn deformed_drawing(
     f: &Frame,
     define_clip: bool,
 ) {
-    let margin = f.left;
+    let margin = f.left - AXIS_LEFT;
     text(svg, margin, 26.0, 17.0, "start", title);
     if define_clip {
         svg.push_str(&deformed_clip(f));
@@ -1188,6 +1556,14 @@ pub(super) fn deformed_drawing(
         "<g clip-path=\"url(#{DEFORMED_CLIP})\"><g transform=\"scale({})\">",
         1.0 / SUB
     );
+    // The obstacles' solid side under everything else.
+    let solid = obstacle_solid_sides(pic, f);
+    if !solid.is_empty() {
+        let _ = writeln!(
+            svg,
+            "<path class=\"obstacle-solid\" fill=\"url(#{OBSTACLE_HATCH})\" stroke=\"none\" d=\"{solid}\"/>"
+        );
+    }
     let mut d = String::new();
     // Quads smaller than a pixel become that pixel, written once (as in `sub_box`).
     let mut tiny = HashSet::new();
@@ -1227,7 +1603,7 @@ pub(super) fn deformed_drawing(
     }
     let _ = writeln!(
         svg,
-        "<path fill=\"none\" stroke=\"#5b3a1a\" stroke-width=\"{}\" stroke-linejoin=\"round\" d=\"{d}\"/>",
+        "<path fill=\"none\" stroke=\"{OBSTACLE}\" stroke-width=\"{}\" stroke-linejoin=\"round\" d=\"{d}\"/>",
         3.0 * SUB
     );
     // The Signorini faces on top of the body and the obstacles, under the contact points.
@@ -1275,18 +1651,26 @@ pub(super) fn deformed_drawing(
 
     // Legend (only for pictures with an obstacle or Signorini faces) and caption under the
     // picture.
-    let y = f.top + f.height() + 22.0;
+    let y = f.top + f.height() + AXIS_BELOW + 22.0;
     if !pic.obstacles.is_empty() {
         let _ = writeln!(
             svg,
-            "<path d=\"M{margin} {y}h28\" stroke=\"#5b3a1a\" stroke-width=\"3\"/>\
+            "<rect x=\"{margin}\" y=\"{y}\" width=\"28\" height=\"9\" fill=\"url(#{OBSTACLE_HATCH}-px)\"/>\
+             <path d=\"M{margin} {y}h28\" stroke=\"{OBSTACLE}\" stroke-width=\"3\"/>\
              <path d=\"M{:.1} {y}h0\" stroke=\"#e31a1c\" stroke-width=\"5\" stroke-linecap=\"round\"/>",
-            margin + 150.0
+            margin + 270.0
         );
-        text(svg, margin + 34.0, y + 5.0, 13.0, "start", "obstacle");
         text(
             svg,
-            margin + 158.0,
+            margin + 34.0,
+            y + 5.0,
+            13.0,
+            "start",
+            "obstacle (hatched: its solid side)",
+        );
+        text(
+            svg,
+            margin + 278.0,
             y + 5.0,
             13.0,
             "start",
@@ -1297,11 +1681,11 @@ pub(super) fn deformed_drawing(
         let _ = writeln!(
             svg,
             "<path d=\"M{:.1} {y:.1}h28\" stroke=\"#000\" stroke-width=\"{SIGNORINI_WIDTH}\"/>",
-            margin + 330.0
+            margin + 430.0
         );
         text(
             svg,
-            margin + 364.0,
+            margin + 464.0,
             y + 5.0,
             13.0,
             "start",
@@ -1347,8 +1731,6 @@ pub(crate) fn viridis(t: f64) -> (u8, u8, u8) {
 const BINS: usize = 64;
 const ZONE: &str = "#ff1f5b";
 
-/// A scalar field on the active cells, coloured with [`viridis`], with a colour bar and the zone
-/// (e.g. the cavitated region ψ = 0) hatched and outlined in a contrasting colour.
 /// Draw a vector field as arrows in pixel space: lengths proportional to |v|, the longest as long
 /// as 90 % of the spacing of the arrows' feet, white over a dark edge so they read on every
 /// colour of the map; arrows shorter than 5 % of the longest are left out.
@@ -1390,6 +1772,8 @@ fn arrows(svg: &mut String, arrows: &[Arrow], f: &Frame) {
     );
 }
 
+/// A scalar field on the active cells, coloured with [`viridis`], with x₁/x₂ axes, a colour bar
+/// and the zone (e.g. the cavitated region ψ = 0) hatched and outlined in a contrasting colour.
 pub fn field(path: &Path, table: &str, pic: &FieldPicture, domain: [f64; 4]) -> io::Result<()> {
     let title = format!("{table} — {} after cycle {}", pic.name, pic.cycle);
     let Some(win) = picture_window(domain, pic.cells.iter().map(|(c, _)| c)) else {
@@ -1418,11 +1802,11 @@ pub fn field(path: &Path, table: &str, pic: &FieldPicture, domain: [f64; 4]) -> 
 
     let aspect = (win[1] - win[0]) / (win[3] - win[2]);
     let margin = 14.0;
-    let plot_w = (WIDE - 2.0 * margin).min(620.0 * aspect);
-    let f = Frame::new(win, margin, 40.0, plot_w);
+    let plot_w = (WIDE - 2.0 * margin - AXIS_LEFT).min(620.0 * aspect);
+    let f = Frame::new(win, margin + AXIS_LEFT, 40.0, plot_w);
     let bar_w = plot_w.clamp(240.0, 480.0);
-    let width = (plot_w + 2.0 * margin).max(bar_w + 2.0 * margin + 260.0);
-    let bar_top = f.top + f.height() + 16.0;
+    let width = (plot_w + AXIS_LEFT + 2.0 * margin).max(bar_w + 2.0 * margin + 260.0);
+    let bar_top = f.top + f.height() + AXIS_BELOW + 16.0;
     let height = bar_top + 80.0;
 
     let mut svg = svg_open(width, height);
@@ -1520,6 +1904,7 @@ pub fn field(path: &Path, table: &str, pic: &FieldPicture, domain: [f64; 4]) -> 
         f.width(),
         f.height()
     );
+    axes(&mut svg, &f);
 
     // Colour bar with five ticks.
     let _ = writeln!(
@@ -1667,6 +2052,7 @@ mod tests {
         let empty = MeshPicture {
             cycle: 0,
             cells: vec![],
+            levels: vec![],
             shaded: vec![],
         };
         meshes(&dir.join("m.svg"), &[empty], [f64::NAN; 4], &[]).unwrap();

@@ -528,6 +528,12 @@ pub fn run_experiment(
         .map(|(cycle, cells)| MeshPicture {
             cycle: *cycle,
             cells: cells.iter().map(|(b, _)| boxed(b)).collect(),
+            // The coarse grid of `initial_mesh` is the one cell [0, 1]²: a cell of level l is
+            // 2^−l wide.
+            levels: cells
+                .iter()
+                .map(|(b, _)| (1.0 / (b[2] - b[0])).log2().round().clamp(0.0, 255.0) as u8)
+                .collect(),
             shaded: cells
                 .iter()
                 .filter(|(_, s)| *s)

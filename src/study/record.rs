@@ -182,6 +182,7 @@ pub fn mesh_picture(mesh: &Mesh, cycle: usize) -> MeshPicture {
                 }
             })
             .collect(),
+        levels: mesh.active().iter().map(|&c| mesh.level(c)).collect(),
         shaded: Vec::new(),
     }
 }
