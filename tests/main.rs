@@ -14,6 +14,7 @@ mod model_contact;
 mod model_fluid;
 mod model_grid;
 mod outputs;
+mod own_scenes;
 mod properties;
 mod report_failures;
 mod reynolds;
