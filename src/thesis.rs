@@ -2,7 +2,7 @@
 
 use serde::Serialize;
 
-use crate::experiment::{AdditivePart, Experiment};
+use crate::experiment::{AdditivePart, Comparison, Experiment};
 
 /// One printed Chapter IV table.
 #[derive(Clone, Debug, Serialize, PartialEq)]
@@ -19,11 +19,31 @@ pub struct ThesisTable {
     pub duplicate_of: Option<String>,
     /// A part of the printed estimate that another table prints alone (IV.43 for IV.41/IV.42).
     pub additive_part: Option<AdditivePart>,
+    /// Whether the run is compared with the thesis at all: an edited thesis experiment or a
+    /// scene of the user's own has no printed rows here (nothing is scored), and the report
+    /// says why.
+    pub comparison: Comparison,
 }
 
 impl ThesisTable {
     /// The printed table of an experiment (reference data, never an output).
+    ///
+    /// Only an experiment that describes the printed table ([`Comparison::Printed`]) gets its
+    /// rows: one whose file was edited (its scene, study or printed rows differ from the
+    /// shipped file's) or a scene of the user's own gets an empty table, so no row of it is
+    /// scored against the thesis, and [`ThesisTable::comparison`] says which.
     pub fn of(experiment: &Experiment) -> ThesisTable {
+        if !experiment.comparison.is_printed() {
+            return ThesisTable {
+                table: experiment.table.clone(),
+                section: experiment.section.clone(),
+                columns: Vec::new(),
+                rows: Vec::new(),
+                duplicate_of: None,
+                additive_part: None,
+                comparison: experiment.comparison.clone(),
+            };
+        }
         ThesisTable {
             table: experiment.table.clone(),
             section: experiment.section.clone(),
@@ -31,6 +51,7 @@ impl ThesisTable {
             rows: experiment.thesis.rows.clone(),
             duplicate_of: experiment.thesis.duplicate_of.clone(),
             additive_part: experiment.thesis.additive_part.clone(),
+            comparison: Comparison::Printed,
         }
     }
 

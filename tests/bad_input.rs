@@ -1493,7 +1493,12 @@ fn forming_checks_name_file_and_field() {
         "fig-IV.<n>",
     );
     let as_table = with("table = \"fig-IV.54\"", "table = \"IV.1\"");
-    expect_error("a table without rows", &as_table, "thesis", "printed table");
+    expect_error(
+        "a table without rows",
+        &as_table,
+        "table",
+        "pick another id",
+    );
     // Load-step fields and rising tools belong to load-step studies.
     expect_error(
         "cycles in a grid study",

@@ -18,6 +18,7 @@ fn no_thesis(table: &str) -> ThesisTable {
         rows: vec![],
         duplicate_of: None,
         additive_part: None,
+        comparison: Default::default(),
     }
 }
 

@@ -225,6 +225,7 @@ fn no_thesis(table: &str) -> ThesisTable {
         rows: vec![],
         duplicate_of: None,
         additive_part: None,
+        comparison: Default::default(),
     }
 }
 

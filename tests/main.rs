@@ -19,6 +19,7 @@ mod model_grid;
 mod notes;
 mod open_data;
 mod outputs;
+mod own_scenes;
 mod properties;
 mod report_failures;
 mod reynolds;

@@ -384,6 +384,7 @@ fn control_characters_in_titles_notes_columns_and_messages_are_escaped() {
         rows: vec![vec![0.0, 100.0, 1.0]],
         duplicate_of: None,
         additive_part: None,
+        comparison: Default::default(),
     };
     let failure = Failure {
         table: "IV.2".into(),
@@ -446,6 +447,7 @@ fn many_thesis_rows_render_in_linear_time_and_are_bounded() {
             .collect(),
         duplicate_of: None,
         additive_part: None,
+        comparison: Default::default(),
     };
     let run = run_result("many printed rows", &[], 4);
     let dir = temp_dir("many-rows");

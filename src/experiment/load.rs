@@ -2,8 +2,11 @@
 //!
 //! [`load`] reads one file with the `toml` crate into [`ExperimentFile`], checks what serde
 //! cannot — ranges, consistency between sections, and the conventions of Chapter IV (table ids
-//! `IV.1`…`IV.75`, the fixed-fraction marking of §IV.1, printed rows numbered from cycle 0) — and
-//! returns the typed [`Experiment`]: the effects and their data sections become one [`Problem`].
+//! `IV.1`…`IV.75` with their printed rows, figure ids `fig-…`, free ids for scenes of the user's
+//! own without `[thesis]`, the fixed-fraction marking of §IV.1, printed rows numbered from cycle
+//! 0) — and returns the typed [`Experiment`]: the effects and their data sections become one
+//! [`Problem`], and the fingerprints of the shipped files say whether a thesis experiment was
+//! edited ([`Comparison`]).
 //! Nothing here panics on user input; every failure is an [`ExperimentError`].
 
 use std::collections::BTreeSet;
@@ -15,8 +18,9 @@ use toml::de::{DeTable, DeValue};
 use toml::Spanned;
 
 use super::error::ExperimentError;
+use super::printed::edited_fields;
 use super::spec::*;
-use super::{Experiment, Problem, Scene};
+use super::{Comparison, Experiment, Problem, Scene};
 use crate::linalg::uzawa::Variant;
 
 /// Highest table number of Chapter IV (Table IV.75).
@@ -72,6 +76,11 @@ pub fn load(path: &Path) -> Result<Experiment, ExperimentError> {
     let check = Check { path };
     check.experiment(&file)?;
     let problem = check.problem(&file.scene)?;
+    let comparison = if is_thesis_id(&file.table) {
+        edited_fields(&file.table, &text).map_or(Comparison::Printed, Comparison::Edited)
+    } else {
+        Comparison::OwnScene
+    };
     let ExperimentFile {
         table,
         section,
@@ -107,6 +116,7 @@ pub fn load(path: &Path) -> Result<Experiment, ExperimentError> {
         related,
         thesis: thesis.unwrap_or_default(),
         parameters: super::parameters::of_file(&text),
+        comparison,
     })
 }
 
@@ -161,7 +171,7 @@ pub fn load_each(dir: &Path, only: Option<&[String]>) -> Result<Vec<Loaded>, Exp
 ///
 /// Entries are not opened or followed here: what they are is for [`read_experiment_file`] to
 /// find out, so that an odd entry is named rather than skipped.
-fn experiment_entries(dir: &Path) -> Result<Vec<(String, PathBuf)>, ExperimentError> {
+pub(super) fn experiment_entries(dir: &Path) -> Result<Vec<(String, PathBuf)>, ExperimentError> {
     let read_dir_error = |source| ExperimentError::ReadDir {
         dir: dir.to_path_buf(),
         source,
@@ -192,7 +202,7 @@ pub const MAX_FILE_BYTES: u64 = 16 * 1024 * 1024;
 /// What the path is gets checked before it is opened, since opening a FIFO blocks until a writer
 /// comes and a device like `/dev/zero` has no end. The size is checked from the metadata and
 /// again while reading (through `take`), in case the file grows in between.
-fn read_experiment_file(path: &Path) -> Result<String, ExperimentError> {
+pub(super) fn read_experiment_file(path: &Path) -> Result<String, ExperimentError> {
     let read_error = |source| ExperimentError::Read {
         path: path.to_path_buf(),
         source,
@@ -267,6 +277,33 @@ fn figure_number(id: &str) -> Option<u32> {
     };
     number("III", LAST_FIGURE_III)
         .or_else(|| number("IV", LAST_FIGURE).map(|n| LAST_FIGURE_III + n))
+}
+
+/// Whether `id` names a result of the thesis: a table `IV.<n>` or a figure `fig-IV.<n>`,
+/// `fig-III.<n>` ([`table_number`], [`figure_number`]).
+pub(super) fn is_thesis_id(id: &str) -> bool {
+    table_number(id).is_some() || figure_number(id).is_some()
+}
+
+/// Whether `id` is in the thesis's name space (`IV.…`, `fig-…`), where only the thesis's own
+/// tables and figures may be named ([`is_thesis_id`]).
+fn is_reserved_id(id: &str) -> bool {
+    id.starts_with("IV.") || id.starts_with("fig-")
+}
+
+/// Longest free id of a scene of the user's own, in characters.
+const MAX_OWN_ID_CHARS: usize = 64;
+
+/// Whether `id` can be the free id of a scene of the user's own: ASCII letters, digits, `.`,
+/// `-` and `_`, starting with a letter or a digit, at most [`MAX_OWN_ID_CHARS`] long — it
+/// names the file and the report's outputs (`data/<id>.csv`, `figures/<id>-….svg`).
+fn is_own_id(id: &str) -> bool {
+    id.len() <= MAX_OWN_ID_CHARS
+        && id.chars().next().is_some_and(|c| c.is_ascii_alphanumeric())
+        && id
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || matches!(c, '.' | '-' | '_'))
+        && !is_reserved_id(id)
 }
 
 /// `IV.<n>` with 1 ≤ n ≤ 75, written without leading zeros → n.
@@ -552,6 +589,16 @@ impl Check<'_> {
         self.rising_tools(&spec.scene, &spec.study)?;
         self.probes(&spec.probes, &spec.scene)?;
         let figure = figure_number(&spec.table).is_some();
+        if !is_thesis_id(&spec.table) {
+            return self.ensure(
+                spec.thesis.is_none(),
+                "thesis",
+                "no [thesis] in a scene of your own (an id that is not `IV.<n>` or `fig-…`): \
+                 [thesis] holds a table the thesis printed; remove it, and the report shows \
+                 tribo's rows alone",
+                "a [thesis] table",
+            );
+        }
         match &spec.thesis {
             Some(thesis) => {
                 self.ensure(
@@ -563,26 +610,25 @@ impl Check<'_> {
                 )?;
                 self.thesis(thesis, &spec.table)
             }
-            None => self.ensure(
-                figure,
-                "thesis",
-                "the printed table ([thesis] with columns and rows) of a table experiment",
-                "no such table",
-            ),
+            // A table id without printed rows is refused by `identity`.
+            None => Ok(()),
         }
     }
 
     /// Table id, section and title (Chapter IV numbering).
     fn identity(&self, spec: &ExperimentFile) -> Checked {
+        let thesis_id = is_thesis_id(&spec.table);
         self.ensure(
-            table_number(&spec.table).is_some() || figure_number(&spec.table).is_some(),
+            thesis_id || is_own_id(&spec.table),
             "table",
             &format!(
-                "a Chapter IV table id `IV.<n>` with 1 ≤ n ≤ {LAST_TABLE}, or a figure id \
+                "a Chapter IV table id `IV.<n>` with 1 ≤ n ≤ {LAST_TABLE}, a figure id \
                  `fig-IV.<n>` with 1 ≤ n ≤ {LAST_FIGURE} or `fig-III.<n>` with 1 ≤ n ≤ \
-                 {LAST_FIGURE_III}"
+                 {LAST_FIGURE_III}, or an id of your own: ASCII letters, digits, `.`, `-` and \
+                 `_`, starting with a letter or digit, at most {MAX_OWN_ID_CHARS} characters, \
+                 not beginning with `IV.` or `fig-`"
             ),
-            format!("`{}`", spec.table),
+            format!("`{}`", shorten(&spec.table, MAX_FIELD_CHARS)),
         )?;
         let stem = self
             .path
@@ -595,7 +641,21 @@ impl Check<'_> {
             &format!("the file name's table id `{stem}`"),
             format!("`{}`", spec.table),
         )?;
-        let (chapter, expected) = if spec.table.starts_with("fig-III.") {
+        self.ensure(
+            table_number(&spec.table).is_none() || spec.thesis.is_some(),
+            "table",
+            &format!(
+                "an id of your own for a scene without a printed table: `{id}` is the \
+                 thesis's Table {id}, whose experiment carries the printed table ([thesis] \
+                 with columns and rows); pick another id (letters, digits, `.`, `-`, `_`, \
+                 e.g. `my-{id}`) and name the file after it",
+                id = spec.table,
+            ),
+            format!("`{}` without [thesis]", spec.table),
+        )?;
+        let (chapter, expected) = if !thesis_id {
+            ("", "a non-empty section")
+        } else if spec.table.starts_with("fig-III.") {
             (
                 "III.",
                 "a Chapter III section such as `III.2.3.4` (a `fig-III.<n>` experiment)",
@@ -628,9 +688,9 @@ impl Check<'_> {
         }
         for (i, id) in spec.related.iter().enumerate() {
             self.ensure(
-                (table_number(id).is_some() || figure_number(id).is_some()) && *id != spec.table,
+                (is_thesis_id(id) || is_own_id(id)) && *id != spec.table,
                 &format!("related[{i}]"),
-                "the id of another table or figure experiment, e.g. `IV.46`",
+                "the id of another table or figure experiment, e.g. `IV.46`, or of a scene of your own",
                 format!("`{id}`"),
             )?;
         }

@@ -1,4 +1,6 @@
-//! Experiment files: one TOML file per Chapter IV table (`experiments/IV.n.toml`).
+//! Experiment files: one TOML file per Chapter IV table (`experiments/IV.n.toml`), per figure
+//! experiment (`fig-…`), or per scene of the user's own (a free id, no `[thesis]`;
+//! `experiments/templates/`).
 //!
 //! [`spec`] holds the plain-data types of the format, [`load`] parses one file, checks it
 //! against the thesis's setting (§IV.1–§IV.3) and returns a typed [`Experiment`] whose
@@ -12,10 +14,12 @@ pub mod spec;
 
 mod error;
 mod load;
+mod printed;
 mod warnings;
 
 pub use error::ExperimentError;
 pub use load::{load, load_dir, load_each, table_order, Loaded, MAX_FILE_BYTES};
+pub use printed::{fingerprints, PRINTED_LOCK};
 pub use spec::*;
 pub use warnings::Warning;
 
@@ -23,7 +27,8 @@ pub use warnings::Warning;
 /// probes, notes and the printed thesis rows.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Experiment {
-    /// Table id, `IV.1` … `IV.75`.
+    /// Table id: `IV.1` … `IV.75`, a figure id (`fig-IV.54`), or the free id of a scene of
+    /// the user's own (`my-reynolds-step`).
     pub table: String,
     /// Thesis section, e.g. `IV.1.1`.
     pub section: String,
@@ -41,6 +46,31 @@ pub struct Experiment {
     /// The `[scene]` and `[study]` keys as the file writes them, for the report
     /// ([`parameters::of_file`]).
     pub parameters: Vec<crate::results::Parameter>,
+    /// Whether the run is compared with the thesis: the file as shipped, an edited thesis
+    /// experiment, or a scene of the user's own.
+    pub comparison: Comparison,
+}
+
+/// What a run can be compared with, decided by the loader from the id and the file.
+#[derive(Clone, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum Comparison {
+    /// A thesis experiment as shipped: a table is compared with its printed rows; a figure
+    /// experiment (`fig-…`) has none and is shown alone.
+    #[default]
+    Printed,
+    /// A thesis experiment (`IV.<n>`, `fig-…`) whose scene, study or printed rows differ from
+    /// the shipped file's: the dotted paths of the differing fields (empty when they cannot be
+    /// named). It runs, but is not scored against the thesis.
+    Edited(Vec<String>),
+    /// A scene of the user's own: a free id and no `[thesis]`, so nothing to compare with.
+    OwnScene,
+}
+
+impl Comparison {
+    /// Whether the run is compared with (or, for a figure, belongs to) the thesis as printed.
+    pub fn is_printed(&self) -> bool {
+        matches!(self, Comparison::Printed)
+    }
 }
 
 /// The domain and the initial mesh of a scene.

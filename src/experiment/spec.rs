@@ -19,8 +19,9 @@ pub use crate::mesh::Side;
 #[derive(Clone, Debug, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct ExperimentFile {
-    /// Table id, `IV.1` … `IV.75`, or the id of a figure experiment, `fig-IV.<n>` (a result the
-    /// thesis shows as a figure only, e.g. the U-O forming of Fig. IV.54).
+    /// Table id, `IV.1` … `IV.75`, the id of a figure experiment, `fig-IV.<n>` (a result the
+    /// thesis shows as a figure only, e.g. the U-O forming of Fig. IV.54), or the free id of a
+    /// scene of the user's own (letters, digits, `.`, `-`, `_`; not `IV.…` or `fig-…`).
     pub table: String,
     /// Thesis section, e.g. `IV.1.1`.
     pub section: String,
@@ -38,7 +39,7 @@ pub struct ExperimentFile {
     /// runs of (IV.17), IV.46 and IV.60: Figs IV.117, IV.118 and the cost of accuracy).
     #[serde(default)]
     pub related: Vec<String>,
-    /// The printed table; a figure experiment has none.
+    /// The printed table; a figure experiment and a scene of the user's own have none.
     #[serde(default)]
     pub thesis: Option<ThesisRows>,
 }

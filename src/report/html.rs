@@ -16,6 +16,7 @@ use super::{
     compared_value, compares_previous_estimate, estimate_ratio, rel_diff, thesis_figure, tolerance,
     Entry, Failure, FailureKind, Figure, ReportMeta, Section, Summary, MAX_SHOWN_THESIS_ROWS,
 };
+use crate::experiment::Comparison;
 use crate::results::columns::{self, PREVIOUS_ESTIMATE, THEOREM_ESTIMATE};
 use crate::results::{Cuts, Row, RunResult, Value};
 use crate::thesis::ThesisTable;
@@ -395,7 +396,12 @@ fn summary(h: &mut String, entries: &[Entry]) {
             }
         };
         let sm = Summary::of(s);
-        let verdict = verdict::of(s, known_reason(s), None);
+        let not_scored = match &s.thesis.comparison {
+            Comparison::OwnScene => Some("own scene: not compared".to_string()),
+            Comparison::Edited(_) => Some("edited: not scored".to_string()),
+            Comparison::Printed => None,
+        };
+        let verdict = verdict::of(s, known_reason(s), not_scored);
         let scored = !matches!(
             verdict,
             Verdict::Duplicate { .. } | Verdict::NotScored { .. }
@@ -561,10 +567,11 @@ fn substokes_row_zero(h: &mut String, entries: &[Entry]) {
 /// experiment), or how its first failed alternative reading failed.
 fn status_cell(s: &Section) -> String {
     let warnings = s.run.warnings.len();
-    let ok = if s.is_figure() {
-        "figure: no printed table"
-    } else {
-        "ok"
+    let ok = match &s.thesis.comparison {
+        Comparison::OwnScene => "own scene: not compared",
+        Comparison::Edited(_) => "edited: not scored",
+        Comparison::Printed if s.is_figure() => "figure: no printed table",
+        Comparison::Printed => "ok",
     };
     match s.alternatives.iter().find_map(|a| a.outcome.as_ref().err()) {
         None if warnings > 0 => format!(
@@ -713,9 +720,14 @@ fn table_section(h: &mut String, s: &Section, figs: &SectionFigures) {
     let thesis = s.thesis;
     let computed = if s.is_figure() {
         format!(
-            "{} {} computed, no printed table",
+            "{} {} computed, {}",
             run.rows.len(),
-            row_noun(run)
+            row_noun(run),
+            if s.thesis.comparison.is_printed() {
+                "no printed table"
+            } else {
+                "not compared"
+            }
         )
     } else {
         format!(
@@ -756,7 +768,8 @@ fn table_section(h: &mut String, s: &Section, figs: &SectionFigures) {
     if !run.uzawa.is_empty() {
         uzawa_table(h, &run.uzawa);
     } else if s.is_figure() {
-        figure_rows(h, run);
+        not_compared_notice(h, s);
+        figure_rows(h, run, s.thesis.comparison.is_printed());
     } else {
         comparison_table(h, s);
     }
@@ -1010,6 +1023,41 @@ fn erratum_entry(h: &mut String, e: &Erratum, on_page: &BTreeSet<&str>) {
         escape(e.evidence),
         escape(e.reading)
     );
+/// Why a section has no thesis columns when its experiment is not the printed one: a scene of
+/// the user's own, or a thesis experiment whose file was edited (the fields that differ).
+fn not_compared_notice(h: &mut String, s: &Section) {
+    let csv = escape(&super::data::csv_stem(&s.run.table));
+    let _ = match &s.thesis.comparison {
+        Comparison::Printed => Ok(()),
+        Comparison::OwnScene => writeln!(
+            h,
+            "<div class=\"warning\"><b>Own scene: no thesis table, not compared.</b> This \
+             experiment has an id of its own and no <code>[thesis]</code>; the rows below are \
+             tribo's alone (every column is in <code>data/{csv}.csv</code>).</div>"
+        ),
+        Comparison::Edited(fields) => {
+            let what = if thesis_figure(&s.run.table).is_some() {
+                "the thesis's"
+            } else {
+                "the printed table's"
+            };
+            let fields = if fields.is_empty() {
+                String::new()
+            } else {
+                let list: Vec<String> = fields
+                    .iter()
+                    .map(|f| format!("<code>{}</code>", escape(f)))
+                    .collect();
+                format!(" (fields {})", list.join(", "))
+            };
+            writeln!(
+                h,
+                "<div class=\"warning\"><b>Edited: not scored against the thesis.</b> The \
+                 parameters differ from {what}{fields}, so the rows below are tribo's alone, \
+                 with nothing compared (every column is in <code>data/{csv}.csv</code>).</div>"
+            )
+        }
+    };
 }
 
 /// What one row of a run is: a load step of the forming (§IV.2.4.7), or a cycle.
@@ -1038,17 +1086,21 @@ const LOAD_STEP_COLUMNS: [&str; 9] = [
 /// The rows of a figure experiment, which the thesis prints no table for (the forming of
 /// §IV.2.4.7 shows only the pictures of Fig. IV.54): tribo's values alone, no thesis columns,
 /// no ratio to the thesis and no convergence verdict. A load-step run shows one row per step
-/// with [`LOAD_STEP_COLUMNS`], any other run every column; then the seconds of the row.
-fn figure_rows(h: &mut String, run: &RunResult) {
-    let figure = thesis_figure(&run.table).unwrap_or_else(|| "a figure".into());
-    let _ = writeln!(
-        h,
-        "<p>The thesis prints no table for this result, only the pictures of {}, so these rows \
-         have nothing to compare with: they are tribo's alone. Every column is in \
-         <code>data/{}.csv</code>.</p>",
-        escape(&figure),
-        escape(&super::data::csv_stem(&run.table))
-    );
+/// with [`LOAD_STEP_COLUMNS`], any other run every column; then the seconds of the row. Without
+/// `figure` (a scene of the user's own, an edited thesis experiment) the rows come without the
+/// sentence about the thesis's figure.
+fn figure_rows(h: &mut String, run: &RunResult, figure: bool) {
+    let name = thesis_figure(&run.table).unwrap_or_else(|| "a figure".into());
+    if figure {
+        let _ = writeln!(
+            h,
+            "<p>The thesis prints no table for this result, only the pictures of {}, so these rows \
+             have nothing to compare with: they are tribo's alone. Every column is in \
+             <code>data/{}.csv</code>.</p>",
+            escape(&name),
+            escape(&super::data::csv_stem(&run.table))
+        );
+    }
     let shown: Vec<String> = if run.is_load_steps() {
         LOAD_STEP_COLUMNS
             .iter()

@@ -2038,6 +2038,7 @@ mod tests {
             rows: vec![vec![0.0, f64::NAN, -1.0]],
             duplicate_of: None,
             additive_part: None,
+            comparison: Default::default(),
         };
         for rows in [
             vec![],

@@ -94,6 +94,10 @@ pub struct PrintedTable {
     pub rows: Vec<Vec<Printed>>,
     pub duplicate_of: Option<String>,
     pub additive_part: Option<AdditivePart>,
+    /// Whether the run is scored against these rows (an edited thesis experiment and a scene
+    /// of one's own are not).
+    #[serde(default)]
+    pub comparison: crate::experiment::Comparison,
 }
 
 /// One printed value: a finite number, or a word for the others.
@@ -145,6 +149,7 @@ impl PrintedTable {
                 .collect(),
             duplicate_of: t.duplicate_of.clone(),
             additive_part: t.additive_part.clone(),
+            comparison: t.comparison.clone(),
         }
     }
 
@@ -162,6 +167,7 @@ impl PrintedTable {
                 .collect::<Result<_, _>>()?,
             duplicate_of: self.duplicate_of.clone(),
             additive_part: self.additive_part.clone(),
+            comparison: self.comparison.clone(),
         })
     }
 }

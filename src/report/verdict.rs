@@ -162,6 +162,7 @@ mod tests {
                 .collect(),
             duplicate_of: None,
             additive_part: None,
+            comparison: Default::default(),
         }
     }
 

@@ -1,0 +1,340 @@
+//! Scenes of the user's own: the templates of `experiments/templates/`, free ids, the optional
+//! `[thesis]`, and edited thesis experiments, which run but are not scored against the thesis.
+
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use tribo::experiment::{self, Comparison, Experiment, ExperimentError};
+use tribo::study::{self, Tier};
+use tribo::thesis::ThesisTable;
+
+use crate::cli::report;
+use crate::common::experiments_dir;
+
+/// The templates, one per family; each one's id is its file name.
+const TEMPLATES: [&str; 6] = [
+    "elasticity",
+    "contact",
+    "model-contact",
+    "reynolds",
+    "substokes",
+    "model-fluid",
+];
+
+fn templates_dir() -> PathBuf {
+    experiments_dir().join("templates")
+}
+
+fn template(name: &str) -> String {
+    fs::read_to_string(templates_dir().join(format!("{name}.toml"))).expect("template exists")
+}
+
+fn scratch(name: &str) -> PathBuf {
+    static COUNTER: AtomicUsize = AtomicUsize::new(0);
+    let n = COUNTER.fetch_add(1, Ordering::Relaxed);
+    let dir = std::env::temp_dir().join(format!("tribo-own-{}-{n}-{name}", std::process::id()));
+    let _ = fs::remove_dir_all(&dir);
+    fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn write(dir: &Path, file: &str, text: &str) -> PathBuf {
+    let path = dir.join(file);
+    fs::write(&path, text).unwrap();
+    path
+}
+
+/// `text` with `from` replaced by `to` once (`from` must occur).
+fn with(text: &str, from: &str, to: &str) -> String {
+    assert!(text.contains(from), "test setup: `{from}` not found");
+    text.replacen(from, to, 1)
+}
+
+/// The error of loading `text` as `dir/file`; its message names the file, the field and
+/// contains `needle`.
+fn refused(file: &str, text: &str, field: &str, needle: &str) -> ExperimentError {
+    let dir = scratch("refused");
+    let path = write(&dir, file, text);
+    let error = match experiment::load(&path) {
+        Ok(_) => panic!("{file}: expected an error, the file loaded"),
+        Err(error) => error,
+    };
+    let message = error.to_string();
+    assert!(message.contains(&path.display().to_string()), "{message}");
+    assert_eq!(error.field(), Some(field), "{message}");
+    assert!(message.contains(needle), "no `{needle}` in: {message}");
+    error
+}
+
+#[test]
+fn every_template_loads_and_runs_at_quick_tier() {
+    for name in TEMPLATES {
+        let id = name;
+        let path = templates_dir().join(format!("{name}.toml"));
+        let spec = experiment::load(&path).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!(spec.comparison, Comparison::OwnScene, "{name}");
+        assert_eq!(spec.table, id, "{name}");
+        assert!(
+            spec.thesis.rows.is_empty(),
+            "{name}: a template has no [thesis]"
+        );
+        let thesis = ThesisTable::of(&spec);
+        assert!(thesis.is_empty() && thesis.comparison == Comparison::OwnScene);
+        let run = study::run(&spec, Tier::Quick, &|_, _, _| {})
+            .unwrap_or_else(|e| panic!("{name}: quick tier fails: {e}"));
+        assert_eq!(run.table, id);
+        assert_eq!(
+            run.rows.len(),
+            spec.study.quick_rows,
+            "{name}: one row per cycle"
+        );
+        assert!(
+            run.rows.iter().all(|r| r
+                .value("estimate")
+                .or_else(|| r.value("model_error"))
+                .is_some_and(f64::is_finite)),
+            "{name}: every row has a finite estimate or model error"
+        );
+    }
+}
+
+/// Every template explains its fields: in every block of lines (between blank lines) that sets
+/// a field, a comment comes before the first field; and the file says how to run it.
+#[test]
+fn templates_are_commented() {
+    for name in TEMPLATES {
+        let text = template(name);
+        assert!(text.contains("--experiments my-dir"), "{name}: how to run");
+        for block in text.split("\n\n") {
+            let lines: Vec<&str> = block.lines().map(str::trim_start).collect();
+            let Some(first) = lines
+                .iter()
+                .position(|l| l.contains(" = ") && !l.starts_with('#'))
+            else {
+                continue;
+            };
+            assert!(
+                lines[..first].iter().any(|l| l.starts_with('#')),
+                "{name}: no comment before `{}`",
+                lines[first]
+            );
+        }
+    }
+}
+
+#[test]
+fn the_default_experiment_folder_does_not_pick_up_the_templates() {
+    let loaded = experiment::load_each(&experiments_dir(), None).unwrap();
+    let stems: Vec<&str> = loaded.iter().map(|(stem, _)| stem.as_str()).collect();
+    assert_eq!(stems.len(), 78, "75 tables and 3 figures: {stems:?}");
+    for id in TEMPLATES {
+        assert!(!stems.contains(&id), "{id} picked up");
+    }
+}
+
+#[test]
+fn a_template_copied_under_a_thesis_id_is_refused() {
+    let text = with(
+        &template("reynolds"),
+        "table = \"reynolds\"",
+        "table = \"IV.40\"",
+    );
+    let error = refused("IV.40.toml", &text, "table", "pick another id");
+    assert!(
+        error.to_string().contains("the thesis's Table IV.40"),
+        "{error}"
+    );
+}
+
+#[test]
+fn free_ids_follow_the_file_name_pattern() {
+    let base = template("elasticity");
+    let as_id = |id: &str| {
+        with(
+            &base,
+            "table = \"elasticity\"",
+            &format!("table = \"{id}\""),
+        )
+    };
+    // Letters, digits, `.`, `-`, `_`: loads, under its own file name.
+    let dir = scratch("free-id");
+    let path = write(&dir, "Strip_2.b-c.toml", &as_id("Strip_2.b-c"));
+    let spec = experiment::load(&path).unwrap();
+    assert_eq!(spec.comparison, Comparison::OwnScene);
+    // A space, a leading dot, a reserved prefix and a number out of the thesis's range.
+    refused(
+        "my strip.toml",
+        &as_id("my strip"),
+        "table",
+        "letters, digits",
+    );
+    refused(
+        ".strip.toml",
+        &as_id(".strip"),
+        "table",
+        "starting with a letter or digit",
+    );
+    refused(
+        "fig-mine.toml",
+        &as_id("fig-mine"),
+        "table",
+        "not beginning with `IV.` or `fig-`",
+    );
+    refused("IV.76.toml", &as_id("IV.76"), "table", "1 ≤ n ≤ 75");
+    // The id must be the file name.
+    refused("other.toml", &as_id("my-strip"), "table", "`other`");
+}
+
+#[test]
+fn an_own_scene_with_a_thesis_table_is_refused() {
+    let text = format!(
+        "{}\n[thesis]\ncolumns = [\"cycle\", \"dofs\"]\nrows = [[0, 1]]\n",
+        template("elasticity")
+    );
+    refused("elasticity.toml", &text, "thesis", "scene of your own");
+}
+
+/// Copies `IV.<n>.toml` with `edits` applied into a scratch folder and loads it.
+fn edited(table: &str, edits: &[(&str, &str)]) -> Experiment {
+    let mut text = fs::read_to_string(experiments_dir().join(format!("{table}.toml"))).unwrap();
+    for (from, to) in edits {
+        text = with(&text, from, to);
+    }
+    let dir = scratch("edited");
+    experiment::load(&write(&dir, &format!("{table}.toml"), &text)).unwrap()
+}
+
+#[test]
+fn an_edited_thesis_experiment_names_the_fields_that_differ() {
+    let e = edited(
+        "IV.36",
+        &[
+            ("g0 = 0.1", "g0 = 0.12"),
+            ("quick_rows = 3", "quick_rows = 2"),
+        ],
+    );
+    assert_eq!(
+        e.comparison,
+        Comparison::Edited(vec![
+            "scene.reynolds.gap.g0".into(),
+            "study.quick_rows".into()
+        ])
+    );
+    let thesis = ThesisTable::of(&e);
+    assert!(thesis.is_empty(), "an edited table is not scored");
+    assert_eq!(thesis.comparison, e.comparison);
+    // A field added (even with its default value) or left out counts as a difference.
+    let e = edited(
+        "IV.1",
+        &[("quick_rows = 4", "quick_rows = 4\nties = \"band\"")],
+    );
+    assert_eq!(e.comparison, Comparison::Edited(vec!["study.ties".into()]));
+    // Printed rows count too.
+    let shipped = experiment::load(&experiments_dir().join("IV.1.toml")).unwrap();
+    let first = format!("[0, {}", shipped.thesis.rows[0][1]);
+    let e = edited("IV.1", &[(&first, "[0, 1")]);
+    assert_eq!(e.comparison, Comparison::Edited(vec!["thesis.rows".into()]));
+}
+
+#[test]
+fn comments_layout_numbers_and_notes_do_not_make_an_edit() {
+    let e = edited(
+        "IV.36",
+        &[
+            ("g0 = 0.1", "g0 = 1e-1"),
+            ("[study]", "[study] # how to iterate"),
+            ("rows = 8\n", "rows   =   8\n"),
+            ("[0.0, 0.0, -10.0]", "[0, 0, -10]"),
+            ("notes = [", "notes = [\n  \"a note of my own\","),
+        ],
+    );
+    assert_eq!(e.comparison, Comparison::Printed);
+    assert_eq!(
+        ThesisTable::of(&e).len(),
+        8,
+        "compared with the printed rows"
+    );
+}
+
+#[test]
+fn shipped_experiments_match_their_fingerprints() {
+    let current = experiment::fingerprints(&experiments_dir()).unwrap();
+    if current == experiment::PRINTED_LOCK {
+        return;
+    }
+    let lock = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("src/experiment/printed.lock");
+    if std::env::var_os("TRIBO_UPDATE_PRINTED").is_some() {
+        fs::write(&lock, &current).unwrap();
+        panic!(
+            "wrote new fingerprints to {}; rebuild and run the tests again",
+            lock.display()
+        );
+    }
+    let old: std::collections::BTreeSet<&str> = experiment::PRINTED_LOCK.lines().collect();
+    let new: std::collections::BTreeSet<&str> = current.lines().collect();
+    let changed: std::collections::BTreeSet<&str> = old
+        .symmetric_difference(&new)
+        .filter_map(|l| l.split_whitespace().next())
+        .filter(|id| !id.starts_with('#'))
+        .collect();
+    panic!(
+        "the scene, study or printed rows of shipped thesis experiments differ from their \
+         fingerprints ({}): such a file is reported as edited and not scored against the \
+         thesis. If the change is deliberate (a corrected reading, a fixed printed value), \
+         update the fingerprints with\n  TRIBO_UPDATE_PRINTED=1 cargo test --release --test \
+         tribo shipped_experiments_match_their_fingerprints\nand commit {}.",
+        changed.into_iter().collect::<Vec<_>>().join(", "),
+        lock.display()
+    );
+}
+
+/// The page of an own scene and of an edited thesis table: status, notice, no Δ coloured.
+#[test]
+fn the_report_says_what_is_not_compared() {
+    let dir = scratch("report");
+    let experiments = dir.join("experiments");
+    fs::create_dir_all(&experiments).unwrap();
+    let own = with(&template("elasticity"), "quick_rows = 3", "quick_rows = 2");
+    let own = with(
+        &own,
+        "table = \"elasticity\"",
+        "table = \"my-elastic-strip\"",
+    );
+    write(&experiments, "my-elastic-strip.toml", &own);
+    let shipped = fs::read_to_string(experiments_dir().join("IV.1.toml")).unwrap();
+    write(
+        &experiments,
+        "IV.1.toml",
+        &with(&shipped, "mu = 1.0", "mu = 2.0"),
+    );
+    let out = dir.join("out");
+    let output = report()
+        .args([
+            "--quick",
+            "--no-progress",
+            "--no-alternatives",
+            "--experiments",
+        ])
+        .arg(&experiments)
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let html = fs::read_to_string(out.join("index.html")).unwrap();
+    assert!(html.contains("<td class=\"status ok\">own scene: not compared</td>"));
+    assert!(html.contains("<td class=\"status ok\">edited: not scored</td>"));
+    assert!(html.contains("Own scene: no thesis table, not compared."));
+    assert!(html.contains(
+        "The parameters differ from the printed table's (fields <code>scene.elasticity.mu</code>)"
+    ));
+    assert!(!html.contains("class=\"diff off\""), "no Δ coloured");
+    assert!(!html.contains("The thesis prints no table for this result"));
+    assert!(out.join("data/my-elastic-strip.csv").exists());
+    let _ = fs::remove_dir_all(&dir);
+}
