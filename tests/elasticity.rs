@@ -67,10 +67,13 @@ fn quick_tier_agrees_with_the_thesis() {
     }
 }
 
+/// The convergence rule on the quick tier's rows 1–3 (its window [2, 5] holds two rows, too
+/// few for an order).
 #[test]
 fn convergence_rate_inside_the_window() {
     for t in TABLES {
-        crate::common::assert_convergence(t, &quick(t));
+        let order = crate::common::convergence_rule(&quick(t).rows, [1, 3]);
+        assert!(order.is_ok(), "{t}: {order:?}");
     }
 }
 

@@ -552,7 +552,10 @@ fn merge(shards: &[PathBuf], out: &Path) -> Result<bool, String> {
             } => {
                 // Checked when the record was read.
                 theses.push(Some(thesis.thesis()?));
-                let printed = theses.last().and_then(Option::as_ref).expect("pushed above");
+                let printed = theses
+                    .last()
+                    .and_then(Option::as_ref)
+                    .expect("pushed above");
                 data::write_all(&out.join("data"), run, printed).map_err(|e| cannot_write(&e))?;
                 for alt in alternatives {
                     match &alt.outcome {

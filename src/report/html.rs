@@ -9,9 +9,9 @@
 use std::collections::{BTreeSet, HashMap};
 use std::fmt::Write as _;
 
-use super::verdict::{self, KnownReason, Verdict};
 use super::errata::{self, Erratum};
 use super::families::{self, Family};
+use super::verdict::{self, KnownReason, Verdict};
 use super::{
     compared_value, compares_previous_estimate, estimate_ratio, rel_diff, thesis_figure, tolerance,
     Entry, Failure, FailureKind, Figure, ReportMeta, Section, Summary, MAX_SHOWN_THESIS_ROWS,
@@ -493,7 +493,7 @@ fn absent_summary_rows(h: &mut String, numbers: std::ops::Range<usize>) {
     let _ = writeln!(
         h,
         "<tr class=\"absent\"><td class=\"text\">{ids}</td><td class=\"text na\">—</td>\
-         <td class=\"text na\">—</td><td class=\"status na\">not in this report</td>\
+         <td class=\"text na\">—</td><td class=\"status na\">not on this page</td>\
          <td class=\"text na\" colspan=\"10\">{how}</td></tr>"
     );
 }
@@ -1023,6 +1023,8 @@ fn erratum_entry(h: &mut String, e: &Erratum, on_page: &BTreeSet<&str>) {
         escape(e.evidence),
         escape(e.reading)
     );
+}
+
 /// Why a section has no thesis columns when its experiment is not the printed one: a scene of
 /// the user's own, or a thesis experiment whose file was edited (the fields that differ).
 fn not_compared_notice(h: &mut String, s: &Section) {
