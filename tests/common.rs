@@ -7,6 +7,7 @@ use std::sync::{Arc, Mutex, OnceLock};
 use tribo::experiment::{self, Experiment};
 use tribo::mesh::Mesh;
 use tribo::report::convergence_order;
+use tribo::report::{self, Entry, ReportMeta, Section, Written};
 use tribo::results::{Row, RunResult, Value};
 use tribo::study::{self, Tier};
 use tribo::thesis::ThesisTable;
@@ -303,4 +304,47 @@ fn iv1_with_a_smaller_marking_fraction_passes_the_convergence_rule() {
     );
     let order = convergence_rule(&r.rows, [2, 8]).unwrap();
     assert!((-0.60..=-0.40).contains(&order), "{order}");
+}
+
+/// A table with nothing printed (a figure experiment), of thesis section `section`.
+pub fn no_thesis(table: &str, section: &str) -> ThesisTable {
+    ThesisTable {
+        table: table.into(),
+        section: section.into(),
+        columns: vec![],
+        rows: vec![],
+        duplicate_of: None,
+        additive_part: None,
+        comparison: Default::default(),
+    }
+}
+
+/// The report of `sections` (each run with its printed table) in a fresh folder `name`; every
+/// figure must be drawn.
+pub fn report_of(name: &str, sections: &[(&RunResult, &ThesisTable)]) -> (PathBuf, Written) {
+    let entries: Vec<Entry> = sections
+        .iter()
+        .map(|(run, thesis)| {
+            Entry::Done(Section {
+                run,
+                thesis,
+                alternatives: &[],
+            })
+        })
+        .collect();
+    let meta = ReportMeta {
+        tier: "quick".into(),
+        generated_by: "tribo test".into(),
+        total_seconds: 0.1,
+        threads: 1,
+        provenance: Default::default(),
+    };
+    let dir = crate::cli::temp_dir(&format!("report-of-{name}"));
+    let written = report::write_report(&dir, &entries, &meta).unwrap();
+    assert!(
+        written.figure_failures.is_empty(),
+        "{:?}",
+        written.figure_failures
+    );
+    (dir, written)
 }

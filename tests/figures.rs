@@ -6,45 +6,13 @@
 use std::fs;
 use std::path::PathBuf;
 
-use tribo::report::{self, Entry, ReportMeta, Section};
+use crate::common::no_thesis;
 use tribo::results::{CellBox, DeformedPicture, FieldPicture, MeshPicture, Row, RunResult};
-use tribo::thesis::ThesisTable;
-
-fn no_thesis(table: &str) -> ThesisTable {
-    ThesisTable {
-        table: table.into(),
-        section: String::new(),
-        columns: vec![],
-        rows: vec![],
-        duplicate_of: None,
-        additive_part: None,
-        comparison: Default::default(),
-    }
-}
 
 /// The report of one run in a fresh folder `name`; every figure must be drawn.
 fn report_of(name: &str, run: &RunResult) -> PathBuf {
-    let thesis = no_thesis(&run.table);
-    let entries = [Entry::Done(Section {
-        run,
-        thesis: &thesis,
-        alternatives: &[],
-    })];
-    let meta = ReportMeta {
-        tier: "quick".into(),
-        generated_by: "tribo test".into(),
-        total_seconds: 0.1,
-        threads: 1,
-        provenance: Default::default(),
-    };
-    let dir = crate::cli::temp_dir(&format!("figures-{name}"));
-    let written = report::write_report(&dir, &entries, &meta).unwrap();
-    assert!(
-        written.figure_failures.is_empty(),
-        "{:?}",
-        written.figure_failures
-    );
-    dir
+    let thesis = no_thesis(&run.table, "");
+    crate::common::report_of(&format!("figures-{name}"), &[(run, &thesis)]).0
 }
 
 fn read(dir: &std::path::Path, file: &str) -> String {

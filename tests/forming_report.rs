@@ -7,9 +7,8 @@
 use std::fs;
 use std::path::{Path, PathBuf};
 
-use tribo::report::{self, Entry, ReportMeta, Section, Written};
+use crate::common::{no_thesis, report_of};
 use tribo::results::{columns, DeformedPicture, PhaseSeconds, Row, RunResult, Value};
-use tribo::thesis::ThesisTable;
 
 /// The element of a deformed-body picture that draws the Signorini faces.
 const SIGNORINI_PATH: &str = "<path class=\"signorini-faces\"";
@@ -217,48 +216,6 @@ fn synthetic_run(table: &str, rows: Vec<Row>, deformed: Vec<DeformedPicture>) ->
     }
 }
 
-fn no_thesis(table: &str) -> ThesisTable {
-    ThesisTable {
-        table: table.into(),
-        section: "IV.2.4.7".into(),
-        columns: vec![],
-        rows: vec![],
-        duplicate_of: None,
-        additive_part: None,
-        comparison: Default::default(),
-    }
-}
-
-/// The report of `sections` (each run with its printed table) in a fresh folder `name`; every
-/// figure must be drawn.
-fn report_of(name: &str, sections: &[(&RunResult, &ThesisTable)]) -> (PathBuf, Written) {
-    let entries: Vec<Entry> = sections
-        .iter()
-        .map(|(run, thesis)| {
-            Entry::Done(Section {
-                run,
-                thesis,
-                alternatives: &[],
-            })
-        })
-        .collect();
-    let meta = ReportMeta {
-        tier: "quick".into(),
-        generated_by: "tribo test".into(),
-        total_seconds: 0.1,
-        threads: 1,
-        provenance: Default::default(),
-    };
-    let dir = crate::cli::temp_dir(&format!("forming-{name}"));
-    let written = report::write_report(&dir, &entries, &meta).unwrap();
-    assert!(
-        written.figure_failures.is_empty(),
-        "{:?}",
-        written.figure_failures
-    );
-    (dir, written)
-}
-
 /// The frames of a load-step run and the deformed picture of any other run both draw the
 /// Signorini faces (the quick forming run has none in its first steps, so this is the check of
 /// the drawing itself).
@@ -275,7 +232,10 @@ fn frames_and_deformed_pictures_draw_the_signorini_faces() {
         vec![Row::new(0).count(columns::DOFS, 12)],
         vec![picture(0, 0.0)],
     );
-    let (figure_thesis, table_thesis) = (no_thesis("fig-IV.99"), no_thesis("IV.99"));
+    let (figure_thesis, table_thesis) = (
+        no_thesis("fig-IV.99", "IV.2.4.7"),
+        no_thesis("IV.99", "IV.2.4.7"),
+    );
     let (dir, written) = report_of(
         "synthetic",
         &[(&forming, &figure_thesis), (&table, &table_thesis)],
@@ -327,7 +287,7 @@ fn frames_and_deformed_pictures_draw_the_signorini_faces() {
 #[test]
 fn an_empty_figure_run_is_reported_without_frames() {
     let run = synthetic_run("fig-IV.98", vec![], vec![]);
-    let (dir, _) = report_of("empty", &[(&run, &no_thesis("fig-IV.98"))]);
+    let (dir, _) = report_of("empty", &[(&run, &no_thesis("fig-IV.98", "IV.2.4.7"))]);
     assert!(!dir.join("figures/fig-IV.98-animation.svg").exists());
     let html = read(&dir.join("index.html"));
     assert!(html.contains("figure: no printed table"));
