@@ -27,6 +27,7 @@ fn quick(tables: &str, out: &Path) -> Output {
         .args([
             "--quick",
             "--no-progress",
+            "--shard",
             "--no-alternatives",
             "--only",
             tables,
@@ -159,6 +160,7 @@ fn parallel_shards_merge_into_the_single_run_page() {
         .args([
             "--quick",
             "--no-progress",
+            "--shard",
             "--no-alternatives",
             "--only",
             "{/.}",
@@ -346,6 +348,7 @@ fn a_failed_entry_merges_with_exit_status_1() {
         .args([
             "--quick",
             "--no-progress",
+            "--shard",
             "--no-alternatives",
             "--only",
             "IV.3",
@@ -414,4 +417,35 @@ fn related_tables_of_other_shards_are_drawn_as_in_one_run() {
         assert!(a.is_ok() && a.ok() == b.ok(), "{f} differs");
     }
     assert!(merged.join("figures/fig-IV.116-related-cost.svg").exists());
+}
+
+/// Records are written only with `--shard` (a full report's would take gigabytes); merging the
+/// folder of a run without it is refused with the flag named.
+#[test]
+fn records_are_written_only_with_shard() {
+    let dir = temp_dir("no-shard");
+    let out = dir.join("plain");
+    let run = report()
+        .args([
+            "--quick",
+            "--no-progress",
+            "--no-alternatives",
+            "--only",
+            "IV.1",
+        ])
+        .arg("--experiments")
+        .arg(experiments())
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(run.status.success(), "{}", stderr(&run));
+    assert!(
+        files(&out.join("shard")).is_empty(),
+        "records without --shard"
+    );
+    let merged = merge(&[&out], &dir.join("merged"));
+    assert_eq!(merged.status.code(), Some(2));
+    assert!(stderr(&merged).contains("--shard"), "{}", stderr(&merged));
+    let _ = fs::remove_dir_all(&dir);
 }

@@ -72,6 +72,12 @@ struct Cli {
     #[arg(long)]
     no_alternatives: bool,
 
+    /// Also write the shard records (`<out>/shard/<table>.json`, everything the page needs,
+    /// mesh pictures included) that `report merge` builds one page from. Off by default: the
+    /// records of a full report take gigabytes.
+    #[arg(long)]
+    shard: bool,
+
     /// Memory a table may use, e.g. `4G` or `1500M` (default: the machine's memory). A table
     /// predicted to need more is refused before its first solve, naming the cycle.
     #[arg(long, value_name = "SIZE", value_parser = study::Budget::parse)]
@@ -328,7 +334,11 @@ fn run(cli: &Cli) -> Result<bool, String> {
     for message in &written.figure_failures {
         eprintln!("error (figures): {message}");
     }
-    let record_failures = write_records(&cli.out, &stems, &outcomes, &meta);
+    let record_failures = if cli.shard {
+        write_records(&cli.out, &stems, &outcomes, &meta)
+    } else {
+        0
+    };
     let failures = failed + written.figure_failures.len() + record_failures;
     let warned = outcomes
         .iter()

@@ -228,7 +228,7 @@ pub fn read_shards(dirs: &[PathBuf]) -> Result<Vec<Record>, String> {
         let shard = dir.join(DIR);
         let listing = fs::read_dir(&shard).map_err(|e| {
             format!(
-                "{} has no shard records: cannot list {} ({e}); a `report --out {}` run writes them",
+                "{} has no shard records: cannot list {} ({e}); a `report --shard --out {}` run writes them",
                 dir.display(),
                 shard.display(),
                 dir.display()
@@ -245,7 +245,7 @@ pub fn read_shards(dirs: &[PathBuf]) -> Result<Vec<Record>, String> {
         }
         if paths.is_empty() {
             return Err(format!(
-                "{} has no shard records: {} holds no *.json file",
+                "{} has no shard records: {} holds no *.json file (run the report with --shard)",
                 dir.display(),
                 shard.display()
             ));
