@@ -1035,6 +1035,61 @@ impl Mesh {
         }
     }
 
+    /// Number of cells, active and refined.
+    pub fn n_cells(&self) -> usize {
+        self.cells.len()
+    }
+
+    /// Deepest level of an active cell.
+    pub fn max_level(&self) -> u8 {
+        self.cells.last().map_or(0, |c| c.level)
+    }
+
+    /// The mesh of the cells of level ≤ `level`: every cell of that level becomes active (the
+    /// level meshes of global-coarsening multigrid, [`crate::fe::hierarchy`]). The storage is
+    /// breadth-first by level ([`Mesh::rebuild`]), so the coarser mesh is a prefix of it with
+    /// the same cell ids; a truncation of a 2:1-balanced mesh is 2:1 balanced (a leaf next to a
+    /// cell of level `level` had a neighbour of level ≥ `level` before, so its level is at
+    /// least `level − 1`).
+    pub fn truncated(&self, level: u8) -> Mesh {
+        let kept = self.cells.partition_point(|c| c.level <= level);
+        let mut cells = self.cells[..kept].to_vec();
+        for c in &mut cells {
+            if c.level == level {
+                c.children = NONE;
+            }
+        }
+        let mut mesh = Mesh {
+            cells,
+            active: Vec::new(),
+            active_index: Vec::new(),
+            moved: self.moved.clone(),
+            ..*self
+        };
+        let roots = mesh.nx * mesh.ny;
+        let mut stack: Vec<u32> = (0..roots as u32).rev().collect();
+        while let Some(c) = stack.pop() {
+            let f = mesh.cells[c as usize].children;
+            if f == NONE {
+                mesh.active.push(c);
+            } else {
+                stack.extend([f + 3, f + 2, f + 1, f]);
+            }
+        }
+        mesh.active_index = vec![NONE; mesh.cells.len()];
+        for (k, &c) in mesh.active.iter().enumerate() {
+            mesh.active_index[c as usize] = k as u32;
+        }
+        mesh
+    }
+
+    /// The active cell that holds the vertex `key` in its closure (the cell to its upper right,
+    /// or the one below or left of it on the right and top sides of the domain).
+    pub fn cell_at_vertex(&self, key: VertexKey) -> CellId {
+        let (ex, ey) = self.extent();
+        self.descend(key.0.min(ex - 1), key.1.min(ey - 1), MAX_LEVEL)
+    }
+
     /// Refine every active cell once (fails like [`Mesh::refine_and_coarsen`]).
     pub fn refine_global(&mut self) -> Result<(), MeshError> {
         let r = vec![true; self.active.len()];

@@ -94,6 +94,9 @@ pub mod columns {
     pub const EST_S_BOUNDARY: &str = "est_s_boundary";
     /// √Σ η_Q² over the cells without a contact face.
     pub const EST_INTERIOR: &str = "est_interior";
+    /// CG iterations of the multigrid-preconditioned solve (the most over the solves of the
+    /// cycle, e.g. of an active-set iteration); absent with the direct solver.
+    pub const CG_ITERATIONS: &str = "cg_iterations";
 }
 
 /// The value of one column in one row.
@@ -564,7 +567,9 @@ impl RunResult {
         );
         for r in &self.rows {
             s += &format!("cycle {:>2}", r.cycle);
-            for (name, v) in &r.columns {
+            // The CG iterations depend on the solver chosen, not on what is computed: both
+            // solvers share one snapshot (the iterations are in the CSV files).
+            for (name, v) in r.columns.iter().filter(|(n, _)| n != columns::CG_ITERATIONS) {
                 s += &snapshot_column(name, v);
             }
             s += "\n";

@@ -385,7 +385,11 @@ fn auto_cavitation_switches_where_the_pressure_gets_negative() {
         let mut s = spec(&table);
         reynolds_mut(&mut s).cavitation = Cavitation::Auto;
         s.study.quick_rows = 0;
-        let mut model = ReynoldsFilm::new(s.problem.reynolds().unwrap(), &s.scene.domain);
+        let mut model = ReynoldsFilm::new(
+            s.problem.reynolds().unwrap(),
+            &s.scene.domain,
+            Default::default(),
+        );
         let mut adaptation = study::build_adaptation(&s.study, &s.scene);
         run_study(
             &s,

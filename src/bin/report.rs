@@ -21,6 +21,7 @@ use std::io::IsTerminal;
 use std::panic::{self, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::atomic::{AtomicU64, Ordering as AtomicOrdering};
 use std::sync::Mutex;
 use std::time::Instant;
 
@@ -77,6 +78,17 @@ struct Cli {
     /// records of a full report take gigabytes.
     #[arg(long)]
     shard: bool,
+
+    /// Tables run at once (default: one per core, fewer where the memory budget does not hold
+    /// the largest predicted tables side by side). The results do not depend on it.
+    #[arg(long, value_name = "N")]
+    jobs: Option<usize>,
+
+    /// Linear solver of the SPD problems (Reynolds, with and without cavitation), overriding
+    /// the experiments' `[study] solver`: `direct` (sparse Cholesky) or `multigrid` (CG with a
+    /// geometric multigrid V-cycle). The solver changes the run time, not the results.
+    #[arg(long, value_enum, value_name = "SOLVER")]
+    solver: Option<tribo::linalg::SolverKind>,
 
     /// Memory a table may use, e.g. `4G` or `1500M` (default: the machine's memory). A table
     /// predicted to need more is refused before its first solve, naming the cycle.
@@ -201,12 +213,24 @@ fn run(cli: &Cli) -> Result<bool, String> {
         bar.suspend(|| eprintln!("{}: {}", f.kind.name(), f.message));
     };
 
-    let mut outcomes = Vec::with_capacity(loaded.len());
-    // The file stem of each outcome, for its shard record.
-    let mut stems = Vec::with_capacity(loaded.len());
-    let mut failed = 0;
-    for (stem, loaded) in loaded {
-        stems.push(stem.clone());
+    // Tables run side by side (each one's solves stay as they are, so the results do not
+    // depend on how many run at once); the outcomes keep the order of the files.
+    let jobs = cli
+        .jobs
+        .unwrap_or_else(|| default_jobs(&loaded, tier, budget))
+        .max(1);
+    let stems: Vec<String> = loaded.iter().map(|(stem, _)| stem.clone()).collect();
+    let queue = Mutex::new(loaded.into_iter().enumerate());
+    let finished: Mutex<Vec<(usize, Outcome, usize)>> = Mutex::new(Vec::new());
+    // Progress counts the cycles each table has finished, whatever order they finish in.
+    let advance = |counted: &AtomicU64, done: u64| {
+        let before = counted.fetch_max(done, AtomicOrdering::Relaxed);
+        if done > before {
+            bar.inc(done - before);
+        }
+    };
+    let run_one = |(stem, loaded): experiment::Loaded| -> (Outcome, usize) {
+        let mut failed = 0;
         // Whatever happens below, nothing of an earlier run of this table may stay behind.
         let removed = report::remove_outputs(&cli.out, &stem).map_err(|e| {
             format!(
@@ -215,7 +239,12 @@ fn run(cli: &Cli) -> Result<bool, String> {
             )
         });
         let ready = match (loaded, removed) {
-            (Ok(spec), Ok(_)) => Ok(spec),
+            (Ok(mut spec), Ok(_)) => {
+                if let Some(solver) = cli.solver {
+                    spec.study.solver = Some(solver);
+                }
+                Ok(spec)
+            }
             (Err(e), _) => Err((FailureKind::NotLoaded, e.to_string())),
             (Ok(_), Err(message)) => Err((FailureKind::Error, message)),
         };
@@ -232,16 +261,15 @@ fn run(cli: &Cli) -> Result<bool, String> {
                 };
                 report_failure(&failure);
                 failed += 1;
-                outcomes.push(Outcome::Failed(failure));
-                continue;
+                return (Outcome::Failed(failure), failed);
             }
         };
         bar.set_message(format!("{} {}", spec.table, spec.title));
-        let base = bar.position();
         let readings = readings_of(&spec);
         let runs_of_spec = 1 + readings.len() as u64;
+        let counted = AtomicU64::new(0);
         let progress = |_: &str, done: usize, total: usize| {
-            bar.set_position(base + done as u64);
+            advance(&counted, done as u64);
             cycle_done(&spec.table, done, total);
         };
         let outcome = match run_isolated(&spec, tier, budget, &progress)
@@ -269,10 +297,10 @@ fn run(cli: &Cli) -> Result<bool, String> {
                         continue;
                     }
                     bar.set_message(format!("{} {} ({})", spec.table, spec.title, alt.suffix));
-                    let base = bar.position();
                     let label = format!("{} ({})", spec.table, alt.suffix);
+                    let base = counted.load(AtomicOrdering::Relaxed);
                     let progress = |_: &str, done: usize, total: usize| {
-                        bar.set_position(base + done as u64);
+                        advance(&counted, base + done as u64);
                         cycle_done(&label, done, total);
                     };
                     let outcome = run_isolated(&alt.experiment, tier, budget, &progress).and_then(
@@ -302,9 +330,29 @@ fn run(cli: &Cli) -> Result<bool, String> {
                 Outcome::Failed(f)
             }
         };
-        outcomes.push(outcome);
-        bar.set_position(base + cycles(&spec) * runs_of_spec);
-    }
+        advance(&counted, cycles(&spec) * runs_of_spec);
+        (outcome, failed)
+    
+    };
+    std::thread::scope(|scope| {
+        for _ in 0..jobs {
+            scope.spawn(|| loop {
+                let next = queue.lock().expect("queue").next();
+                let Some((index, (stem, loaded))) = next else {
+                    break;
+                };
+                let (outcome, failed) = run_one((stem, loaded));
+                finished
+                    .lock()
+                    .expect("outcomes")
+                    .push((index, outcome, failed));
+            });
+        }
+    });
+    let mut finished = finished.into_inner().expect("outcomes");
+    finished.sort_by_key(|f| f.0);
+    let failed: usize = finished.iter().map(|f| f.2).sum();
+    let outcomes: Vec<Outcome> = finished.into_iter().map(|f| f.1).collect();
     bar.finish_and_clear();
 
     let entries: Vec<Entry> = outcomes
@@ -367,6 +415,23 @@ fn run(cli: &Cli) -> Result<bool, String> {
 /// Run one experiment so that nothing in it can stop the other tables: an error of the study
 /// becomes a failed entry with its cycle, and so does a panic (caught here, with the message and
 /// the place the panic hook recorded).
+/// Tables at once by default: one per core, as many as the memory budget holds of the largest
+/// predicted table ([`study::Budget::predicted_peak`]).
+fn default_jobs(loaded: &[experiment::Loaded], tier: Tier, budget: study::Budget) -> usize {
+    let largest = loaded
+        .iter()
+        .filter_map(|(_, l)| l.as_ref().ok())
+        .map(|e| study::Budget::predicted_peak(e, study::Schedule::of(e, tier)))
+        .fold(0.0f64, f64::max);
+    let by_memory = if largest > 0.0 {
+        (budget.bytes / largest).floor() as usize
+    } else {
+        usize::MAX
+    };
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    cores.min(by_memory).max(1)
+}
+
 fn run_isolated(
     spec: &Experiment,
     tier: Tier,

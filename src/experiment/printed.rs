@@ -30,6 +30,10 @@ pub const PRINTED_LOCK: &str = include_str!("printed.lock");
 /// The sections of an experiment file that make up what the thesis computed.
 const FINGERPRINTED: [&str; 3] = ["scene", "study", "thesis"];
 
+/// Fields that change how a table is computed, not what: setting them does not make a thesis
+/// experiment "edited".
+const NOT_FINGERPRINTED: [&str; 1] = ["study.solver"];
+
 /// Field path → hash of every fingerprinted field of one file.
 type Fields = BTreeMap<String, String>;
 
@@ -42,6 +46,9 @@ fn fields(file: &Table) -> Fields {
         if let Some(value) = file.get(section) {
             flatten(section, value, &mut out);
         }
+    }
+    for field in NOT_FINGERPRINTED {
+        out.remove(field);
     }
     out
 }

@@ -693,6 +693,11 @@ pub struct Study {
     /// How the fixed-number marking treats tied indicators at a cut (default `band`).
     #[serde(default)]
     pub ties: Ties,
+    /// The linear solver of the SPD problems (`direct` or `multigrid`; default
+    /// [`crate::linalg::SolverKind::default`]); `report --solver` overrides it. It changes how
+    /// the systems are solved, not what is computed.
+    #[serde(default)]
+    pub solver: Option<crate::linalg::SolverKind>,
 }
 
 /// Tied indicators at a cut of the fixed-number marking (`crate::adaptivity::grid`).

@@ -7,6 +7,7 @@ pub mod blocks;
 pub mod cell_values;
 pub mod constraints;
 pub mod dofs;
+pub mod hierarchy;
 pub mod pattern;
 pub mod quadrature;
 pub mod system;

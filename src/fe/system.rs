@@ -4,7 +4,7 @@
 use super::constraints::Constraints;
 use super::dofs::DofMap;
 use super::pattern::SparsityPattern;
-use crate::linalg::{Csc, DirectSolver, Ordering, SolveError};
+use crate::linalg::{Csc, Ordering, SolveConstrained, SolveError};
 use crate::mesh::Mesh;
 
 /// Dofs, constraints, pattern and assembled values of one mesh.
@@ -53,7 +53,7 @@ impl System {
 
     /// Solve the assembled linear system with the constraints eliminated, and distribute the
     /// hanging dofs.
-    pub fn solve(&self, solver: &mut DirectSolver) -> Result<Vec<f64>, SolveError> {
+    pub fn solve(&self, solver: &mut dyn SolveConstrained) -> Result<Vec<f64>, SolveError> {
         let mut u = solver.solve(self.matrix(), &self.rhs, &self.constraints.eliminated())?;
         self.constraints.distribute(&mut u);
         Ok(u)

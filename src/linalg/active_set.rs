@@ -22,7 +22,7 @@
 
 use std::borrow::Cow;
 
-use super::{Csc, DirectSolver};
+use super::Csc;
 
 /// Whether a bound is an upper (x_d ≤ value) or a lower one (x_d ≥ value).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -247,7 +247,7 @@ pub struct ActiveSetSolution {
 /// `None` or of the wrong length).
 pub fn primal_dual_active_set(
     problem: &NodalBounds<'_>,
-    solver: &mut DirectSolver,
+    solver: &mut dyn super::SolveConstrained,
     initial: Option<&[bool]>,
     options: &ActiveSetOptions,
 ) -> Result<ActiveSetSolution, String> {
@@ -344,6 +344,7 @@ pub fn primal_dual_active_set(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::linalg::DirectSolver;
 
     /// The 1D obstacle problem −u'' = f on (0, 1), u(0) = u(1) = 0, by finite differences on
     /// `n` intervals (the matrix of h⁻¹·tridiag(−1, 2, −1), load h·f), in full CSC storage.

@@ -71,6 +71,8 @@ pub enum SolveError {
          a gap, is too large or too small for double precision"
     )]
     NonFiniteData(usize),
+    #[error("the multigrid-preconditioned CG solve failed: {0}")]
+    Iterative(String),
     #[error("dof {0} has no diagonal sign for the LDLᵀ factorisation ({1} signs for {2} dofs)")]
     Signs(usize, usize, usize),
 }

@@ -8,12 +8,15 @@
 pub mod active_set;
 pub mod direct;
 pub mod krylov;
+pub mod multigrid;
 pub mod ordering;
+pub mod solver;
 pub mod uzawa;
 
 pub use active_set::{ActiveSetOptions, ActiveSetSolution, Bound, Rotation};
 pub use direct::{CholeskyFactor, DirectSolver, Factorisation, SolveError};
 pub use ordering::Ordering;
+pub use solver::{LinearSolver, SolveConstrained, SolverKind};
 
 use rayon::prelude::*;
 

@@ -30,7 +30,6 @@ use crate::linalg::active_set::{
     primal_dual_active_set, ActiveSetOptions, Bound, Bounds, NodalBounds, Rotation, Sense,
     ViolationTolerance,
 };
-use crate::linalg::DirectSolver;
 use crate::mesh::{BoundaryFace, Side};
 use crate::models::obstacle::ContactSide;
 
@@ -261,7 +260,7 @@ pub const MAX_ACTIVE_SET_ITERATIONS: usize = 50;
 /// one per constraint, where there are more) is an error that states the count.
 pub fn solve_contact(
     system: &System,
-    solver: &mut DirectSolver,
+    solver: &mut dyn crate::linalg::SolveConstrained,
     constraints: &[ContactConstraint],
     initial: Option<&[bool]>,
 ) -> Result<ContactSolution, String> {

@@ -40,7 +40,6 @@ use crate::linalg::active_set::{
     primal_dual_active_set, ActiveSetOptions, ActiveSetSolution, Bounds, NodalBounds, Sense,
     ViolationTolerance,
 };
-use crate::linalg::DirectSolver;
 use crate::mesh::{CellId, CellKey, Mesh};
 use crate::models::thin_film::{CavitationSource, ThinFilm};
 
@@ -338,7 +337,7 @@ impl ReynoldsProblem {
 /// every vertex.
 pub fn solve_cavitation(
     system: &System,
-    solver: &mut DirectSolver,
+    solver: &mut dyn crate::linalg::SolveConstrained,
     initial: &[bool],
 ) -> Result<CavitationSolution, String> {
     let n = system.dofs.n_dofs();

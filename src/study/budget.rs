@@ -79,20 +79,29 @@ impl Budget {
         }
     }
 
+    /// The predicted memory of the largest cycle of a run (the model of the module docs).
+    pub fn predicted_peak(experiment: &Experiment, schedule: Schedule) -> f64 {
+        let c = components(experiment);
+        let initial = initial_cells(experiment);
+        let growth = growth(experiment);
+        let mut cells = initial;
+        let mut peak = 0.0f64;
+        for solve in schedule.solves() {
+            if let Some((_, 0)) = solve.step {
+                cells = initial;
+            }
+            peak = peak.max(memory(cells, c));
+            cells *= growth;
+        }
+        peak
+    }
+
     /// Check the predicted size of the whole run before its first solve.
     pub fn admit_run(&self, experiment: &Experiment, schedule: Schedule) -> Result<(), RunError> {
         let c = components(experiment);
         let initial = initial_cells(experiment);
         let mut cells = initial;
-        let growth = match experiment.study.kind {
-            StudyKind::GridAdaptive | StudyKind::ModelAndGridAdaptive | StudyKind::LoadSteps => {
-                CLOSURE
-                    * (1.0 + 3.0 * experiment.study.refine() - 0.75 * experiment.study.coarsen())
-            }
-            // The mesh is fixed; only the models of the contact faces change (or the solver
-            // iterates on one mesh).
-            StudyKind::ModelAdaptive | StudyKind::SolverIterations => 1.0,
-        };
+        let growth = growth(experiment);
         for solve in schedule.solves() {
             // A load step restarts from the coarse cells of the moved body.
             if let Some((_, 0)) = solve.step {
@@ -133,6 +142,18 @@ impl Budget {
 }
 
 const GIB: f64 = 1024.0 * 1024.0 * 1024.0;
+
+/// Growth of the active cells per cycle (module docs).
+fn growth(experiment: &Experiment) -> f64 {
+    match experiment.study.kind {
+        StudyKind::GridAdaptive | StudyKind::ModelAndGridAdaptive | StudyKind::LoadSteps => {
+            CLOSURE * (1.0 + 3.0 * experiment.study.refine() - 0.75 * experiment.study.coarsen())
+        }
+        // The mesh is fixed; only the models of the contact faces change (or the solver
+        // iterates on one mesh).
+        StudyKind::ModelAdaptive | StudyKind::SolverIterations => 1.0,
+    }
+}
 
 /// Solution components per vertex of the experiment's problem.
 fn components(experiment: &Experiment) -> usize {

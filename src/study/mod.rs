@@ -277,7 +277,11 @@ pub fn build_problem(experiment: &Experiment) -> Result<Box<dyn Problem>, String
                 return Err("contact has no solver-iterations study".into())
             }
         },
-        experiment::Problem::Reynolds(data) => Box::new(reynolds::ReynoldsFilm::new(data, domain)),
+        experiment::Problem::Reynolds(data) => Box::new(reynolds::ReynoldsFilm::new(
+            data,
+            domain,
+            experiment.study.solver.unwrap_or_default(),
+        )),
         experiment::Problem::SubStokes(data) => {
             Box::new(substokes::SubStokesFilm::new(data, domain))
         }

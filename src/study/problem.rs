@@ -7,7 +7,8 @@ use std::collections::BTreeSet;
 use crate::estimators::FaceIndicators;
 use crate::experiment::Scene;
 use crate::fe::{DofMap, System};
-use crate::linalg::DirectSolver;
+use crate::fe::hierarchy::vertex_hierarchy;
+use crate::linalg::{DirectSolver, LinearSolver};
 use crate::mesh::{BoundaryFace, Mesh, MeshError};
 use crate::results::{columns, Cuts, DeformedPicture, FieldPicture, MeshField, Value};
 
@@ -96,13 +97,37 @@ impl Discretisation {
 pub fn setup_system(
     disc: &Discretisation,
     n_components: usize,
-    solver: &mut DirectSolver,
+    solver: &mut dyn PrepareSolver,
     constrain: impl FnOnce(&mut System),
 ) -> System {
     let mut system = System::new(&disc.mesh, n_components);
     constrain(&mut system);
-    solver.reorder(system.ordering());
+    solver.prepare(&disc.mesh, &system);
     system
+}
+
+/// A solver made ready for the systems of a new mesh: the direct solver gets the fill-reducing
+/// ordering of the pattern, multigrid the level hierarchy of the mesh.
+pub trait PrepareSolver {
+    fn prepare(&mut self, mesh: &Mesh, system: &System);
+}
+
+impl PrepareSolver for DirectSolver {
+    fn prepare(&mut self, _mesh: &Mesh, system: &System) {
+        self.reorder(system.ordering());
+    }
+}
+
+impl PrepareSolver for LinearSolver {
+    fn prepare(&mut self, mesh: &Mesh, system: &System) {
+        match self {
+            LinearSolver::Direct(d) => d.prepare(mesh, system),
+            LinearSolver::Multigrid(m) => m.set_hierarchy(
+                vertex_hierarchy(mesh, &system.dofs.vertices),
+                system.dofs.n_components,
+            ),
+        }
+    }
 }
 
 /// A solution of one cycle: the field (hanging dofs distributed) and solver counters.

@@ -17,7 +17,7 @@ use crate::estimators;
 use crate::estimators::reynolds::{VolumeResidual, ZoneResidual};
 use crate::experiment::{Rectangle, ReynoldsData, ReynoldsEstimator};
 use crate::fe::{DofMap, System};
-use crate::linalg::DirectSolver;
+use crate::linalg::{LinearSolver, SolverKind};
 use crate::models::film_comparison::{cut_height, pressure_cut};
 use crate::models::reynolds::{solve_cavitation, CellDataCache, Load, ReynoldsProblem};
 use crate::results::columns;
@@ -38,16 +38,17 @@ pub struct ReynoldsFilm {
     cache: Option<CellDataCache>,
     /// Largest |ψ_h| of the last solve (the scale of the noise floor).
     psi_scale: f64,
-    /// The previous cycle's solution (warm start of the cavitation active set).
+    /// The previous cycle's solution (warm start of the cavitation active set, and of the
+    /// iterative solver).
     previous: Option<PreviousSolution>,
-    solver: DirectSolver,
+    solver: LinearSolver,
     domain: Rectangle,
     /// Why the cut of the last solution could not be sampled, if it could not (a note).
     cut_failure: Option<String>,
 }
 
 impl ReynoldsFilm {
-    pub fn new(data: &ReynoldsData, domain: &Rectangle) -> ReynoldsFilm {
+    pub fn new(data: &ReynoldsData, domain: &Rectangle, solver: SolverKind) -> ReynoldsFilm {
         ReynoldsFilm {
             problem: data.into(),
             switch: CavitationSwitch::new(data.cavitation),
@@ -57,7 +58,7 @@ impl ReynoldsFilm {
             cache: None,
             psi_scale: 0.0,
             previous: None,
-            solver: DirectSolver::cholesky(),
+            solver: LinearSolver::spd(solver),
             domain: *domain,
             cut_failure: None,
         }
@@ -152,7 +153,11 @@ fn max_abs(u: &[f64]) -> f64 {
 
 impl Problem for ReynoldsFilm {
     fn setup(&mut self, disc: &Discretisation) -> System {
-        setup_system(disc, 1, &mut self.solver, |s| self.problem.constrain(s))
+        let system = setup_system(disc, 1, &mut self.solver, |s| self.problem.constrain(s));
+        if let (LinearSolver::Multigrid(m), Some(previous)) = (&mut self.solver, &self.previous) {
+            m.set_guess(previous.on_vertices(&system.dofs));
+        }
+        system
     }
 
     fn assemble(&mut self, disc: &Discretisation, system: &mut System) -> Result<(), String> {
@@ -169,8 +174,14 @@ impl Problem for ReynoldsFilm {
         clock: &PhaseClock,
     ) -> Result<Solution, String> {
         let solution = self.solve_on_mesh(disc, system, clock);
+        let cg = self.solver.take_iterations();
         self.solver.release_pattern();
-        solution
+        let mut solution = solution?;
+        if let Some(cg) = cg {
+            let most = cg.iter().copied().max().unwrap_or(0);
+            solution.counters.push((columns::CG_ITERATIONS.into(), most as i64));
+        }
+        Ok(solution)
     }
 
     fn estimate(
@@ -217,7 +228,8 @@ impl Problem for ReynoldsFilm {
     }
 
     fn finish_cycle(&mut self, disc: &Discretisation, dofs: DofMap, solution: Solution) {
-        self.previous = self.switch.warm_start(disc, dofs, solution.u);
+        let keep = matches!(self.solver, LinearSolver::Multigrid(_));
+        self.previous = self.switch.warm_start(disc, dofs, solution.u, keep);
     }
 
     fn pictures(

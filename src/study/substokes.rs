@@ -292,7 +292,7 @@ impl Problem for SubStokesFilm {
     }
 
     fn finish_cycle(&mut self, disc: &Discretisation, dofs: DofMap, solution: Solution) {
-        self.previous = self.switch.warm_start(disc, dofs, solution.u);
+        self.previous = self.switch.warm_start(disc, dofs, solution.u, false);
     }
 
     fn pictures(

@@ -145,14 +145,16 @@ impl CavitationSwitch {
     }
 
     /// What a cycle keeps for the next one's warm start: its solution with cavitation (the
-    /// initial active set of the next cavitation solve), nothing without.
+    /// initial active set of the next cavitation solve) or when `keep_anyway` (the initial guess
+    /// of an iterative solver), nothing else.
     pub fn warm_start(
         &self,
         disc: &Discretisation,
         dofs: DofMap,
         u: Vec<f64>,
+        keep_anyway: bool,
     ) -> Option<PreviousSolution> {
-        self.on.then(|| PreviousSolution {
+        (self.on || keep_anyway).then(|| PreviousSolution {
             mesh: disc.mesh.clone(),
             dofs,
             u,

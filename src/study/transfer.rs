@@ -2,6 +2,8 @@
 //! of the contact active set, the initial active set of the cavitation solve. One transfer for
 //! every problem: the Q₁ field of the old mesh evaluated at the points of the new one.
 
+use rayon::prelude::*;
+
 use crate::fe::cell_values::evaluate_at;
 use crate::fe::DofMap;
 use crate::mesh::Mesh;
@@ -32,6 +34,25 @@ impl PreviousSolution {
 }
 
 impl PreviousSolution {
+    /// The previous solution at every vertex of the new dofs `dofs` (the warm start of an
+    /// iterative solve): a vertex of both meshes keeps its value, a new one gets the previous
+    /// field's value at its position (0 outside the previous mesh).
+    pub fn on_vertices(&self, dofs: &DofMap) -> Vec<f64> {
+        let nc = dofs.n_components;
+        let old = &self.dofs.vertices;
+        let new = &dofs.vertices;
+        (0..new.len())
+            .into_par_iter()
+            .flat_map_iter(|v| {
+                let found = old.find(new.keys[v]);
+                (0..nc).map(move |c| match found {
+                    Some(w) => self.u[self.dofs.dof(w, c)],
+                    None => self.value(c, new.coords[v]).unwrap_or(0.0),
+                })
+            })
+            .collect()
+    }
+
     /// The previous solution at the contact vertices of the new dofs `dofs` (zero elsewhere):
     /// the linearisation point s₀ of the Signorini constraints and the warm start of a contact
     /// active set, or the contact vertex that lies outside the previous mesh.
