@@ -23,6 +23,7 @@ mod own_scenes;
 mod properties;
 mod report_failures;
 mod reynolds;
+mod solvers;
 mod substokes;
 mod uzawa;
 mod warnings;

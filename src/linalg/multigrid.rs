@@ -78,6 +78,9 @@ struct Sparse {
     vals: Vec<f64>,
 }
 
+/// The rows of one parallel task: where each row ends in the entries, and the entries.
+type RowBlock = (Vec<usize>, Vec<(u32, f64)>);
+
 /// Rows per parallel task when building a [`Sparse`] row by row.
 const ROWS_PER_TASK: usize = 4096;
 
@@ -107,7 +110,7 @@ impl Sparse {
     where
         F: Fn(usize, &mut Vec<(u32, f64)>) + Sync,
     {
-        let blocks: Vec<(Vec<usize>, Vec<(u32, f64)>)> = (0..n_rows.div_ceil(ROWS_PER_TASK))
+        let blocks: Vec<RowBlock> = (0..n_rows.div_ceil(ROWS_PER_TASK))
             .into_par_iter()
             .map(|b| {
                 let rows = b * ROWS_PER_TASK..((b + 1) * ROWS_PER_TASK).min(n_rows);

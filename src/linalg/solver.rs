@@ -66,7 +66,7 @@ impl SolveConstrained for MultigridSolver {
 
 /// The solver of an SPD problem (module docs).
 pub enum LinearSolver {
-    Direct(DirectSolver),
+    Direct(Box<DirectSolver>),
     Multigrid(MultigridSolver),
 }
 
@@ -74,7 +74,7 @@ impl LinearSolver {
     /// A solver of the given kind for SPD systems.
     pub fn spd(kind: SolverKind) -> LinearSolver {
         match kind {
-            SolverKind::Direct => LinearSolver::Direct(DirectSolver::cholesky()),
+            SolverKind::Direct => LinearSolver::Direct(Box::new(DirectSolver::cholesky())),
             SolverKind::Multigrid => LinearSolver::Multigrid(MultigridSolver::default()),
         }
     }

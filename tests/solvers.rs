@@ -1,0 +1,156 @@
+//! The two linear solvers give the same tables: multigrid-preconditioned CG against the sparse
+//! Cholesky reference (same meshes, active sets and iteration counts, estimates and probes
+//! within 1e-8), CG iterations bounded, the solver chosen per file and on the command line, and
+//! tables run side by side giving bitwise the same data as one at a time.
+
+use std::path::Path;
+
+use tribo::linalg::SolverKind;
+use tribo::results::{columns, RunResult};
+use tribo::study::{self, Tier};
+
+use crate::cli::{report, temp_dir};
+use crate::common::{experiments_dir, rel, spec};
+
+fn run_with(table: &str, solver: SolverKind) -> RunResult {
+    let mut s = spec(table);
+    s.study.solver = Some(solver);
+    study::run(&s, Tier::Quick, &|_, _, _| {}).unwrap_or_else(|e| panic!("{table}: {e}"))
+}
+
+/// Probes within 1e-8 of the largest probe value (a probe in the cavitation zone is 0).
+/// IV.36 (Reynolds), IV.44 (a hill gap with vertical velocity) and IV.65 (cavitation, an
+/// active set per cycle).
+#[test]
+fn multigrid_reproduces_the_direct_solver() {
+    for table in ["IV.36", "IV.44", "IV.65"] {
+        let direct = run_with(table, SolverKind::Direct);
+        let multigrid = run_with(table, SolverKind::Multigrid);
+        assert_eq!(direct.rows.len(), multigrid.rows.len(), "{table}");
+        for (d, m) in direct.rows.iter().zip(&multigrid.rows) {
+            for (name, value) in d.counts() {
+                assert_eq!(
+                    m.count_of(name),
+                    Some(value),
+                    "{table} cycle {}: {name}",
+                    d.cycle
+                );
+            }
+            for name in [columns::ESTIMATE, columns::THEOREM_ESTIMATE, columns::PREVIOUS_ESTIMATE] {
+                if let (Some(a), Some(b)) = (d.value(name), m.value(name)) {
+                    assert!(
+                        rel(b, a).abs() < 1e-8,
+                        "{table} cycle {}: {name} {a} (direct) vs {b} (multigrid)",
+                        d.cycle
+                    );
+                }
+            }
+            assert_eq!(d.count_of(columns::CG_ITERATIONS), None, "{table}");
+            let cg = m.count_of(columns::CG_ITERATIONS).expect("cg_iterations column");
+            assert!((1..=20).contains(&cg), "{table} cycle {}: {cg} CG iterations", d.cycle);
+        }
+        let scale = direct.probes.iter().fold(0.0f64, |m, p| m.max(p.value.abs()));
+        for (p, q) in direct.probes.iter().zip(&multigrid.probes) {
+            assert!(
+                (q.value - p.value).abs() <= 1e-8 * scale,
+                "{table}: probe ({}, {}) {} vs {}",
+                p.x,
+                p.y,
+                p.value,
+                q.value
+            );
+        }
+        // Both solvers share one snapshot.
+        assert_eq!(direct.snapshot(), multigrid.snapshot(), "{table}");
+    }
+}
+
+/// `[study] solver` must name a solver; the error names the file and the field.
+#[test]
+fn an_unknown_solver_is_refused_naming_the_field() {
+    let dir = temp_dir("unknown-solver");
+    let text = std::fs::read_to_string(experiments_dir().join("IV.36.toml")).unwrap();
+    let edited = text.replace("[study]\n", "[study]\nsolver = \"gpu\"\n");
+    std::fs::write(dir.join("IV.36.toml"), edited).unwrap();
+    let out = report()
+        .args(["--quick", "--no-progress", "--experiments"])
+        .arg(&dir)
+        .arg("--out")
+        .arg(dir.join("out"))
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("IV.36.toml") && stderr.contains("solver") && stderr.contains("gpu"),
+        "{stderr}"
+    );
+}
+
+/// The CSV files of a report folder without their timing columns.
+fn data_without_seconds(out: &Path) -> Vec<(String, String)> {
+    let mut files: Vec<_> = std::fs::read_dir(out.join("data"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "csv"))
+        .collect();
+    files.sort();
+    files
+        .into_iter()
+        .map(|p| {
+            let text = std::fs::read_to_string(&p).unwrap();
+            let mut lines = text.lines();
+            let header: Vec<&str> = lines.next().unwrap_or("").split(',').collect();
+            let keep: Vec<bool> = header.iter().map(|h| !h.starts_with("seconds")).collect();
+            let strip = |line: &str| {
+                line.split(',')
+                    .zip(&keep)
+                    .filter(|(_, &k)| k)
+                    .map(|(v, _)| v)
+                    .collect::<Vec<_>>()
+                    .join(",")
+            };
+            let body: Vec<String> = std::iter::once(strip(&header.join(",")))
+                .chain(lines.map(strip))
+                .collect();
+            (p.file_name().unwrap().to_string_lossy().into_owned(), body.join("\n"))
+        })
+        .collect()
+}
+
+/// Three tables of different families, one at a time and two at once, with both solvers from
+/// the command line: the data files are bitwise equal (timings aside), and `--solver` reaches
+/// the run (the multigrid run has the CG column, the direct run has none).
+#[test]
+fn tables_side_by_side_and_the_solver_flag() {
+    let dir = temp_dir("jobs");
+    let run = |jobs: &str, solver: &str| {
+        let out = dir.join(format!("{jobs}-{solver}"));
+        let o = report()
+            .args(["--quick", "--no-progress", "--no-alternatives", "--only", "IV.1,IV.36,IV.64"])
+            .args(["--jobs", jobs, "--solver", solver, "--experiments"])
+            .arg(experiments_dir())
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        out
+    };
+    let one = data_without_seconds(&run("1", "multigrid"));
+    let two = data_without_seconds(&run("2", "multigrid"));
+    assert_eq!(one.len(), two.len());
+    for ((name, a), (_, b)) in one.iter().zip(&two) {
+        assert_eq!(a, b, "{name} differs between --jobs 1 and --jobs 2");
+    }
+    let direct = data_without_seconds(&run("2", "direct"));
+    let header = |files: &[(String, String)]| {
+        files
+            .iter()
+            .find(|(n, _)| n == "IV.36.csv")
+            .map(|(_, t)| t.lines().next().unwrap().to_string())
+            .unwrap()
+    };
+    assert!(header(&two).contains("cg_iterations"), "{}", header(&two));
+    assert!(!header(&direct).contains("cg_iterations"), "{}", header(&direct));
+}
