@@ -34,6 +34,20 @@ pub struct Vertices {
 
 impl Vertices {
     pub fn new(mesh: &Mesh) -> Vertices {
+        Vertices::numbered(mesh, true)
+    }
+
+    /// The numbering, the hanging vertices and their parents only: no physical positions and
+    /// no cell vertices (`coords` and `cell_vertices` are empty). The level meshes of
+    /// multigrid need no more ([`super::hierarchy`]).
+    pub fn numbering_only(mesh: &Mesh) -> Vertices {
+        Vertices::numbered(mesh, false)
+    }
+
+    fn numbered(mesh: &Mesh, complete: bool) -> Vertices {
+        if !complete {
+            return Vertices::lean(mesh);
+        }
         let active = mesh.active();
         let mut keys = vertex_keys(mesh);
         keys.par_sort_unstable();
@@ -84,6 +98,44 @@ impl Vertices {
             keys,
             coords,
             cell_vertices,
+            hanging,
+            is_hanging,
+            extent: mesh.extent(),
+        }
+    }
+
+    /// [`Vertices::numbering_only`]: the hanging vertices from the faces with a finer
+    /// neighbour, their parents by key.
+    fn lean(mesh: &Mesh) -> Vertices {
+        let mut keys = vertex_keys(mesh);
+        keys.par_sort_unstable();
+        let lookup = |k: VertexKey| find_key(&keys, k).expect("vertex exists");
+        let mut hanging: Vec<Hanging> = mesh
+            .active()
+            .par_iter()
+            .flat_map_iter(|&c| {
+                let corners = mesh.corner_keys(c);
+                FACES.into_iter().filter_map(move |f| {
+                    matches!(mesh.neighbor(c, f), Neighbor::Finer(_)).then(|| {
+                        let [a, b] = f.vertices().map(|i| corners[i]);
+                        ((a.0 + b.0) / 2, (a.1 + b.1) / 2, a, b)
+                    })
+                })
+            })
+            .map(|(x, y, a, b)| Hanging {
+                vertex: lookup((x, y)),
+                parents: [lookup(a), lookup(b)],
+            })
+            .collect();
+        hanging.par_sort_unstable_by_key(|h| h.vertex);
+        let mut is_hanging = vec![false; keys.len()];
+        for h in &hanging {
+            is_hanging[h.vertex as usize] = true;
+        }
+        Vertices {
+            keys,
+            coords: Vec::new(),
+            cell_vertices: Vec::new(),
             hanging,
             is_hanging,
             extent: mesh.extent(),

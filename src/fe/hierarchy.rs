@@ -32,7 +32,7 @@ use crate::mesh::Mesh;
 /// before it (the others are skipped: the next coarser one is prolongated directly). Cells, not
 /// vertices: they are counted without numbering the level's vertices, and a quadrilateral mesh
 /// has about as many vertices as cells.
-pub const MIN_COARSENING: f64 = 0.8;
+pub const MIN_COARSENING: f64 = 0.4;
 
 /// The level meshes of `mesh` from coarsest to finest and the prolongations between them;
 /// `finest` are the vertices of `mesh` itself (the numbering of its dofs).
@@ -48,7 +48,7 @@ pub fn vertex_hierarchy(mesh: &Mesh, finest: &Vertices) -> VertexHierarchy {
         }
         let fine_vertices = fine.as_ref().unwrap_or(finest);
         let coarse_mesh = mesh.truncated(level);
-        let coarse = Vertices::new(&coarse_mesh);
+        let coarse = Vertices::numbering_only(&coarse_mesh);
         transfers.push(prolongation(&coarse_mesh, &coarse, fine_vertices));
         fine = Some(coarse);
         fine_cells = coarse_cells;
@@ -83,14 +83,18 @@ fn cells_per_truncation(mesh: &Mesh) -> Vec<usize> {
 /// The prolongation from the Q₁ space of `coarse_mesh` (vertices `coarse`) to the vertices
 /// `fine` of a finer mesh of the same domain.
 fn prolongation(coarse_mesh: &Mesh, coarse: &Vertices, fine: &Vertices) -> Transfer {
-    let rows: Vec<Vec<(u32, f64)>> = fine
+    // At most six coarse vertices per fine vertex: four corners, two of them hanging on
+    // different edges, each replaced by its two parents (which are shared with the corners).
+    type Row = ([(u32, f64); 6], usize);
+    let rows: Vec<Row> = fine
         .keys
         .par_iter()
         .enumerate()
         .map(|(v, &key)| {
+            let mut row: Row = ([(0, 0.0); 6], 0);
             if fine.is_hanging[v] {
                 // Hanging dofs are eliminated at every level: no row.
-                return Vec::new();
+                return row;
             }
             let c = coarse_mesh.cell_at_vertex(key);
             let corners = coarse_mesh.corner_keys(c);
@@ -98,16 +102,21 @@ fn prolongation(coarse_mesh: &Mesh, coarse: &Vertices, fine: &Vertices) -> Trans
             let s = (key.0 - corners[0].0) as f64 / width;
             let t = (key.1 - corners[0].1) as f64 / width;
             let weights = [(1.0 - s) * (1.0 - t), s * (1.0 - t), (1.0 - s) * t, s * t];
-            let cell_vertices = corners.map(|k| coarse.find(k).expect("corner is a vertex"));
-            let mut row: Vec<(u32, f64)> = Vec::with_capacity(6);
-            let mut add = |w: u32, weight: f64| match row.iter_mut().find(|e| e.0 == w) {
-                Some(e) => e.1 += weight,
-                None => row.push((w, weight)),
+            let mut add = |w: u32, weight: f64| {
+                let (entries, n) = &mut row;
+                match entries[..*n].iter_mut().find(|e| e.0 == w) {
+                    Some(e) => e.1 += weight,
+                    None => {
+                        entries[*n] = (w, weight);
+                        *n += 1;
+                    }
+                }
             };
-            for (&w, &weight) in cell_vertices.iter().zip(&weights) {
+            for (&k, &weight) in corners.iter().zip(&weights) {
                 if weight == 0.0 {
                     continue;
                 }
+                let w = coarse.find(k).expect("corner is a vertex");
                 if coarse.is_hanging[w as usize] {
                     let i = coarse
                         .hanging
@@ -120,16 +129,17 @@ fn prolongation(coarse_mesh: &Mesh, coarse: &Vertices, fine: &Vertices) -> Trans
                     add(w, weight);
                 }
             }
-            row.sort_unstable_by_key(|e| e.0);
+            row.0[..row.1].sort_unstable_by_key(|e| e.0);
             row
         })
         .collect();
     let mut row_ptr = Vec::with_capacity(rows.len() + 1);
     row_ptr.push(0);
-    let mut cols = Vec::new();
-    let mut weights = Vec::new();
-    for row in rows {
-        for (w, weight) in row {
+    let nnz = rows.iter().map(|r| r.1).sum();
+    let mut cols = Vec::with_capacity(nnz);
+    let mut weights = Vec::with_capacity(nnz);
+    for (entries, n) in rows {
+        for &(w, weight) in &entries[..n] {
             cols.push(w);
             weights.push(weight);
         }

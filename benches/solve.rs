@@ -1,0 +1,189 @@
+//! Solver benchmark (not a test): the Reynolds system of Table IV.36 and the elasticity system of
+//! Table IV.1 on adaptively refined meshes of about 50 k, 200 k, 700 k and 1.5 M unknowns, solved
+//! by the sparse Cholesky factorisation and by multigrid-preconditioned CG. For each: seconds
+//! (the direct solver's ordering and the multigrid hierarchy included, as in a study's cycle),
+//! seconds per million unknowns, CG iterations, and the peak memory of the solve above what the
+//! assembled system holds (each measurement runs in its own process). Writes
+//! `target/bench/solve.csv`.
+//!
+//! `cargo bench --bench solve`
+
+use std::time::Instant;
+
+use tribo::experiment;
+use tribo::fe::hierarchy::vertex_hierarchy;
+use tribo::fe::System;
+use tribo::linalg::multigrid::MultigridSolver;
+use tribo::linalg::DirectSolver;
+use tribo::mesh::Mesh;
+use tribo::models::elasticity::Elasticity;
+use tribo::models::reynolds::{Load, ReynoldsProblem};
+
+const TARGETS: [usize; 4] = [50_000, 200_000, 700_000, 1_500_000];
+
+/// A mesh of the unit square refined towards a circle (hanging vertices on many levels, as in
+/// an adaptive run) until it has at least `unknowns` dofs with `components` per vertex.
+fn mesh_with(unknowns: usize, components: usize) -> Mesh {
+    let mut mesh = Mesh::new([0.0, 1.0], [0.0, 1.0], 1, 1);
+    for _ in 0..5 {
+        mesh.refine_global().expect("refines");
+    }
+    let cells = unknowns.div_ceil(components);
+    while mesh.n_active() < cells {
+        // Refine the cells nearest to the circle r = 0.3, as many as bring the mesh to its
+        // size (each refinement adds three cells), at most a third of them per step.
+        let distance = |c: u32| {
+            let b = mesh.cell_box(c);
+            let (x, y) = (0.5 * (b[0] + b[2]) - 0.5, 0.5 * (b[1] + b[3]) - 0.5);
+            ((x * x + y * y).sqrt() - 0.3).abs()
+        };
+        let mut order: Vec<usize> = (0..mesh.n_active()).collect();
+        order.sort_by(|&a, &b| {
+            distance(mesh.active()[a]).total_cmp(&distance(mesh.active()[b]))
+        });
+        let wanted = ((cells - mesh.n_active()) / 3 + 1).min(mesh.n_active() / 3 + 1);
+        let mut flags = vec![false; mesh.n_active()];
+        for &k in order.iter().take(wanted) {
+            flags[k] = true;
+        }
+        let none = vec![false; flags.len()];
+        mesh.refine_and_coarsen(&flags, &none).expect("refines");
+    }
+    mesh
+}
+
+/// Resident memory now and the peak since the last reset, in bytes (`/proc/self/status`).
+fn memory() -> (f64, f64) {
+    let status = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
+    let field = |name: &str| {
+        status
+            .lines()
+            .find(|l| l.starts_with(name))
+            .and_then(|l| l.split_whitespace().nth(1))
+            .and_then(|v| v.parse::<f64>().ok())
+            .map_or(f64::NAN, |kib| kib * 1024.0)
+    };
+    (field("VmRSS:"), field("VmHWM:"))
+}
+
+struct Measured {
+    seconds: f64,
+    iterations: Option<usize>,
+    extra_bytes: f64,
+    solution: Vec<f64>,
+}
+
+fn measure(f: impl FnOnce() -> (Vec<f64>, Option<usize>)) -> Measured {
+    let (before, _) = memory();
+    let t = Instant::now();
+    let (solution, iterations) = f();
+    let seconds = t.elapsed().as_secs_f64();
+    let (_, peak) = memory();
+    Measured {
+        seconds,
+        iterations,
+        extra_bytes: peak - before,
+        solution,
+    }
+}
+
+/// One measurement in this process: `solve <problem> <unknowns> <solver>` prints one CSV line.
+fn one(problem: &str, target: usize, solver: &str) {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let load = |t: &str| {
+        experiment::load(&dir.join("experiments").join(format!("{t}.toml")))
+            .unwrap_or_else(|e| panic!("{e}"))
+    };
+    let components = if problem == "reynolds" { 1 } else { 2 };
+    let mesh = mesh_with(target, components);
+    let mut system = System::new(&mesh, components);
+    if components == 1 {
+        let iv36 = load("IV.36");
+        let reynolds = ReynoldsProblem::from(iv36.problem.reynolds().expect("IV.36 is Reynolds"));
+        reynolds.constrain(&mut system);
+        let data = reynolds.cell_data(&mesh, Load::Reynolds);
+        reynolds.assemble(&mesh, &mut system, &data);
+    } else {
+        let iv1 = load("IV.1");
+        let experiment::Problem::Elasticity(elastic) = &iv1.problem else {
+            panic!("IV.1 is elasticity")
+        };
+        let elasticity = Elasticity::from(elastic);
+        elasticity.constrain(&mut system);
+        elasticity.assemble(&mesh, &mut system);
+    }
+    let n = system.dofs.n_dofs();
+    let m = measure(|| match solver {
+        "direct" => {
+            let mut s = DirectSolver::cholesky();
+            s.reorder(system.ordering());
+            (system.solve(&mut s).expect("direct solve"), None)
+        }
+        _ => {
+            let mut s = MultigridSolver::default();
+            let t = Instant::now();
+            let h = vertex_hierarchy(&mesh, &system.dofs.vertices);
+            eprintln!("hierarchy {:.3} s, levels {:?}", t.elapsed().as_secs_f64(), h.level_sizes());
+            s.set_hierarchy(h, components);
+            let t = Instant::now();
+            let u = system.solve(&mut s).expect("multigrid solve");
+            eprintln!("solve {:.3} s", t.elapsed().as_secs_f64());
+            (u, s.take_iterations().first().copied())
+        }
+    });
+    let finite = m.solution.iter().all(|v| v.is_finite());
+    assert!(finite, "{problem} {n} {solver}: a non-finite solution");
+    let cg = m.iterations.map_or(String::new(), |k| k.to_string());
+    println!(
+        "{problem},{n},{solver},{},{},{cg},{}",
+        m.seconds,
+        m.seconds / (n as f64 / 1e6),
+        m.extra_bytes / 1e6
+    );
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    if let Some(i) = args.iter().position(|a| a == "solve") {
+        let target = args[i + 2].parse().expect("unknowns");
+        one(&args[i + 1], target, &args[i + 3]);
+        return;
+    }
+    // Each measurement in its own process, so that its peak memory is its own.
+    let mut csv = String::from(
+        "problem,unknowns,solver,seconds,seconds_per_million_unknowns,cg_iterations,solve_peak_mb\n",
+    );
+    println!(
+        "{:<11} {:>9}  {:>9} {:>8} {:>8} {:>5} {:>9}",
+        "problem", "unknowns", "solver", "s", "s/M", "CG", "peak MB"
+    );
+    for problem in ["reynolds", "elasticity"] {
+        for target in TARGETS {
+            for solver in ["direct", "multigrid"] {
+                let out = std::process::Command::new(&args[0])
+                    .args(["solve", problem, &target.to_string(), solver])
+                    .output()
+                    .expect("runs itself");
+                assert!(
+                    out.status.success(),
+                    "{problem} {target} {solver}: {}",
+                    String::from_utf8_lossy(&out.stderr)
+                );
+                let line = String::from_utf8_lossy(&out.stdout).trim().to_string();
+                let f: Vec<&str> = line.split(',').collect();
+                let num = |i: usize| f[i].parse::<f64>().unwrap_or(f64::NAN);
+                println!(
+                    "{:<11} {:>9}  {:>9} {:>8.3} {:>8.3} {:>5} {:>9.0}",
+                    f[0], f[1], f[2], num(3), num(4), f[5], num(6)
+                );
+                csv += &line;
+                csv += "\n";
+            }
+        }
+    }
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let out = dir.join("target").join("bench");
+    std::fs::create_dir_all(&out).expect("target/bench");
+    std::fs::write(out.join("solve.csv"), csv).expect("write solve.csv");
+    println!("wrote {}", out.join("solve.csv").display());
+}
