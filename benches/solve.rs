@@ -121,13 +121,8 @@ fn one(problem: &str, target: usize, solver: &str) {
         }
         _ => {
             let mut s = MultigridSolver::default();
-            let t = Instant::now();
-            let h = vertex_hierarchy(&mesh, &system.dofs.vertices);
-            eprintln!("hierarchy {:.3} s, levels {:?}", t.elapsed().as_secs_f64(), h.level_sizes());
-            s.set_hierarchy(h, components);
-            let t = Instant::now();
+            s.set_hierarchy(vertex_hierarchy(&mesh, &system.dofs.vertices), components);
             let u = system.solve(&mut s).expect("multigrid solve");
-            eprintln!("solve {:.3} s", t.elapsed().as_secs_f64());
             (u, s.take_iterations().first().copied())
         }
     });

@@ -120,7 +120,8 @@ fn data_without_seconds(out: &Path) -> Vec<(String, String)> {
 
 /// Three tables of different families, one at a time and two at once, with both solvers from
 /// the command line: the data files are bitwise equal (timings aside), and `--solver` reaches
-/// the run (the multigrid run has the CG column, the direct run has none).
+/// the run (the multigrid run has the CG column, the direct run has none, and the performance
+/// section names the solver of each table).
 #[test]
 fn tables_side_by_side_and_the_solver_flag() {
     let dir = temp_dir("jobs");
@@ -138,12 +139,26 @@ fn tables_side_by_side_and_the_solver_flag() {
         out
     };
     let one = data_without_seconds(&run("1", "multigrid"));
-    let two = data_without_seconds(&run("2", "multigrid"));
+    let two_out = run("2", "multigrid");
+    let two = data_without_seconds(&two_out);
     assert_eq!(one.len(), two.len());
     for ((name, a), (_, b)) in one.iter().zip(&two) {
         assert_eq!(a, b, "{name} differs between --jobs 1 and --jobs 2");
     }
-    let direct = data_without_seconds(&run("2", "direct"));
+    let direct_out = run("2", "direct");
+    let direct = data_without_seconds(&direct_out);
+    // The performance section names the solver of each table and draws its figure.
+    let row = |out: &Path, table: &str| {
+        let page = std::fs::read_to_string(out.join("index.html")).unwrap();
+        let start = page.find("<section id=\"performance\">").expect("performance section");
+        let anchor = format!(">{table}</a></td><td>");
+        let i = page[start..].find(&anchor).expect("a row per table") + start + anchor.len();
+        page[i..].split("</td>").next().unwrap().to_string()
+    };
+    assert_eq!(row(&two_out, "IV.36"), "multigrid");
+    assert_eq!(row(&two_out, "IV.1"), "direct");
+    assert_eq!(row(&direct_out, "IV.36"), "direct");
+    assert!(two_out.join("figures/performance-solve.svg").exists());
     let header = |files: &[(String, String)]| {
         files
             .iter()

@@ -115,12 +115,13 @@ impl Vertices {
             .par_iter()
             .flat_map_iter(|&c| {
                 let corners = mesh.corner_keys(c);
-                FACES.into_iter().filter_map(move |f| {
-                    matches!(mesh.neighbor(c, f), Neighbor::Finer(_)).then(|| {
+                FACES
+                    .into_iter()
+                    .filter(move |&f| matches!(mesh.neighbor(c, f), Neighbor::Finer(_)))
+                    .map(move |f| {
                         let [a, b] = f.vertices().map(|i| corners[i]);
                         ((a.0 + b.0) / 2, (a.1 + b.1) / 2, a, b)
                     })
-                })
             })
             .map(|(x, y, a, b)| Hanging {
                 vertex: lookup((x, y)),

@@ -501,15 +501,10 @@ impl MultigridSolver {
             Some(g) => dofs.iter().map(|&d| g[d]).collect(),
             None => vec![0.0; dofs.len()],
         };
-        let t0 = std::time::Instant::now();
         let hierarchy = self.hierarchy.take().unwrap_or_default();
         let cycle = VCycle::build(&hierarchy, self.n_components, a, &free);
         self.hierarchy = Some(hierarchy);
         let cycle = cycle?;
-        if std::env::var("TRIBO_MG_TRACE").is_ok() {
-            eprintln!("build {:.3} s, levels {:?}", t0.elapsed().as_secs_f64(), cycle.levels.iter().map(|l| l.a.n_rows()).collect::<Vec<_>>());
-        }
-        let t1 = std::time::Instant::now();
         let fine = &cycle.levels[cycle.levels.len() - 1].a;
         let stopping = Stopping {
             relative: self.relative_tolerance,
@@ -528,9 +523,6 @@ impl MultigridSolver {
             e => SolveError::Iterative(e.to_string()),
         })?;
         self.iterations.push(report.iterations);
-        if std::env::var("TRIBO_MG_TRACE").is_ok() {
-            eprintln!("cg {:.3} s", t1.elapsed().as_secs_f64());
-        }
         for (&d, &v) in dofs.iter().zip(&xf) {
             x[d] = v;
         }

@@ -193,6 +193,9 @@ pub fn write_report(out_dir: &Path, entries: &[Entry], meta: &ReportMeta) -> io:
         }
         rendered.push(figures);
     }
+    let performance = fig_dir.join(html::PERFORMANCE_FIGURE);
+    plots::solve_cost(&performance, &runs)?;
+    files.push(performance);
     let index = out_dir.join("index.html");
     fs::write(&index, html::page(entries, &rendered, meta))?;
     files.push(index);

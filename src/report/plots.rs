@@ -1986,6 +1986,80 @@ pub(super) fn test_run(
     }
 }
 
+/// The cost of a solve per unknown on the page's tables: solve seconds per million unknowns
+/// against the unknowns of every cycle (log–log, one dot per cycle), by solver — multigrid
+/// (the rows with CG iterations) and the direct solver, the thin films apart from elasticity
+/// and contact. Flat dots mean a cost proportional to the unknowns.
+pub fn solve_cost(path: &Path, runs: &[&RunResult]) -> io::Result<()> {
+    let groups: [(&str, RGBColor); 3] = [
+        ("Reynolds, multigrid CG", RGBColor(31, 119, 180)),
+        ("Reynolds, direct (Cholesky)", RGBColor(214, 39, 40)),
+        ("elasticity and contact, direct", RGBColor(120, 120, 120)),
+    ];
+    let mut points: [Vec<(f64, f64)>; 3] = Default::default();
+    for run in runs {
+        let family = super::families::family_of(&run.table).map(|f| f.id);
+        for row in &run.rows {
+            let Some(dofs) = row.dofs() else { continue };
+            let group = if row.count_of(crate::results::columns::CG_ITERATIONS).is_some() {
+                0
+            } else {
+                match family {
+                    Some("family-reynolds") => 1,
+                    Some("family-elasticity" | "family-contact") => 2,
+                    _ => continue,
+                }
+            };
+            let p = (dofs as f64, row.seconds.solve / (dofs as f64 / 1e6));
+            if loggable(&p) && dofs >= 1000 {
+                points[group].push(p);
+            }
+        }
+    }
+    let all: Vec<(f64, f64)> = points.iter().flatten().copied().collect();
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (900, 560)).into_drawing_area();
+        root.fill(&WHITE).map_err(plot_err)?;
+        let (x_lo, x_hi) = log_range(all.iter().map(|p| p.0));
+        let (y_lo, y_hi) = log_range(all.iter().map(|p| p.1));
+        let mut chart = ChartBuilder::on(&root)
+            .caption(
+                "Solve seconds per million unknowns, every cycle of every table",
+                ("sans-serif", 22),
+            )
+            .margin(12)
+            .x_label_area_size(48)
+            .y_label_area_size(70)
+            .build_cartesian_2d(NiceLog::new((x_lo, x_hi)), NiceLog::new((y_lo, y_hi)))
+            .map_err(plot_err)?;
+        log_log_grid(&mut chart, "unknowns (dofs)", "solve s per 10⁶ unknowns")?;
+        for ((label, color), pts) in groups.iter().zip(&points) {
+            if pts.is_empty() {
+                continue;
+            }
+            let color = *color;
+            chart
+                .draw_series(pts.iter().map(|p| Circle::new(*p, 3, color.filled())))
+                .map_err(plot_err)?
+                .label(*label)
+                .legend(move |(x, y)| Circle::new((x + 11, y), 4, color.filled()));
+        }
+        if all.is_empty() {
+            root.draw(&Text::new(
+                "no cycle with unknowns on this page",
+                (280, 250),
+                ("sans-serif", 18).into_font().color(&GUIDE),
+            ))
+            .map_err(plot_err)?;
+        } else {
+            series_legend(&mut chart, SeriesLabelPosition::UpperLeft, 16)?;
+        }
+        root.present().map_err(plot_err)?;
+    }
+    fs::write(path, svg)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
