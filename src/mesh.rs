@@ -1019,6 +1019,12 @@ impl Mesh {
         }
         assert_eq!(cells.len(), n_cells, "cells counted before the rebuild");
         self.cells = cells;
+        self.collect_active();
+    }
+
+    /// The active cells depth-first over the trees, and their indices.
+    fn collect_active(&mut self) {
+        let roots = self.nx * self.ny;
         self.active.clear();
         let mut stack: Vec<u32> = (0..roots as u32).rev().collect();
         while let Some(c) = stack.pop() {
@@ -1066,20 +1072,7 @@ impl Mesh {
             moved: self.moved.clone(),
             ..*self
         };
-        let roots = mesh.nx * mesh.ny;
-        let mut stack: Vec<u32> = (0..roots as u32).rev().collect();
-        while let Some(c) = stack.pop() {
-            let f = mesh.cells[c as usize].children;
-            if f == NONE {
-                mesh.active.push(c);
-            } else {
-                stack.extend([f + 3, f + 2, f + 1, f]);
-            }
-        }
-        mesh.active_index = vec![NONE; mesh.cells.len()];
-        for (k, &c) in mesh.active.iter().enumerate() {
-            mesh.active_index[c as usize] = k as u32;
-        }
+        mesh.collect_active();
         mesh
     }
 
