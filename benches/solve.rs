@@ -38,9 +38,7 @@ fn mesh_with(unknowns: usize, components: usize) -> Mesh {
             ((x * x + y * y).sqrt() - 0.3).abs()
         };
         let mut order: Vec<usize> = (0..mesh.n_active()).collect();
-        order.sort_by(|&a, &b| {
-            distance(mesh.active()[a]).total_cmp(&distance(mesh.active()[b]))
-        });
+        order.sort_by(|&a, &b| distance(mesh.active()[a]).total_cmp(&distance(mesh.active()[b])));
         let wanted = ((cells - mesh.n_active()) / 3 + 1).min(mesh.n_active() / 3 + 1);
         let mut flags = vec![false; mesh.n_active()];
         for &k in order.iter().take(wanted) {
@@ -169,7 +167,13 @@ fn main() {
                 let num = |i: usize| f[i].parse::<f64>().unwrap_or(f64::NAN);
                 println!(
                     "{:<11} {:>9}  {:>9} {:>8.3} {:>8.3} {:>5} {:>9.0}",
-                    f[0], f[1], f[2], num(3), num(4), f[5], num(6)
+                    f[0],
+                    f[1],
+                    f[2],
+                    num(3),
+                    num(4),
+                    f[5],
+                    num(6)
                 );
                 csv += &line;
                 csv += "\n";

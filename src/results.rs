@@ -569,7 +569,11 @@ impl RunResult {
             s += &format!("cycle {:>2}", r.cycle);
             // The CG iterations depend on the solver chosen, not on what is computed: both
             // solvers share one snapshot (the iterations are in the CSV files).
-            for (name, v) in r.columns.iter().filter(|(n, _)| n != columns::CG_ITERATIONS) {
+            for (name, v) in r
+                .columns
+                .iter()
+                .filter(|(n, _)| n != columns::CG_ITERATIONS)
+            {
                 s += &snapshot_column(name, v);
             }
             s += "\n";

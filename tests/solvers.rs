@@ -36,7 +36,11 @@ fn multigrid_reproduces_the_direct_solver() {
                     d.cycle
                 );
             }
-            for name in [columns::ESTIMATE, columns::THEOREM_ESTIMATE, columns::PREVIOUS_ESTIMATE] {
+            for name in [
+                columns::ESTIMATE,
+                columns::THEOREM_ESTIMATE,
+                columns::PREVIOUS_ESTIMATE,
+            ] {
                 if let (Some(a), Some(b)) = (d.value(name), m.value(name)) {
                     assert!(
                         rel(b, a).abs() < 1e-8,
@@ -46,10 +50,19 @@ fn multigrid_reproduces_the_direct_solver() {
                 }
             }
             assert_eq!(d.count_of(columns::CG_ITERATIONS), None, "{table}");
-            let cg = m.count_of(columns::CG_ITERATIONS).expect("cg_iterations column");
-            assert!((1..=20).contains(&cg), "{table} cycle {}: {cg} CG iterations", d.cycle);
+            let cg = m
+                .count_of(columns::CG_ITERATIONS)
+                .expect("cg_iterations column");
+            assert!(
+                (1..=20).contains(&cg),
+                "{table} cycle {}: {cg} CG iterations",
+                d.cycle
+            );
         }
-        let scale = direct.probes.iter().fold(0.0f64, |m, p| m.max(p.value.abs()));
+        let scale = direct
+            .probes
+            .iter()
+            .fold(0.0f64, |m, p| m.max(p.value.abs()));
         for (p, q) in direct.probes.iter().zip(&multigrid.probes) {
             assert!(
                 (q.value - p.value).abs() <= 1e-8 * scale,
@@ -113,7 +126,10 @@ fn data_without_seconds(out: &Path) -> Vec<(String, String)> {
             let body: Vec<String> = std::iter::once(strip(&header.join(",")))
                 .chain(lines.map(strip))
                 .collect();
-            (p.file_name().unwrap().to_string_lossy().into_owned(), body.join("\n"))
+            (
+                p.file_name().unwrap().to_string_lossy().into_owned(),
+                body.join("\n"),
+            )
         })
         .collect()
 }
@@ -128,7 +144,13 @@ fn tables_side_by_side_and_the_solver_flag() {
     let run = |jobs: &str, solver: &str| {
         let out = dir.join(format!("{jobs}-{solver}"));
         let o = report()
-            .args(["--quick", "--no-progress", "--no-alternatives", "--only", "IV.1,IV.36,IV.64"])
+            .args([
+                "--quick",
+                "--no-progress",
+                "--no-alternatives",
+                "--only",
+                "IV.1,IV.36,IV.64",
+            ])
             .args(["--jobs", jobs, "--solver", solver, "--experiments"])
             .arg(experiments_dir())
             .arg("--out")
@@ -150,7 +172,9 @@ fn tables_side_by_side_and_the_solver_flag() {
     // The performance section names the solver of each table and draws its figure.
     let row = |out: &Path, table: &str| {
         let page = std::fs::read_to_string(out.join("index.html")).unwrap();
-        let start = page.find("<section id=\"performance\">").expect("performance section");
+        let start = page
+            .find("<section id=\"performance\">")
+            .expect("performance section");
         let anchor = format!(">{table}</a></td><td>");
         let i = page[start..].find(&anchor).expect("a row per table") + start + anchor.len();
         page[i..].split("</td>").next().unwrap().to_string()
@@ -167,5 +191,9 @@ fn tables_side_by_side_and_the_solver_flag() {
             .unwrap()
     };
     assert!(header(&two).contains("cg_iterations"), "{}", header(&two));
-    assert!(!header(&direct).contains("cg_iterations"), "{}", header(&direct));
+    assert!(
+        !header(&direct).contains("cg_iterations"),
+        "{}",
+        header(&direct)
+    );
 }

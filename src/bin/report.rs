@@ -332,7 +332,6 @@ fn run(cli: &Cli) -> Result<bool, String> {
         };
         advance(&counted, cycles(&spec) * runs_of_spec);
         (outcome, failed)
-    
     };
     std::thread::scope(|scope| {
         for _ in 0..jobs {

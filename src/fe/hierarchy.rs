@@ -196,12 +196,18 @@ mod tests {
     fn assembled(mesh: &Mesh, components: usize, c: f64) -> System {
         let mut system = System::new(mesh, components);
         for component in 0..components {
-            system
-                .constraints
-                .fix_side(&system.dofs.clone(), crate::mesh::Side::Left, component, 0.0);
-            system
-                .constraints
-                .fix_side(&system.dofs.clone(), crate::mesh::Side::Right, component, 1.0);
+            system.constraints.fix_side(
+                &system.dofs.clone(),
+                crate::mesh::Side::Left,
+                component,
+                0.0,
+            );
+            system.constraints.fix_side(
+                &system.dofs.clone(),
+                crate::mesh::Side::Right,
+                component,
+                1.0,
+            );
         }
         let rule = square_rule::<4>();
         let local = LocalDofs::new(components);
@@ -252,7 +258,10 @@ mod tests {
             let exact = f(fine.coords[v]);
             // A bilinear function of the whole domain is in every level's space only cell-wise;
             // x₁x₂ is bilinear on each cell, so the interpolation is exact.
-            assert!((value - exact).abs() < 1e-12, "vertex {v}: {value} vs {exact}");
+            assert!(
+                (value - exact).abs() < 1e-12,
+                "vertex {v}: {value} vs {exact}"
+            );
         }
     }
 
@@ -265,7 +274,11 @@ mod tests {
             let mut mg = MultigridSolver::default();
             mg.set_hierarchy(vertex_hierarchy(&mesh, &system.dofs.vertices), components);
             let mut u = mg
-                .solve(system.matrix(), &system.rhs, &system.constraints.eliminated())
+                .solve(
+                    system.matrix(),
+                    &system.rhs,
+                    &system.constraints.eliminated(),
+                )
                 .unwrap();
             system.constraints.distribute(&mut u);
             let scale = direct.iter().fold(0.0f64, |m, v| m.max(v.abs()));
@@ -274,11 +287,21 @@ mod tests {
                 .zip(&u)
                 .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
             let iterations = mg.take_iterations();
-            assert!(diff < 1e-9 * scale, "{components} components: max |Δu| = {diff:e}");
-            assert!(iterations[0] < 20, "{components} components: {iterations:?} CG iterations");
+            assert!(
+                diff < 1e-9 * scale,
+                "{components} components: max |Δu| = {diff:e}"
+            );
+            assert!(
+                iterations[0] < 20,
+                "{components} components: {iterations:?} CG iterations"
+            );
             // A warm start from the solution takes no iteration at all.
-            mg.solve(system.matrix(), &system.rhs, &system.constraints.eliminated())
-                .unwrap();
+            mg.solve(
+                system.matrix(),
+                &system.rhs,
+                &system.constraints.eliminated(),
+            )
+            .unwrap();
             assert_eq!(mg.take_iterations(), vec![0]);
         }
     }
@@ -296,14 +319,21 @@ mod tests {
             let system = assembled(&mesh, 1, 0.0);
             let mut mg = MultigridSolver::default();
             mg.set_hierarchy(vertex_hierarchy(&mesh, &system.dofs.vertices), 1);
-            mg.solve(system.matrix(), &system.rhs, &system.constraints.eliminated())
-                .unwrap();
+            mg.solve(
+                system.matrix(),
+                &system.rhs,
+                &system.constraints.eliminated(),
+            )
+            .unwrap();
             counts.push((system.dofs.n_dofs(), mg.take_iterations()[0]));
         }
         let (lo, hi) = counts
             .iter()
             .fold((usize::MAX, 0), |(lo, hi), &(_, k)| (lo.min(k), hi.max(k)));
         assert!(hi <= lo + 2 && hi <= 15, "(dofs, iterations): {counts:?}");
-        assert!(counts[2].0 > 50 * counts[0].0 / 2, "(dofs, iterations): {counts:?}");
+        assert!(
+            counts[2].0 > 50 * counts[0].0 / 2,
+            "(dofs, iterations): {counts:?}"
+        );
     }
 }

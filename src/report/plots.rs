@@ -2001,7 +2001,10 @@ pub fn solve_cost(path: &Path, runs: &[&RunResult]) -> io::Result<()> {
         let family = super::families::family_of(&run.table).map(|f| f.id);
         for row in &run.rows {
             let Some(dofs) = row.dofs() else { continue };
-            let group = if row.count_of(crate::results::columns::CG_ITERATIONS).is_some() {
+            let group = if row
+                .count_of(crate::results::columns::CG_ITERATIONS)
+                .is_some()
+            {
                 0
             } else {
                 match family {

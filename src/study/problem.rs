@@ -6,8 +6,8 @@ use std::collections::BTreeSet;
 
 use crate::estimators::FaceIndicators;
 use crate::experiment::Scene;
-use crate::fe::{DofMap, System};
 use crate::fe::hierarchy::vertex_hierarchy;
+use crate::fe::{DofMap, System};
 use crate::linalg::{DirectSolver, LinearSolver};
 use crate::mesh::{BoundaryFace, Mesh, MeshError};
 use crate::results::{columns, Cuts, DeformedPicture, FieldPicture, MeshField, Value};

@@ -179,7 +179,9 @@ impl Problem for ReynoldsFilm {
         let mut solution = solution?;
         if let Some(cg) = cg {
             let most = cg.iter().copied().max().unwrap_or(0);
-            solution.counters.push((columns::CG_ITERATIONS.into(), most as i64));
+            solution
+                .counters
+                .push((columns::CG_ITERATIONS.into(), most as i64));
         }
         Ok(solution)
     }
