@@ -348,3 +348,29 @@ pub fn report_of(name: &str, sections: &[(&RunResult, &ThesisTable)]) -> (PathBu
     );
     (dir, written)
 }
+
+/// A CSV file without its columns of seconds (`seconds_*`, and `seconds` of the Uzawa rows).
+pub fn without_seconds(csv: &str) -> String {
+    let mut lines = csv.lines();
+    let Some(header) = lines.next() else {
+        return String::new();
+    };
+    let keep: Vec<bool> = header
+        .split(',')
+        .map(|c| !c.starts_with("seconds"))
+        .collect();
+    let pick = |line: &str| -> String {
+        line.split(',')
+            .zip(&keep)
+            .filter(|(_, k)| **k)
+            .map(|(c, _)| c)
+            .collect::<Vec<_>>()
+            .join(",")
+    };
+    let mut out = pick(header);
+    for line in lines {
+        out.push('\n');
+        out += &pick(line);
+    }
+    out
+}

@@ -6,32 +6,18 @@ use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-fn report() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_report"))
-}
+use crate::cli::{report, temp_dir};
+use crate::common::{experiments_dir as experiments, without_seconds};
 
-fn temp_dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("tribo-merge-{}-{name}", std::process::id()));
-    let _ = fs::remove_dir_all(&d);
-    fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn experiments() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("experiments")
-}
+/// The flags of every shard run here: the quick tier, records for `merge`, no alternative
+/// readings.
+const SHARD_FLAGS: [&str; 4] = ["--quick", "--no-progress", "--shard", "--no-alternatives"];
 
 /// A quick run of `tables` without alternative readings into `out`.
 fn quick(tables: &str, out: &Path) -> Output {
     report()
-        .args([
-            "--quick",
-            "--no-progress",
-            "--shard",
-            "--no-alternatives",
-            "--only",
-            tables,
-        ])
+        .args(SHARD_FLAGS)
+        .args(["--only", tables])
         .arg("--experiments")
         .arg(experiments())
         .arg("--out")
@@ -115,32 +101,6 @@ fn files(dir: &Path) -> Vec<String> {
     names
 }
 
-/// A CSV file without its columns of seconds (`seconds_*`, and `seconds` of the Uzawa rows).
-fn without_seconds(csv: &str) -> String {
-    let mut lines = csv.lines();
-    let Some(header) = lines.next() else {
-        return String::new();
-    };
-    let keep: Vec<bool> = header
-        .split(',')
-        .map(|c| !c.starts_with("seconds"))
-        .collect();
-    let pick = |line: &str| -> String {
-        line.split(',')
-            .zip(&keep)
-            .filter(|(_, k)| **k)
-            .map(|(c, _)| c)
-            .collect::<Vec<_>>()
-            .join(",")
-    };
-    let mut out = pick(header);
-    for line in lines {
-        out.push('\n');
-        out += &pick(line);
-    }
-    out
-}
-
 /// Two tables run as separate processes by GNU parallel — the README's command, with the
 /// experiment files as input and `{/.}` (the file name without folder and extension) as the
 /// table id and shard folder — and merged, give the page of one process running both: the same
@@ -157,14 +117,8 @@ fn parallel_shards_merge_into_the_single_run_page() {
     let out = Command::new("parallel")
         .args(["--will-cite", "-j", "2"])
         .arg(env!("CARGO_BIN_EXE_report"))
-        .args([
-            "--quick",
-            "--no-progress",
-            "--shard",
-            "--no-alternatives",
-            "--only",
-            "{/.}",
-        ])
+        .args(SHARD_FLAGS)
+        .args(["--only", "{/.}"])
         .arg("--experiments")
         .arg(experiments())
         .arg("--out")

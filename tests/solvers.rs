@@ -10,7 +10,7 @@ use tribo::results::{columns, RunResult};
 use tribo::study::{self, Tier};
 
 use crate::cli::{report, temp_dir};
-use crate::common::{experiments_dir, rel, spec};
+use crate::common::{experiments_dir, rel, spec, without_seconds};
 
 fn run_with(table: &str, solver: SolverKind) -> RunResult {
     let mut s = spec(table);
@@ -112,24 +112,8 @@ fn data_without_seconds(out: &Path) -> Vec<(String, String)> {
         .into_iter()
         .map(|p| {
             let text = std::fs::read_to_string(&p).unwrap();
-            let mut lines = text.lines();
-            let header: Vec<&str> = lines.next().unwrap_or("").split(',').collect();
-            let keep: Vec<bool> = header.iter().map(|h| !h.starts_with("seconds")).collect();
-            let strip = |line: &str| {
-                line.split(',')
-                    .zip(&keep)
-                    .filter(|(_, &k)| k)
-                    .map(|(v, _)| v)
-                    .collect::<Vec<_>>()
-                    .join(",")
-            };
-            let body: Vec<String> = std::iter::once(strip(&header.join(",")))
-                .chain(lines.map(strip))
-                .collect();
-            (
-                p.file_name().unwrap().to_string_lossy().into_owned(),
-                body.join("\n"),
-            )
+            let name = p.file_name().unwrap().to_string_lossy().into_owned();
+            (name, without_seconds(&text))
         })
         .collect()
 }

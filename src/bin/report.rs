@@ -337,10 +337,10 @@ fn run(cli: &Cli) -> Result<bool, String> {
         for _ in 0..jobs {
             scope.spawn(|| loop {
                 let next = queue.lock().expect("queue").next();
-                let Some((index, (stem, loaded))) = next else {
+                let Some((index, entry)) = next else {
                     break;
                 };
-                let (outcome, failed) = run_one((stem, loaded));
+                let (outcome, failed) = run_one(entry);
                 finished
                     .lock()
                     .expect("outcomes")

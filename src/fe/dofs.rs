@@ -34,81 +34,29 @@ pub struct Vertices {
 
 impl Vertices {
     pub fn new(mesh: &Mesh) -> Vertices {
-        Vertices::numbered(mesh, true)
+        let mut v = Vertices::numbering_only(mesh);
+        v.cell_vertices = mesh
+            .active()
+            .par_iter()
+            .map(|&c| {
+                mesh.corner_keys(c)
+                    .map(|k| find_key(&v.keys, k).expect("corner is a vertex"))
+            })
+            .collect();
+        v.coords = v.keys.par_iter().map(|&k| mesh.point(k)).collect();
+        v
     }
 
     /// The numbering, the hanging vertices and their parents only: no physical positions and
     /// no cell vertices (`coords` and `cell_vertices` are empty). The level meshes of
     /// multigrid need no more ([`super::hierarchy`]).
     pub fn numbering_only(mesh: &Mesh) -> Vertices {
-        Vertices::numbered(mesh, false)
-    }
-
-    fn numbered(mesh: &Mesh, complete: bool) -> Vertices {
-        if !complete {
-            return Vertices::lean(mesh);
-        }
-        let active = mesh.active();
         let mut keys = vertex_keys(mesh);
         keys.par_sort_unstable();
         assert!(
             keys.windows(2).all(|w| w[0] < w[1]),
             "a vertex listed twice"
         );
-        let cell_vertices: Vec<[u32; 4]> = active
-            .par_iter()
-            .map(|&c| {
-                mesh.corner_keys(c)
-                    .map(|k| keys.binary_search(&k).expect("corner is a vertex") as u32)
-            })
-            .collect();
-        let lookup = |k: VertexKey| find_key(&keys, k);
-        let mut hanging: Vec<Hanging> = active
-            .par_iter()
-            .enumerate()
-            .flat_map_iter(|(k, &c)| {
-                let cv = cell_vertices[k];
-                let corners = mesh.corner_keys(c);
-                FACES
-                    .into_iter()
-                    .filter_map(move |f| match mesh.neighbor(c, f) {
-                        Neighbor::Finer(_) => {
-                            let [a, b] = f.vertices();
-                            let mid = (
-                                (corners[a].0 + corners[b].0) / 2,
-                                (corners[a].1 + corners[b].1) / 2,
-                            );
-                            Some((mid, [cv[a], cv[b]]))
-                        }
-                        _ => None,
-                    })
-            })
-            .map(|(mid, parents)| Hanging {
-                vertex: lookup(mid).expect("hanging vertex exists"),
-                parents,
-            })
-            .collect();
-        hanging.par_sort_unstable_by_key(|h| h.vertex);
-        let mut is_hanging = vec![false; keys.len()];
-        for h in &hanging {
-            is_hanging[h.vertex as usize] = true;
-        }
-        let coords = keys.par_iter().map(|&k| mesh.point(k)).collect();
-        Vertices {
-            keys,
-            coords,
-            cell_vertices,
-            hanging,
-            is_hanging,
-            extent: mesh.extent(),
-        }
-    }
-
-    /// [`Vertices::numbering_only`]: the hanging vertices from the faces with a finer
-    /// neighbour, their parents by key.
-    fn lean(mesh: &Mesh) -> Vertices {
-        let mut keys = vertex_keys(mesh);
-        keys.par_sort_unstable();
         let lookup = |k: VertexKey| find_key(&keys, k).expect("vertex exists");
         let mut hanging: Vec<Hanging> = mesh
             .active()

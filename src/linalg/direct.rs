@@ -73,8 +73,24 @@ pub enum SolveError {
     NonFiniteData(usize),
     #[error("the multigrid-preconditioned CG solve failed: {0}")]
     Iterative(String),
+    #[error(
+        "the multigrid-preconditioned CG solve produced a non-finite value in iteration {0}: the \
+         solve overflowed — the data (loads, tractions, wall velocities, boundary values) are too \
+         large for double precision"
+    )]
+    IterativeNonFinite(usize),
     #[error("dof {0} has no diagonal sign for the LDLᵀ factorisation ({1} signs for {2} dofs)")]
     Signs(usize, usize, usize),
+}
+
+impl SolveError {
+    /// [`SolveError::NonFiniteData`] at the first non-finite entry of a right-hand side.
+    pub(crate) fn check_data(rhs: &[f64]) -> Result<(), SolveError> {
+        match rhs.iter().position(|v| !v.is_finite()) {
+            Some(i) => Err(SolveError::NonFiniteData(i)),
+            None => Ok(()),
+        }
+    }
 }
 
 /// The likely cause of a failed Cholesky factorisation, read off the matrix that was factored.
@@ -217,9 +233,7 @@ impl DirectSolver {
         eliminated: &[(usize, f64)],
     ) -> Result<Vec<f64>, SolveError> {
         let n = matrix.n();
-        if let Some(i) = rhs.iter().position(|v| !v.is_finite()) {
-            return Err(SolveError::NonFiniteData(i));
-        }
+        SolveError::check_data(rhs)?;
         if let Factorisation::Ldlt { signs } = &self.factorisation {
             if signs.len() != n {
                 return Err(SolveError::Signs(signs.len().min(n), signs.len(), n));

@@ -462,9 +462,7 @@ impl MultigridSolver {
         eliminated: &[(usize, f64)],
     ) -> Result<Vec<f64>, SolveError> {
         let n = matrix.n();
-        if let Some(i) = rhs.iter().position(|v| !v.is_finite()) {
-            return Err(SolveError::NonFiniteData(i));
-        }
+        SolveError::check_data(rhs)?;
         let mut x = vec![0.0; n];
         let mut free = vec![true; n];
         for &(d, v) in eliminated {
@@ -501,10 +499,10 @@ impl MultigridSolver {
             Some(g) => dofs.iter().map(|&d| g[d]).collect(),
             None => vec![0.0; dofs.len()],
         };
-        let hierarchy = self.hierarchy.take().unwrap_or_default();
-        let cycle = VCycle::build(&hierarchy, self.n_components, a, &free);
-        self.hierarchy = Some(hierarchy);
-        let cycle = cycle?;
+        // Without a hierarchy (a mesh of one level) the coarsest level is the mesh itself.
+        let single_level = VertexHierarchy::default();
+        let hierarchy = self.hierarchy.as_ref().unwrap_or(&single_level);
+        let cycle = VCycle::build(hierarchy, self.n_components, a, &free)?;
         let fine = &cycle.levels[cycle.levels.len() - 1].a;
         let stopping = Stopping {
             relative: self.relative_tolerance,
@@ -519,7 +517,7 @@ impl MultigridSolver {
             stopping,
         )
         .map_err(|e| match e {
-            CgError::NonFinite(_) => SolveError::NonFinite(0),
+            CgError::NonFinite(iteration) => SolveError::IterativeNonFinite(iteration),
             e => SolveError::Iterative(e.to_string()),
         })?;
         self.iterations.push(report.iterations);

@@ -87,13 +87,6 @@ impl LinearSolver {
         }
     }
 
-    /// The initial guess of the next solve (ignored by the direct solver).
-    pub fn set_guess(&mut self, guess: Vec<f64>) {
-        if let LinearSolver::Multigrid(m) = self {
-            m.set_guess(guess);
-        }
-    }
-
     /// CG iterations of the solves since the last call (`None` for the direct solver).
     pub fn take_iterations(&mut self) -> Option<Vec<usize>> {
         match self {

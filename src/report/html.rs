@@ -1018,17 +1018,11 @@ fn performance_section(h: &mut String, entries: &[Entry]) {
             .max();
         let solver = if cg.is_some() { "multigrid" } else { "direct" };
         let dofs = rows.iter().filter_map(|r| r.dofs()).max();
-        let mut phases = [0.0; 5];
-        for r in rows {
-            let p = &r.seconds;
-            for (sum, v) in phases
-                .iter_mut()
-                .zip([p.setup, p.assemble, p.solve, p.estimate, p.refine])
-            {
-                *sum += v;
-            }
-        }
-        let total: f64 = phases.iter().sum();
+        let phases = rows
+            .iter()
+            .fold(crate::results::PhaseSeconds::default(), |sum, r| {
+                sum.plus(&r.seconds)
+            });
         let _ = write!(
             h,
             "<tr><td><a href=\"#{}\">{}</a></td><td>{solver}</td><td>{}</td><td>{}</td>",
@@ -1037,7 +1031,8 @@ fn performance_section(h: &mut String, entries: &[Entry]) {
             dofs.map_or("–".into(), |d| d.to_string()),
             cg.map_or("–".into(), |k| k.to_string()),
         );
-        for (i, v) in phases.iter().chain([&total]).enumerate() {
+        let seconds = phases.named().map(|(_, v)| v);
+        for (i, v) in seconds.iter().chain([&phases.total()]).enumerate() {
             let class = if i == 0 { " class=\"first\"" } else { "" };
             let _ = write!(h, "<td{class}>{v:.2}</td>");
         }

@@ -17,7 +17,7 @@
 //! (full tier), except for the two tables whose exact solution stops the refinement (IV.38,
 //! IV.43), where it is far above.
 
-use super::{RunError, Schedule};
+use super::{RunError, Schedule, Solve};
 use crate::experiment::{Experiment, Problem, StudyKind};
 
 /// Bytes of memory per active cell and squared solution component, measured (module docs).
@@ -82,31 +82,14 @@ impl Budget {
     /// The predicted memory of the largest cycle of a run (the model of the module docs).
     pub fn predicted_peak(experiment: &Experiment, schedule: Schedule) -> f64 {
         let c = components(experiment);
-        let initial = initial_cells(experiment);
-        let growth = growth(experiment);
-        let mut cells = initial;
-        let mut peak = 0.0f64;
-        for solve in schedule.solves() {
-            if let Some((_, 0)) = solve.step {
-                cells = initial;
-            }
-            peak = peak.max(memory(cells, c));
-            cells *= growth;
-        }
-        peak
+        predicted_cells(experiment, schedule)
+            .fold(0.0f64, |peak, (_, cells)| peak.max(memory(cells, c)))
     }
 
     /// Check the predicted size of the whole run before its first solve.
     pub fn admit_run(&self, experiment: &Experiment, schedule: Schedule) -> Result<(), RunError> {
         let c = components(experiment);
-        let initial = initial_cells(experiment);
-        let mut cells = initial;
-        let growth = growth(experiment);
-        for solve in schedule.solves() {
-            // A load step restarts from the coarse cells of the moved body.
-            if let Some((_, 0)) = solve.step {
-                cells = initial;
-            }
+        for (solve, cells) in predicted_cells(experiment, schedule) {
             if memory(cells, c) > self.bytes {
                 return Err(solve.error(
                     &experiment.table,
@@ -121,7 +104,6 @@ impl Budget {
                     ),
                 ));
             }
-            cells *= growth;
         }
         Ok(())
     }
@@ -142,6 +124,25 @@ impl Budget {
 }
 
 const GIB: f64 = 1024.0 * 1024.0 * 1024.0;
+
+/// The predicted active cells of every solve of a run (module docs).
+fn predicted_cells(
+    experiment: &Experiment,
+    schedule: Schedule,
+) -> impl Iterator<Item = (Solve, f64)> {
+    let initial = initial_cells(experiment);
+    let growth = growth(experiment);
+    let mut next = initial;
+    schedule.solves().map(move |solve| {
+        // A load step restarts from the coarse cells of the moved body.
+        if let Some((_, 0)) = solve.step {
+            next = initial;
+        }
+        let cells = next;
+        next *= growth;
+        (solve, cells)
+    })
+}
 
 /// Growth of the active cells per cycle (module docs).
 fn growth(experiment: &Experiment) -> f64 {
