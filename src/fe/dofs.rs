@@ -30,6 +30,8 @@ pub struct Vertices {
     /// `true` for hanging vertices.
     pub is_hanging: Vec<bool>,
     extent: (u64, u64),
+    /// Vertex number by integer position ([`Vertices::find`]).
+    index: KeyIndex,
 }
 
 impl Vertices {
@@ -40,7 +42,7 @@ impl Vertices {
             .par_iter()
             .map(|&c| {
                 mesh.corner_keys(c)
-                    .map(|k| find_key(&v.keys, k).expect("corner is a vertex"))
+                    .map(|k| v.find(k).expect("corner is a vertex"))
             })
             .collect();
         v.coords = v.keys.par_iter().map(|&k| mesh.point(k)).collect();
@@ -57,7 +59,8 @@ impl Vertices {
             keys.windows(2).all(|w| w[0] < w[1]),
             "a vertex listed twice"
         );
-        let lookup = |k: VertexKey| find_key(&keys, k).expect("vertex exists");
+        let index = KeyIndex::new(&keys);
+        let lookup = |k: VertexKey| index.find(&keys, k).expect("vertex exists");
         let mut hanging: Vec<Hanging> = mesh
             .active()
             .par_iter()
@@ -88,6 +91,7 @@ impl Vertices {
             hanging,
             is_hanging,
             extent: mesh.extent(),
+            index,
         }
     }
 
@@ -97,7 +101,7 @@ impl Vertices {
 
     /// The vertex at the integer position `key`, if the mesh has one there.
     pub fn find(&self, key: VertexKey) -> Option<u32> {
-        find_key(&self.keys, key)
+        self.index.find(&self.keys, key)
     }
 
     pub fn is_empty(&self) -> bool {
@@ -169,9 +173,64 @@ fn vertex_keys(mesh: &Mesh) -> Vec<VertexKey> {
         .collect()
 }
 
-/// The index of `key` in the sorted `keys`.
-fn find_key(keys: &[VertexKey], key: VertexKey) -> Option<u32> {
-    keys.binary_search(&key).ok().map(|v| v as u32)
+/// A hash table from integer positions to vertex numbers (open addressing, linear probing, at
+/// most half full): one or two cache lines per lookup where a binary search of the sorted keys
+/// touches about log₂ n — the lookups of every corner of every cell dominated the setup of a mesh
+/// (the numbering, the hanging vertices, the multigrid prolongations).
+#[derive(Clone, Debug)]
+struct KeyIndex {
+    /// Vertex number per slot, [`KeyIndex::EMPTY`] where none; the length is a power of two.
+    slots: Vec<u32>,
+    /// 64 − log₂(slots.len()): the hash keeps the top bits of the product.
+    shift: u32,
+}
+
+impl KeyIndex {
+    const EMPTY: u32 = u32::MAX;
+
+    fn new(keys: &[VertexKey]) -> KeyIndex {
+        let len = (2 * keys.len()).max(2).next_power_of_two();
+        let mut index = KeyIndex {
+            slots: vec![KeyIndex::EMPTY; len],
+            shift: 64 - len.trailing_zeros(),
+        };
+        let mask = len - 1;
+        for (v, &key) in keys.iter().enumerate() {
+            let mut slot = index.slot(key);
+            while index.slots[slot] != KeyIndex::EMPTY {
+                slot = (slot + 1) & mask;
+            }
+            index.slots[slot] = v as u32;
+        }
+        index
+    }
+
+    /// The home slot of `key` (multiplicative hashing of both coordinates).
+    #[inline]
+    fn slot(&self, key: VertexKey) -> usize {
+        let h = key
+            .0
+            .wrapping_mul(0x9E37_79B9_7F4A_7C15)
+            .wrapping_add(key.1.wrapping_mul(0xC2B2_AE3D_27D4_EB4F));
+        (h >> self.shift) as usize
+    }
+
+    /// The number of the vertex at `key` among `keys` (those the index was built from).
+    #[inline]
+    fn find(&self, keys: &[VertexKey], key: VertexKey) -> Option<u32> {
+        let mask = self.slots.len() - 1;
+        let mut slot = self.slot(key);
+        loop {
+            let v = self.slots[slot];
+            if v == KeyIndex::EMPTY {
+                return None;
+            }
+            if keys[v as usize] == key {
+                return Some(v);
+            }
+            slot = (slot + 1) & mask;
+        }
+    }
 }
 
 /// Degrees of freedom: `n_components` per vertex.
