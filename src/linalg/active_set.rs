@@ -287,7 +287,7 @@ pub fn primal_dual_active_set(
                 .map(|(b, _)| (b.dof(), b.value)),
         );
         let x = solver
-            .solve(matrix, &rhs, &eliminated)
+            .solve_overlay(matrix, &rhs, &eliminated, constrained)
             .map_err(|e| e.to_string())?;
         let kx = matrix.multiply(&x);
         let multiplier = |b: &Bound| rho * b.sense.sign() * (rhs[b.dof()] - kx[b.dof()]);

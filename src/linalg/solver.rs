@@ -40,6 +40,20 @@ pub trait SolveConstrained {
         rhs: &[f64],
         eliminated: &[(usize, f64)],
     ) -> Result<Vec<f64>, SolveError>;
+
+    /// [`SolveConstrained::solve`] where the first `always` entries of `eliminated` are
+    /// eliminated in every solve of this matrix (the constraints) and the rest in this one only
+    /// (the active bounds of an active-set iteration): a solver may keep what it prepared across
+    /// such solves ([`MultigridSolver::solve_overlay`]).
+    fn solve_overlay(
+        &mut self,
+        matrix: Csc<'_>,
+        rhs: &[f64],
+        eliminated: &[(usize, f64)],
+        _always: usize,
+    ) -> Result<Vec<f64>, SolveError> {
+        self.solve(matrix, rhs, eliminated)
+    }
 }
 
 impl SolveConstrained for DirectSolver {
@@ -61,6 +75,16 @@ impl SolveConstrained for MultigridSolver {
         eliminated: &[(usize, f64)],
     ) -> Result<Vec<f64>, SolveError> {
         MultigridSolver::solve(self, matrix, rhs, eliminated)
+    }
+
+    fn solve_overlay(
+        &mut self,
+        matrix: Csc<'_>,
+        rhs: &[f64],
+        eliminated: &[(usize, f64)],
+        always: usize,
+    ) -> Result<Vec<f64>, SolveError> {
+        MultigridSolver::solve_overlay(self, matrix, rhs, eliminated, always)
     }
 }
 
@@ -103,9 +127,19 @@ impl SolveConstrained for LinearSolver {
         rhs: &[f64],
         eliminated: &[(usize, f64)],
     ) -> Result<Vec<f64>, SolveError> {
+        self.solve_overlay(matrix, rhs, eliminated, eliminated.len())
+    }
+
+    fn solve_overlay(
+        &mut self,
+        matrix: Csc<'_>,
+        rhs: &[f64],
+        eliminated: &[(usize, f64)],
+        always: usize,
+    ) -> Result<Vec<f64>, SolveError> {
         match self {
             LinearSolver::Direct(d) => d.solve(matrix, rhs, eliminated),
-            LinearSolver::Multigrid(m) => m.solve(matrix, rhs, eliminated),
+            LinearSolver::Multigrid(m) => m.solve_overlay(matrix, rhs, eliminated, always),
         }
     }
 }
