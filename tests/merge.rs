@@ -185,8 +185,15 @@ fn parallel_shards_merge_into_the_single_run_page() {
     let data = files(&single.join("data"));
     assert_eq!(data, files(&merged.join("data")));
     // The Parquet files hold the same frames as the CSV files (tests/open_data.rs), seconds
-    // included, so the text files are compared.
-    for f in data.iter().filter(|f| !f.ends_with(".parquet")) {
+    // included, so the text files are compared; the meshes (binary) byte for byte.
+    for f in data.iter().filter(|f| f.ends_with(".vtu")) {
+        let read = |d: &Path| fs::read(d.join("data").join(f)).unwrap();
+        assert!(read(&single) == read(&merged), "mesh {f} differs");
+    }
+    for f in data
+        .iter()
+        .filter(|f| !f.ends_with(".parquet") && !f.ends_with(".vtu"))
+    {
         let read = |d: &Path| fs::read_to_string(d.join("data").join(f)).unwrap();
         assert_eq!(
             without_seconds(&read(&single)),

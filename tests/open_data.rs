@@ -10,6 +10,7 @@ use polars::prelude::*;
 
 use crate::common::spec;
 use crate::outputs::quick_report;
+use tribo::report::vtk::{self, VtuFile};
 use tribo::thesis::ThesisTable;
 
 /// One quick report of a linear elasticity, a contact and a Reynolds table, shared by the tests.
@@ -59,24 +60,16 @@ fn last(frame: &DataFrame, name: &str) -> f64 {
         .expect("a value")
 }
 
-/// The text between `<tag …>` of the data array `name` and its `</DataArray>`, as numbers.
-fn vtu_array(text: &str, name: &str) -> Vec<f64> {
-    let key = format!("Name=\"{name}\"");
-    let start = text.find(&key).unwrap_or_else(|| panic!("no array {name}"));
-    let body = &text[start..];
-    let body = &body[body.find('>').expect("tag end") + 1..];
-    let body = &body[..body.find("</DataArray>").expect("array end")];
-    body.split_whitespace()
-        .map(|t| t.parse().unwrap_or_else(|e| panic!("{name}: {t}: {e}")))
-        .collect()
+/// A `.vtu` file of the quick report, read back.
+fn vtu(file: &str) -> VtuFile {
+    vtk::read(&fs::read(data(file)).expect(file)).unwrap_or_else(|e| panic!("{file}: {e}"))
 }
 
-/// The value of the attribute `name` of the first `<Piece>`.
-fn piece_attribute(text: &str, name: &str) -> usize {
-    let piece = &text[text.find("<Piece ").expect("a Piece")..];
-    let key = format!("{name}=\"");
-    let value = &piece[piece.find(&key).expect("attribute") + key.len()..];
-    value[..value.find('"').unwrap()].parse().expect("a count")
+/// The array `name` of a `.vtu` file.
+fn vtu_array(file: &VtuFile, name: &str) -> Vec<f64> {
+    file.array(name)
+        .unwrap_or_else(|| panic!("no array {name}"))
+        .to_vec()
 }
 
 #[test]
@@ -180,11 +173,11 @@ fn the_joined_file_holds_the_printed_columns_beside_tribos() {
 
 #[test]
 fn the_elasticity_mesh_reads_back_with_its_cells_and_fields() {
-    let text = fs::read_to_string(data("IV.1.vtu")).expect("IV.1.vtu");
+    let text = vtu("IV.1.vtu");
     let rows = read_csv(&data("IV.1.csv"));
-    let cells = piece_attribute(&text, "NumberOfCells");
+    let cells = text.cells;
     assert_eq!(cells as f64, last(&rows, "active_cells"));
-    let points = piece_attribute(&text, "NumberOfPoints");
+    let points = text.points;
     // Q₁ with two components: dofs = 2 × vertices (hanging vertices included).
     assert_eq!(2 * points, last(&rows, "dofs") as usize);
     let xyz = vtu_array(&text, "Points");
@@ -210,25 +203,22 @@ fn the_elasticity_mesh_reads_back_with_its_cells_and_fields() {
 
 #[test]
 fn the_contact_mesh_marks_the_vertices_in_contact() {
-    let text = fs::read_to_string(data("IV.7.vtu")).expect("IV.7.vtu");
+    let text = vtu("IV.7.vtu");
     let rows = read_csv(&data("IV.7.csv"));
     let contact = vtu_array(&text, "contact");
     let in_contact = contact.iter().filter(|&&c| c == 1.0).count();
     assert_eq!(in_contact as f64, last(&rows, "contact_vertices"));
     assert!(contact.iter().all(|&c| c == 0.0 || c == 1.0));
-    assert_eq!(
-        piece_attribute(&text, "NumberOfCells") as f64,
-        last(&rows, "active_cells")
-    );
+    assert_eq!(text.cells as f64, last(&rows, "active_cells"));
 }
 
 #[test]
 fn the_film_mesh_holds_the_boundary_pressure_on_the_boundary() {
-    let text = fs::read_to_string(data("IV.36.vtu")).expect("IV.36.vtu");
+    let text = vtu("IV.36.vtu");
     let rows = read_csv(&data("IV.36.csv"));
-    let cells = piece_attribute(&text, "NumberOfCells");
+    let cells = text.cells;
     assert_eq!(cells as f64, last(&rows, "active_cells"));
-    let points = piece_attribute(&text, "NumberOfPoints");
+    let points = text.points;
     assert_eq!(points as f64, last(&rows, "dofs"));
     let xyz = vtu_array(&text, "Points");
     let psi = vtu_array(&text, "psi");

@@ -16,23 +16,33 @@ fn non_finite(token: &str) -> bool {
 }
 
 /// Every non-finite cell of the CSV files in `dir` and every non-finite number of its VTK
-/// files, as `file:line:cell` (the Parquet files are binary; `open_data` reads them back).
+/// files, as `file:line:cell` or `file:array[index]` (the Parquet files are binary; `open_data`
+/// reads them back).
 fn scan_csv(dir: &Path) -> Vec<String> {
     let mut found = Vec::new();
     for entry in fs::read_dir(dir).expect("data/") {
         let path = entry.expect("entry").path();
-        let separator: fn(char) -> bool = match path.extension().and_then(|e| e.to_str()) {
-            Some("csv") => |c| c == ',',
-            Some("vtu") => char::is_whitespace,
-            _ => continue,
-        };
-        let text = fs::read_to_string(&path).expect("csv");
-        for (n, line) in text.lines().enumerate() {
-            for cell in line.split(separator) {
-                if non_finite(cell) {
-                    found.push(format!("{}:{}: {cell}", path.display(), n + 1));
+        match path.extension().and_then(|e| e.to_str()) {
+            Some("csv") => {
+                let text = fs::read_to_string(&path).expect("csv");
+                for (n, line) in text.lines().enumerate() {
+                    for cell in line.split(',') {
+                        if non_finite(cell) {
+                            found.push(format!("{}:{}: {cell}", path.display(), n + 1));
+                        }
+                    }
                 }
             }
+            Some("vtu") => {
+                let file = tribo::report::vtk::read(&fs::read(&path).expect("vtu"))
+                    .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+                for (name, values) in &file.arrays {
+                    if let Some(i) = values.iter().position(|v| !v.is_finite()) {
+                        found.push(format!("{}:{name}[{i}]: {}", path.display(), values[i]));
+                    }
+                }
+            }
+            _ => continue,
         }
     }
     found
