@@ -617,7 +617,7 @@ pub struct MultigridSolver {
     hierarchy: Option<VertexHierarchy>,
     n_components: usize,
     guess: Option<Vec<f64>>,
-    prepared: Option<Prepared>,
+    prepared: Option<Box<Prepared>>,
     pub relative_tolerance: f64,
     pub max_iterations: usize,
     /// CG iterations of each solve since the last [`MultigridSolver::take_iterations`].
@@ -711,13 +711,13 @@ impl MultigridSolver {
             // Without a hierarchy (a mesh of one level) the coarsest level is the mesh itself.
             let single_level = VertexHierarchy::default();
             let hierarchy = self.hierarchy.as_ref().unwrap_or(&single_level);
-            self.prepared = Some(Prepared::build(
+            self.prepared = Some(Box::new(Prepared::build(
                 matrix,
                 rows,
                 &solved,
                 hierarchy,
                 self.n_components,
-            )?);
+            )?));
         }
         let prepared = self.prepared.as_ref().expect("prepared above");
         let dofs = &prepared.dofs;
