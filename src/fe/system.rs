@@ -32,6 +32,12 @@ impl System {
     pub fn of_dofs(dofs: DofMap) -> System {
         let constraints = Constraints::new(&dofs);
         let pattern = SparsityPattern::new(&dofs, &constraints);
+        System::from_parts(dofs, constraints, pattern)
+    }
+
+    /// The system of a numbering, its hanging-node constraints and their pattern
+    /// ([`System::of_dofs`] built in parts), not yet assembled.
+    pub fn from_parts(dofs: DofMap, constraints: Constraints, pattern: SparsityPattern) -> System {
         System {
             dofs,
             constraints,

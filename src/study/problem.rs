@@ -7,7 +7,8 @@ use std::collections::BTreeSet;
 use crate::estimators::FaceIndicators;
 use crate::experiment::Scene;
 use crate::fe::hierarchy::vertex_hierarchy;
-use crate::fe::{DofMap, System};
+use crate::fe::{Constraints, DofMap, SparsityPattern, System};
+use crate::linalg::multigrid::VertexHierarchy;
 use crate::linalg::{DirectSolver, LinearSolver};
 use crate::mesh::{BoundaryFace, Mesh, MeshError};
 use crate::results::{columns, Cuts, DeformedPicture, FieldPicture, MeshField, Value};
@@ -93,37 +94,61 @@ impl Discretisation {
 }
 
 /// The setup of a Q₁ problem with `n_components` per vertex: the system on the current mesh,
-/// the problem's constraints (`constrain`), and `solver` reordered for its pattern.
+/// the problem's constraints (`constrain`), and `solver` made ready for it. The multigrid level
+/// hierarchy needs only the mesh and the numbering, so it is built alongside the hanging-node
+/// constraints and the sparsity pattern (both have long sequential stretches; on two cores the
+/// two run side by side).
 pub fn setup_system(
     disc: &Discretisation,
     n_components: usize,
     solver: &mut dyn PrepareSolver,
     constrain: impl FnOnce(&mut System),
 ) -> System {
-    let mut system = System::new(&disc.mesh, n_components);
+    let mesh = &disc.mesh;
+    let dofs = DofMap::new(mesh, n_components);
+    let needs_levels = solver.needs_levels();
+    let ((constraints, pattern), levels) = rayon::join(
+        || {
+            let constraints = Constraints::new(&dofs);
+            let pattern = SparsityPattern::new(&dofs, &constraints);
+            (constraints, pattern)
+        },
+        || needs_levels.then(|| vertex_hierarchy(mesh, &dofs.vertices)),
+    );
+    let mut system = System::from_parts(dofs, constraints, pattern);
     constrain(&mut system);
-    solver.prepare(&disc.mesh, &system);
+    solver.prepare(&system, levels);
     system
 }
 
 /// A solver made ready for the systems of a new mesh: the direct solver gets the fill-reducing
 /// ordering of the pattern, multigrid the level hierarchy of the mesh.
 pub trait PrepareSolver {
-    fn prepare(&mut self, mesh: &Mesh, system: &System);
+    /// Whether [`PrepareSolver::prepare`] wants the level hierarchy of the mesh.
+    fn needs_levels(&self) -> bool {
+        false
+    }
+
+    /// Get ready for `system`; `levels` is the mesh's hierarchy if the solver asked for it.
+    fn prepare(&mut self, system: &System, levels: Option<VertexHierarchy>);
 }
 
 impl PrepareSolver for DirectSolver {
-    fn prepare(&mut self, _mesh: &Mesh, system: &System) {
+    fn prepare(&mut self, system: &System, _levels: Option<VertexHierarchy>) {
         self.reorder(system.ordering());
     }
 }
 
 impl PrepareSolver for LinearSolver {
-    fn prepare(&mut self, mesh: &Mesh, system: &System) {
+    fn needs_levels(&self) -> bool {
+        matches!(self, LinearSolver::Multigrid(_))
+    }
+
+    fn prepare(&mut self, system: &System, levels: Option<VertexHierarchy>) {
         match self {
-            LinearSolver::Direct(d) => d.prepare(mesh, system),
+            LinearSolver::Direct(d) => d.prepare(system, levels),
             LinearSolver::Multigrid(m) => m.set_hierarchy(
-                vertex_hierarchy(mesh, &system.dofs.vertices),
+                levels.expect("the hierarchy multigrid asked for"),
                 system.dofs.n_components,
             ),
         }
