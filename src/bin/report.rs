@@ -80,7 +80,9 @@ struct Cli {
     shard: bool,
 
     /// Tables run at once (default: one per core, fewer where the memory budget does not hold
-    /// the largest predicted tables side by side). The results do not depend on it.
+    /// the largest predicted tables side by side). Whatever the number, a table starts only
+    /// when its predicted memory fits beside the tables running. The results do not depend on
+    /// it.
     #[arg(long, value_name = "N")]
     jobs: Option<usize>,
 
@@ -219,6 +221,7 @@ fn run(cli: &Cli) -> Result<bool, String> {
         .jobs
         .unwrap_or_else(|| default_jobs(&loaded, tier, budget))
         .max(1);
+    let ledger = study::Ledger::new(budget);
     let stems: Vec<String> = loaded.iter().map(|(stem, _)| stem.clone()).collect();
     let queue = Mutex::new(loaded.into_iter().enumerate());
     let finished: Mutex<Vec<(usize, Outcome, usize)>> = Mutex::new(Vec::new());
@@ -264,6 +267,11 @@ fn run(cli: &Cli) -> Result<bool, String> {
                 return (Outcome::Failed(failure), failed);
             }
         };
+        // Wait until the table's predicted memory fits beside the tables running.
+        let _memory = ledger.reserve(study::Budget::predicted_peak(
+            &spec,
+            study::Schedule::of(&spec, tier),
+        ));
         bar.set_message(format!("{} {}", spec.table, spec.title));
         let readings = readings_of(&spec);
         let runs_of_spec = 1 + readings.len() as u64;

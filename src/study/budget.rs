@@ -36,6 +36,63 @@ pub fn machine_memory() -> Option<f64> {
     Some(kib * 1024.0)
 }
 
+/// The memory of the tables running at once, shared by the workers of a report: a table
+/// starts when its predicted peak ([`Budget::predicted_peak`]) fits beside those of the tables
+/// running, or when none runs (a table too large for the budget alone is refused by
+/// [`Budget::admit_run`]). With `--jobs N` chosen by hand, tables wait for memory instead of
+/// overcommitting it; the order in which they run does not change any result.
+pub struct Ledger {
+    budget: f64,
+    reserved: std::sync::Mutex<f64>,
+    freed: std::sync::Condvar,
+}
+
+/// Memory reserved in a [`Ledger`], given back when dropped.
+pub struct Reservation<'a> {
+    ledger: &'a Ledger,
+    bytes: f64,
+}
+
+impl Ledger {
+    pub fn new(budget: Budget) -> Ledger {
+        Ledger {
+            budget: budget.bytes,
+            reserved: std::sync::Mutex::new(0.0),
+            freed: std::sync::Condvar::new(),
+        }
+    }
+
+    /// Reserve `bytes`, waiting until they fit beside the reservations held, or none is held.
+    pub fn reserve(&self, bytes: f64) -> Reservation<'_> {
+        let mut reserved = self.reserved.lock().unwrap_or_else(|e| e.into_inner());
+        while *reserved > 0.0 && *reserved + bytes > self.budget {
+            reserved = self.freed.wait(reserved).unwrap_or_else(|e| e.into_inner());
+        }
+        *reserved += bytes;
+        Reservation {
+            ledger: self,
+            bytes,
+        }
+    }
+
+    /// The bytes reserved now.
+    pub fn reserved(&self) -> f64 {
+        *self.reserved.lock().unwrap_or_else(|e| e.into_inner())
+    }
+}
+
+impl Drop for Reservation<'_> {
+    fn drop(&mut self) {
+        let mut reserved = self
+            .ledger
+            .reserved
+            .lock()
+            .unwrap_or_else(|e| e.into_inner());
+        *reserved = (*reserved - self.bytes).max(0.0);
+        self.ledger.freed.notify_all();
+    }
+}
+
 /// Memory a run may use.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Budget {
@@ -234,5 +291,34 @@ mod tests {
     #[test]
     fn the_machine_has_some_memory() {
         assert!(Budget::machine().bytes >= 256.0 * 1024.0 * 1024.0);
+    }
+
+    #[test]
+    fn the_ledger_holds_tables_back_until_their_memory_fits() {
+        use std::sync::atomic::{AtomicBool, Ordering};
+        let ledger = Ledger::new(Budget { bytes: 10.0 });
+        let first = ledger.reserve(6.0);
+        // Alone, a table larger than the budget still starts (admit_run refuses it).
+        assert_eq!(ledger.reserved(), 6.0);
+        let second_started = AtomicBool::new(false);
+        std::thread::scope(|scope| {
+            scope.spawn(|| {
+                let _second = ledger.reserve(6.0);
+                second_started.store(true, Ordering::SeqCst);
+            });
+            std::thread::sleep(std::time::Duration::from_millis(50));
+            assert!(
+                !second_started.load(Ordering::SeqCst),
+                "6 + 6 bytes do not fit a budget of 10"
+            );
+            drop(first);
+        });
+        assert!(second_started.load(Ordering::SeqCst));
+        assert_eq!(ledger.reserved(), 0.0);
+        let small = [ledger.reserve(4.0), ledger.reserve(4.0)];
+        assert_eq!(ledger.reserved(), 8.0, "two that fit run side by side");
+        drop(small);
+        let _alone = ledger.reserve(25.0);
+        assert_eq!(ledger.reserved(), 25.0);
     }
 }

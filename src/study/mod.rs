@@ -26,7 +26,7 @@ pub mod transfer;
 pub mod warnings;
 
 pub use adapt::{Adaptation, Balanced, FixedNumber, LoadSteps, ModelMarking};
-pub use budget::Budget;
+pub use budget::{Budget, Ledger};
 pub use clock::{Phase, PhaseClock};
 pub use problem::{Discretisation, Estimate, Pictures, Problem, Solution};
 pub use readings::{alternative_readings, AlternativeReading};
