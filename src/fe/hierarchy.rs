@@ -167,7 +167,7 @@ mod tests {
     use crate::fe::quadrature::square_rule;
     use crate::fe::{LocalDofs, System};
     use crate::linalg::multigrid::MultigridSolver;
-    use crate::linalg::DirectSolver;
+    use crate::linalg::{DirectSolver, SolveConstrained};
 
     /// A mesh refined towards the corner (0, 0) and along x₂ = x₁ (hanging vertices on many
     /// levels), on a 2 × 1 coarse grid.

@@ -669,20 +669,11 @@ impl MultigridSolver {
     }
 
     /// Solve A x = b where the dofs in `eliminated` take the given values (as
-    /// [`super::DirectSolver::solve`]).
-    pub fn solve(
-        &mut self,
-        matrix: Csc<'_>,
-        rhs: &[f64],
-        eliminated: &[(usize, f64)],
-    ) -> Result<Vec<f64>, SolveError> {
-        self.solve_overlay(matrix, rhs, eliminated, eliminated.len())
-    }
-
-    /// [`MultigridSolver::solve`] where the first `always` entries of `eliminated` are
-    /// eliminated in every solve of this matrix (the constraints) and the rest in this one only
+    /// [`super::DirectSolver::solve`]); the first `always` entries of `eliminated` are
+    /// eliminated in every solve of this matrix (the constraints), the rest in this one only
     /// (the active bounds of an active-set iteration): the block and the V-cycle are kept across
-    /// such solves, the rest masked (module docs, *Active sets*).
+    /// such solves, the rest masked (module docs, *Active sets*). [`super::SolveConstrained`]
+    /// gives the plain `solve`.
     pub fn solve_overlay(
         &mut self,
         matrix: Csc<'_>,

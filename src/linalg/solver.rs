@@ -34,17 +34,31 @@ impl SolverKind {
 
 /// Solve A x = b where the dofs in `eliminated` take the given values.
 pub trait SolveConstrained {
+    /// The solve, where the first `always` entries of `eliminated` are eliminated in every solve
+    /// of this matrix (the constraints) and the rest in this one only (the active bounds of an
+    /// active-set iteration): a solver may keep what it prepared across such solves
+    /// ([`MultigridSolver::solve_overlay`]).
+    fn solve_overlay(
+        &mut self,
+        matrix: Csc<'_>,
+        rhs: &[f64],
+        eliminated: &[(usize, f64)],
+        always: usize,
+    ) -> Result<Vec<f64>, SolveError>;
+
+    /// The solve with every entry of `eliminated` a constraint.
     fn solve(
         &mut self,
         matrix: Csc<'_>,
         rhs: &[f64],
         eliminated: &[(usize, f64)],
-    ) -> Result<Vec<f64>, SolveError>;
+    ) -> Result<Vec<f64>, SolveError> {
+        self.solve_overlay(matrix, rhs, eliminated, eliminated.len())
+    }
+}
 
-    /// [`SolveConstrained::solve`] where the first `always` entries of `eliminated` are
-    /// eliminated in every solve of this matrix (the constraints) and the rest in this one only
-    /// (the active bounds of an active-set iteration): a solver may keep what it prepared across
-    /// such solves ([`MultigridSolver::solve_overlay`]).
+impl SolveConstrained for DirectSolver {
+    /// The factorisation is of the block of the free dofs of each solve: nothing to keep.
     fn solve_overlay(
         &mut self,
         matrix: Csc<'_>,
@@ -52,31 +66,11 @@ pub trait SolveConstrained {
         eliminated: &[(usize, f64)],
         _always: usize,
     ) -> Result<Vec<f64>, SolveError> {
-        self.solve(matrix, rhs, eliminated)
-    }
-}
-
-impl SolveConstrained for DirectSolver {
-    fn solve(
-        &mut self,
-        matrix: Csc<'_>,
-        rhs: &[f64],
-        eliminated: &[(usize, f64)],
-    ) -> Result<Vec<f64>, SolveError> {
         DirectSolver::solve(self, matrix, rhs, eliminated)
     }
 }
 
 impl SolveConstrained for MultigridSolver {
-    fn solve(
-        &mut self,
-        matrix: Csc<'_>,
-        rhs: &[f64],
-        eliminated: &[(usize, f64)],
-    ) -> Result<Vec<f64>, SolveError> {
-        MultigridSolver::solve(self, matrix, rhs, eliminated)
-    }
-
     fn solve_overlay(
         &mut self,
         matrix: Csc<'_>,
@@ -121,15 +115,6 @@ impl LinearSolver {
 }
 
 impl SolveConstrained for LinearSolver {
-    fn solve(
-        &mut self,
-        matrix: Csc<'_>,
-        rhs: &[f64],
-        eliminated: &[(usize, f64)],
-    ) -> Result<Vec<f64>, SolveError> {
-        self.solve_overlay(matrix, rhs, eliminated, eliminated.len())
-    }
-
     fn solve_overlay(
         &mut self,
         matrix: Csc<'_>,

@@ -230,8 +230,10 @@ impl Problem for ReynoldsFilm {
     }
 
     fn finish_cycle(&mut self, disc: &Discretisation, dofs: DofMap, solution: Solution) {
-        let keep = matches!(self.solver, LinearSolver::Multigrid(_));
-        self.previous = self.switch.warm_start(disc, dofs, solution.u, keep);
+        // Multigrid starts from the previous solution whether or not cavitation is on.
+        let keep =
+            self.switch.keeps_solution() || matches!(self.solver, LinearSolver::Multigrid(_));
+        self.previous = keep.then(|| PreviousSolution::of(disc, dofs, solution.u));
     }
 
     fn pictures(

@@ -292,7 +292,10 @@ impl Problem for SubStokesFilm {
     }
 
     fn finish_cycle(&mut self, disc: &Discretisation, dofs: DofMap, solution: Solution) {
-        self.previous = self.switch.warm_start(disc, dofs, solution.u, false);
+        self.previous = self
+            .switch
+            .keeps_solution()
+            .then(|| PreviousSolution::of(disc, dofs, solution.u));
     }
 
     fn pictures(

@@ -2,8 +2,7 @@
 //! cavitation switch, the "estimate of the previous solve" column, the marking noise floor, and
 //! the readings of the cavitation source R₃c that the report runs beside a table.
 
-use super::problem::Discretisation;
-use super::transfer::{evaluate, PreviousSolution};
+use super::transfer::evaluate;
 use crate::experiment::{Cavitation, CavitationSource, Rectangle};
 use crate::fe::DofMap;
 use crate::mesh::Mesh;
@@ -144,21 +143,10 @@ impl CavitationSwitch {
         self.min_psi = min_vertex_value(psi);
     }
 
-    /// What a cycle keeps for the next one's warm start: its solution with cavitation (the
-    /// initial active set of the next cavitation solve) or when `keep_anyway` (the initial guess
-    /// of an iterative solver), nothing else.
-    pub fn warm_start(
-        &self,
-        disc: &Discretisation,
-        dofs: DofMap,
-        u: Vec<f64>,
-        keep_anyway: bool,
-    ) -> Option<PreviousSolution> {
-        (self.on || keep_anyway).then(|| PreviousSolution {
-            mesh: disc.mesh.clone(),
-            dofs,
-            u,
-        })
+    /// Whether a cycle keeps its solution for the next one: with cavitation it gives the next
+    /// cavitation solve its initial active set ([`super::transfer::PreviousSolution::of`]).
+    pub fn keeps_solution(&self) -> bool {
+        self.on
     }
 
     /// What `auto` did, for the table's notes.

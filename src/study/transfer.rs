@@ -2,6 +2,7 @@
 //! of the contact active set, the initial active set of the cavitation solve. One transfer for
 //! every problem: the Q₁ field of the old mesh evaluated at the points of the new one.
 
+use super::problem::Discretisation;
 use rayon::prelude::*;
 
 use crate::fe::cell_values::evaluate_at;
@@ -26,6 +27,15 @@ pub struct PreviousSolution {
 }
 
 impl PreviousSolution {
+    /// The solution `u` on the mesh of `disc` numbered by `dofs`, kept for the next cycle.
+    pub fn of(disc: &Discretisation, dofs: DofMap, u: Vec<f64>) -> PreviousSolution {
+        PreviousSolution {
+            mesh: disc.mesh.clone(),
+            dofs,
+            u,
+        }
+    }
+
     /// Component `comp` of the previous solution at a physical point of the new mesh (None
     /// outside the previous mesh).
     pub fn value(&self, comp: usize, p: [f64; 2]) -> Option<f64> {
