@@ -16,9 +16,9 @@ pub enum SolverKind {
     /// Sparse Cholesky (faer) with nested-dissection ordering.
     Direct,
     /// Conjugate gradients preconditioned by a geometric multigrid V-cycle on the quadtree
-    /// levels: the default, measured faster on the twenty Reynolds tables at full size (136 s
-    /// against 160 s of wall time, 1.7 GB against 2.1 GB peak memory, one table at a time on
-    /// the 2-core machine) with the same meshes and active sets.
+    /// levels: the default, measured faster on the twenty Reynolds tables at full size (63.9 s
+    /// against 78.9 s of wall time, 1.8 GB against 2.0 GB peak memory, one table at a time on
+    /// the 2-core machine, the same sitting) with the same meshes and active sets.
     #[default]
     Multigrid,
 }
