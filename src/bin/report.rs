@@ -86,9 +86,10 @@ struct Cli {
     #[arg(long, value_name = "N")]
     jobs: Option<usize>,
 
-    /// Linear solver of the SPD problems (Reynolds, with and without cavitation), overriding
-    /// the experiments' `[study] solver`: `direct` (sparse Cholesky) or `multigrid` (CG with a
-    /// geometric multigrid V-cycle). The solver changes the run time, not the results.
+    /// Linear solver of the SPD problems of the Reynolds (with and without cavitation) and
+    /// elasticity tables, overriding the experiments' `[study] solver`: `direct` (sparse
+    /// Cholesky) or `multigrid` (CG with a geometric multigrid V-cycle); the contact tables
+    /// always use the direct solver. The solver changes the run time, not the results.
     #[arg(long, value_enum, value_name = "SOLVER")]
     solver: Option<tribo::linalg::SolverKind>,
 

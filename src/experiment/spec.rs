@@ -693,9 +693,9 @@ pub struct Study {
     /// How the fixed-number marking treats tied indicators at a cut (default `band`).
     #[serde(default)]
     pub ties: Ties,
-    /// The linear solver of the SPD problems (`direct` or `multigrid`; default
-    /// [`crate::linalg::SolverKind::default`]); `report --solver` overrides it. It changes how
-    /// the systems are solved, not what is computed.
+    /// The linear solver of the SPD problems of the Reynolds and elasticity tables (`direct` or
+    /// `multigrid`; default the faster for the family, [`crate::study::solver_of`]); `report
+    /// --solver` overrides it. It changes how the systems are solved, not what is computed.
     #[serde(default)]
     pub solver: Option<crate::linalg::SolverKind>,
 }

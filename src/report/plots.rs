@@ -1991,27 +1991,26 @@ pub(super) fn test_run(
 /// (the rows with CG iterations) and the direct solver, the thin films apart from elasticity
 /// and contact. Flat dots mean a cost proportional to the unknowns.
 pub fn solve_cost(path: &Path, runs: &[&RunResult]) -> io::Result<()> {
-    let groups: [(&str, RGBColor); 3] = [
+    let groups: [(&str, RGBColor); 4] = [
         ("Reynolds, multigrid CG", RGBColor(31, 119, 180)),
         ("Reynolds, direct (Cholesky)", RGBColor(214, 39, 40)),
+        ("elasticity, multigrid CG", RGBColor(44, 160, 44)),
         ("elasticity and contact, direct", RGBColor(120, 120, 120)),
     ];
-    let mut points: [Vec<(f64, f64)>; 3] = Default::default();
+    let mut points: [Vec<(f64, f64)>; 4] = Default::default();
     for run in runs {
         let family = super::families::family_of(&run.table).map(|f| f.id);
         for row in &run.rows {
             let Some(dofs) = row.dofs() else { continue };
-            let group = if row
+            let multigrid = row
                 .count_of(crate::results::columns::CG_ITERATIONS)
-                .is_some()
-            {
-                0
-            } else {
-                match family {
-                    Some("family-reynolds") => 1,
-                    Some("family-elasticity" | "family-contact") => 2,
-                    _ => continue,
-                }
+                .is_some();
+            let group = match (family, multigrid) {
+                (Some("family-reynolds"), true) => 0,
+                (Some("family-reynolds"), false) => 1,
+                (Some("family-elasticity"), true) => 2,
+                (Some("family-elasticity" | "family-contact"), false) => 3,
+                _ => continue,
             };
             let p = (dofs as f64, row.seconds.solve / (dofs as f64 / 1e6));
             if loggable(&p) && dofs >= 1000 {

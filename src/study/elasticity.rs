@@ -1,11 +1,13 @@
 //! Tables IV.1–IV.5: linear elasticity (I.17) with the estimator of Theorem III.12.
 
 use super::clock::PhaseClock;
-use super::problem::{setup_system, Discretisation, Estimate, Pictures, Problem, Solution};
+use super::problem::{
+    cg_column, setup_system, Discretisation, Estimate, Pictures, Problem, Solution,
+};
 use crate::estimators::{self, elasticity::BoundaryTerms};
 use crate::experiment::{ElasticityData, Rectangle};
 use crate::fe::{DofMap, System};
-use crate::linalg::DirectSolver;
+use crate::linalg::{LinearSolver, SolverKind};
 use crate::mesh::Mesh;
 use crate::models::elasticity::Elasticity;
 use crate::results::{sig4, DeformedPicture};
@@ -14,17 +16,18 @@ use crate::results::{sig4, DeformedPicture};
 pub struct ElasticityProblem {
     model: Elasticity,
     terms: BoundaryTerms,
-    solver: DirectSolver,
+    solver: LinearSolver,
     /// Height of the domain, the scale of the deformed-body picture.
     height: f64,
 }
 
 impl ElasticityProblem {
-    pub fn new(data: &ElasticityData, domain: &Rectangle) -> ElasticityProblem {
+    /// The problem of `data` on `domain`, solved by `solver` ([`super::solver_of`]).
+    pub fn new(data: &ElasticityData, domain: &Rectangle, solver: SolverKind) -> ElasticityProblem {
         ElasticityProblem {
             model: data.into(),
             terms: BoundaryTerms::default(),
-            solver: DirectSolver::cholesky(),
+            solver: LinearSolver::spd(solver),
             height: domain.y[1] - domain.y[0],
         }
     }
@@ -55,18 +58,12 @@ impl Problem for ElasticityProblem {
         system: &mut System,
         _clock: &PhaseClock,
     ) -> Result<Solution, String> {
-        let mut u = self
-            .solver
-            .solve(
-                system.matrix(),
-                &system.rhs,
-                &system.constraints.eliminated(),
-            )
-            .map_err(|e| e.to_string())?;
-        system.constraints.distribute(&mut u);
+        let u = system.solve(&mut self.solver);
+        let cg = self.solver.take_iterations();
+        self.solver.release_pattern();
         Ok(Solution {
-            u,
-            counters: Vec::new(),
+            u: u.map_err(|e| e.to_string())?,
+            counters: cg_column(cg).into_iter().collect(),
         })
     }
 

@@ -33,6 +33,7 @@ pub use readings::{alternative_readings, AlternativeReading};
 
 use crate::experiment::{self, Experiment, StudyKind};
 use crate::fe;
+use crate::linalg::SolverKind;
 use crate::results::RunResult;
 use record::Recorder;
 
@@ -249,14 +250,30 @@ fn feasible(experiment: &Experiment) -> Result<(), RunError> {
     }
 }
 
+/// The linear solver of an experiment's SPD systems: `[study] solver` (or `report --solver`),
+/// else the one measured faster for its family — multigrid for the Reynolds films, the direct
+/// solver for elasticity (its tables stay below 55 000 unknowns, where `cargo bench --bench
+/// solve` measured 0.092 s direct against 0.12 s multigrid). The contact families always use
+/// the direct solver: with the dofs of the contact vertices rotated into normal and tangential
+/// components, the component-wise prolongation no longer fits and CG took 100–500 iterations,
+/// growing with the mesh (IV.6–IV.17, tried).
+pub fn solver_of(experiment: &Experiment) -> SolverKind {
+    experiment.study.solver.unwrap_or(match experiment.problem {
+        experiment::Problem::Reynolds(_) => SolverKind::Multigrid,
+        _ => SolverKind::Direct,
+    })
+}
+
 /// The model of an experiment's problem: one match arm per model. A solver study
 /// ([`StudyKind::SolverIterations`]) has no model of the study loop ([`solver_iterations`]).
 pub fn build_problem(experiment: &Experiment) -> Result<Box<dyn Problem>, String> {
     let domain = &experiment.scene.domain;
     Ok(match &experiment.problem {
-        experiment::Problem::Elasticity(data) => {
-            Box::new(elasticity::ElasticityProblem::new(data, domain))
-        }
+        experiment::Problem::Elasticity(data) => Box::new(elasticity::ElasticityProblem::new(
+            data,
+            domain,
+            solver_of(experiment),
+        )),
         experiment::Problem::Contact {
             elasticity,
             contact,
@@ -280,7 +297,7 @@ pub fn build_problem(experiment: &Experiment) -> Result<Box<dyn Problem>, String
         experiment::Problem::Reynolds(data) => Box::new(reynolds::ReynoldsFilm::new(
             data,
             domain,
-            experiment.study.solver.unwrap_or_default(),
+            solver_of(experiment),
         )),
         experiment::Problem::SubStokes(data) => {
             Box::new(substokes::SubStokesFilm::new(data, domain))

@@ -155,6 +155,13 @@ impl PrepareSolver for LinearSolver {
     }
 }
 
+/// The row's column `cg_iterations` (the most CG iterations of a cycle's solves) from the
+/// counts of an iterative solver ([`LinearSolver::take_iterations`]; none for the direct one).
+pub fn cg_column(iterations: Option<Vec<usize>>) -> Option<(String, i64)> {
+    let most = iterations?.into_iter().max().unwrap_or(0);
+    Some((columns::CG_ITERATIONS.into(), most as i64))
+}
+
 /// A solution of one cycle: the field (hanging dofs distributed) and solver counters.
 pub struct Solution {
     pub u: Vec<f64>,

@@ -10,7 +10,9 @@
 //! below the rounding noise of ψ_h ([`noise_floor`]).
 
 use super::clock::{Phase, PhaseClock};
-use super::problem::{setup_system, Discretisation, Estimate, Pictures, Problem, Solution};
+use super::problem::{
+    cg_column, setup_system, Discretisation, Estimate, Pictures, Problem, Solution,
+};
 use super::thin_film::{noise_floor, CavitationSwitch, FieldSample, PreviousEstimate};
 use super::transfer::PreviousSolution;
 use crate::estimators;
@@ -177,12 +179,7 @@ impl Problem for ReynoldsFilm {
         let cg = self.solver.take_iterations();
         self.solver.release_pattern();
         let mut solution = solution?;
-        if let Some(cg) = cg {
-            let most = cg.iter().copied().max().unwrap_or(0);
-            solution
-                .counters
-                .push((columns::CG_ITERATIONS.into(), most as i64));
-        }
+        solution.counters.extend(cg_column(cg));
         Ok(solution)
     }
 
