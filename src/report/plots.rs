@@ -56,6 +56,26 @@ fn log_log_grid<DB: DrawingBackend>(
     Ok(())
 }
 
+/// A log–log chart on `area`: the caption, the axes of the ranges `x` and `y` (margin 12,
+/// `x_label_area` pixels under the axis, 70 left of it) and the grid ([`log_log_grid`]).
+fn log_log_axes<'a, DB: DrawingBackend + 'a>(
+    area: &'a DrawingArea<DB, Shift>,
+    (caption, caption_size): (&str, u32),
+    x_label_area: u32,
+    (x, y): ((f64, f64), (f64, f64)),
+    (x_desc, y_desc): (&str, &str),
+) -> io::Result<ChartContext<'a, DB, Cartesian2d<NiceLog, NiceLog>>> {
+    let mut chart = ChartBuilder::on(area)
+        .caption(caption, ("sans-serif", caption_size))
+        .margin(12)
+        .x_label_area_size(x_label_area)
+        .y_label_area_size(70)
+        .build_cartesian_2d(NiceLog::new(x), NiceLog::new(y))
+        .map_err(plot_err)?;
+    log_log_grid(&mut chart, x_desc, y_desc)?;
+    Ok(chart)
+}
+
 /// A point that can sit on a log–log axis.
 pub(super) fn loggable(p: &(f64, f64)) -> bool {
     p.0.is_finite() && p.1.is_finite() && p.0 > 0.0 && p.1 > 0.0
@@ -336,14 +356,13 @@ fn log_log_chart(
     let (x_lo, x_hi) = log_range(all.iter().map(|p| p.0));
     let (y_lo, y_hi) = log_range(all.iter().chain(guide_pts).map(|p| p.1));
     root.fill(&WHITE).map_err(plot_err)?;
-    let mut chart = ChartBuilder::on(root)
-        .caption(title, ("sans-serif", 24))
-        .margin(12)
-        .x_label_area_size(48)
-        .y_label_area_size(70)
-        .build_cartesian_2d(NiceLog::new((x_lo, x_hi)), NiceLog::new((y_lo, y_hi)))
-        .map_err(plot_err)?;
-    log_log_grid(&mut chart, x_label, y_label)?;
+    let mut chart = log_log_axes(
+        root,
+        (title, 24),
+        48,
+        ((x_lo, x_hi), (y_lo, y_hi)),
+        (x_label, y_label),
+    )?;
 
     if curves.is_empty() {
         root.draw(&Text::new(
@@ -420,8 +439,8 @@ where
 }
 
 /// The legend of a chart's labelled series: a framed, nearly opaque box at `position`.
-pub(super) fn series_legend<'a, CT: CoordTranslate>(
-    chart: &mut ChartContext<'a, SVGBackend<'a>, CT>,
+pub(super) fn series_legend<'a, DB: DrawingBackend + 'a, CT: CoordTranslate>(
+    chart: &mut ChartContext<'a, DB, CT>,
     position: SeriesLabelPosition,
     font_size: u32,
 ) -> io::Result<()> {
@@ -543,14 +562,13 @@ fn cost_accuracy(
     let (y_lo, y_hi) = log_range(points.iter().map(|p| p.1));
     // Extra room on the right for the dofs labels of the last point.
     let x_hi = x_hi * (x_hi / x_lo).powf(0.12);
-    let mut chart = ChartBuilder::on(area)
-        .caption(format!("{table} — cost of accuracy"), ("sans-serif", 24))
-        .margin(12)
-        .x_label_area_size(44)
-        .y_label_area_size(70)
-        .build_cartesian_2d(NiceLog::new((x_lo, x_hi)), NiceLog::new((y_lo, y_hi)))
-        .map_err(plot_err)?;
-    log_log_grid(&mut chart, "cumulative wall seconds", estimate)?;
+    let mut chart = log_log_axes(
+        area,
+        (&format!("{table} — cost of accuracy"), 24),
+        44,
+        ((x_lo, x_hi), (y_lo, y_hi)),
+        ("cumulative wall seconds", estimate),
+    )?;
     if points.is_empty() {
         area.draw(&Text::new(
             "no positive timings and estimates to plot",
@@ -2025,17 +2043,16 @@ pub fn solve_cost(path: &Path, runs: &[&RunResult]) -> io::Result<()> {
         root.fill(&WHITE).map_err(plot_err)?;
         let (x_lo, x_hi) = log_range(all.iter().map(|p| p.0));
         let (y_lo, y_hi) = log_range(all.iter().map(|p| p.1));
-        let mut chart = ChartBuilder::on(&root)
-            .caption(
+        let mut chart = log_log_axes(
+            &root,
+            (
                 "Solve seconds per million unknowns, every cycle of every table",
-                ("sans-serif", 22),
-            )
-            .margin(12)
-            .x_label_area_size(48)
-            .y_label_area_size(70)
-            .build_cartesian_2d(NiceLog::new((x_lo, x_hi)), NiceLog::new((y_lo, y_hi)))
-            .map_err(plot_err)?;
-        log_log_grid(&mut chart, "unknowns (dofs)", "solve s per 10⁶ unknowns")?;
+                22,
+            ),
+            48,
+            ((x_lo, x_hi), (y_lo, y_hi)),
+            ("unknowns (dofs)", "solve s per 10⁶ unknowns"),
+        )?;
         for ((label, color), pts) in groups.iter().zip(&points) {
             if pts.is_empty() {
                 continue;
