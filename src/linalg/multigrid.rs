@@ -19,7 +19,7 @@
 //! §2.5 and §7.8). The coarsest level is solved by a sparse Cholesky factorisation.
 //!
 //! **Hybrid Gauss–Seidel.** To smooth on both cores, the rows of a level are cut into blocks of
-//! [`SMOOTHING_BLOCK`] consecutive rows, smoothed in parallel: Gauss–Seidel inside a block,
+//! `SMOOTHING_BLOCK` (32 768) consecutive rows, smoothed in parallel: Gauss–Seidel inside a block,
 //! Jacobi between blocks (a row's coupling to other blocks meets the values from before the
 //! sweep) — the "hybrid Gauss–Seidel" of Baker, Falgout, Kolev and Yang (*Multigrid smoothers
 //! for ultraparallel computing*, SIAM J. Sci. Comput. 33, 2011), which keeps the smoothing
@@ -33,9 +33,9 @@
 //! in the active bounds they eliminate. The first solve builds the block of the dofs that every
 //! solve leaves free (all but the constraints) and coarse levels for the dofs free in that solve
 //! (its active set eliminated, as above); later solves keep both and *mask* their own active set
-//! on the finest level ([`Mask`]). Their coarse space is then the first solve's, cut off at the
+//! on the finest level (`Mask`). Their coarse space is then the first solve's, cut off at the
 //! masked rows: still a symmetric positive definite cycle, and as good as a rebuilt one while the
-//! active set moves by a thin layer of vertices — when more than [`MAX_MASK_CHANGE`] of the block
+//! active set moves by a thin layer of vertices — when more than `MAX_MASK_CHANGE` (2 %) of the block
 //! changes, the coarse levels are rebuilt. The first solve of the cavitation tables starts from
 //! the previous mesh's zone, so the later ones move it by a layer or two: they took the same
 //! number of CG iterations within a few, and no block extraction or Galerkin product.
@@ -305,38 +305,21 @@ impl Level {
     /// z: the coupling to earlier blocks and the upper part.
     fn forward_sweep_from_zero(&self, r: &[f64], z: &mut [f64], mask: Mask) -> Vec<f64> {
         let a = &self.a;
-        z.par_chunks_mut(SMOOTHING_BLOCK)
-            .enumerate()
-            .for_each(|(b, zb)| {
-                let start = b * SMOOTHING_BLOCK;
-                for (k, i) in (start..start + zb.len()).enumerate() {
-                    if is_masked(mask, i) {
-                        continue;
-                    }
-                    let lower = self.first_in_block(i, start)..self.diag[i];
-                    let mut s = 0.0;
-                    for (&j, &v) in a.cols[lower.clone()].iter().zip(&a.vals[lower]) {
-                        s += v * zb[j as usize - start];
-                    }
-                    zb[k] = (r[i] - s) * self.inverse_diagonal[i];
-                }
-            });
+        by_blocks(z, mask, false, |start, i, zb| {
+            let lower = self.first_in_block(i, start)..self.diag[i];
+            let mut s = 0.0;
+            for (&j, &v) in a.cols[lower.clone()].iter().zip(&a.vals[lower]) {
+                s += v * zb[j as usize - start];
+            }
+            zb[i - start] = (r[i] - s) * self.inverse_diagonal[i];
+        });
         let mut residual = vec![0.0; r.len()];
-        residual
-            .par_chunks_mut(SMOOTHING_BLOCK)
-            .enumerate()
-            .for_each(|(b, rb)| {
-                let start = b * SMOOTHING_BLOCK;
-                for (k, i) in (start..start + rb.len()).enumerate() {
-                    if is_masked(mask, i) {
-                        continue;
-                    }
-                    let before = a.row_ptr[i]..self.first_in_block(i, start);
-                    let upper = self.diag[i] + 1..a.row_ptr[i + 1];
-                    rb[k] = -(Sparse::dot(&a.cols[before.clone()], &a.vals[before], z)
-                        + Sparse::dot(&a.cols[upper.clone()], &a.vals[upper], z));
-                }
-            });
+        by_blocks(&mut residual, mask, false, |start, i, rb| {
+            let before = a.row_ptr[i]..self.first_in_block(i, start);
+            let upper = self.diag[i] + 1..a.row_ptr[i + 1];
+            rb[i - start] = -(Sparse::dot(&a.cols[before.clone()], &a.vals[before], z)
+                + Sparse::dot(&a.cols[upper.clone()], &a.vals[upper], z));
+        });
         residual
     }
 
@@ -345,30 +328,49 @@ impl Level {
     fn backward_sweep(&self, r: &[f64], z: &mut [f64], mask: Mask) {
         let a = &self.a;
         let before = z.to_vec();
-        z.par_chunks_mut(SMOOTHING_BLOCK)
-            .enumerate()
-            .for_each(|(b, zb)| {
-                let start = b * SMOOTHING_BLOCK;
-                let block = start..start + zb.len();
-                for (k, i) in block.clone().enumerate().rev() {
-                    if is_masked(mask, i) {
-                        continue;
-                    }
-                    let (c, v) = a.row(i);
-                    let mut s = 0.0;
-                    for (&j, &v) in c.iter().zip(v) {
-                        let j = j as usize;
-                        let zj = if block.contains(&j) {
-                            zb[j - start]
-                        } else {
-                            before[j]
-                        };
-                        s += v * zj;
-                    }
-                    zb[k] += (r[i] - s) * self.inverse_diagonal[i];
-                }
-            });
+        by_blocks(z, mask, true, |start, i, zb| {
+            let block = start..start + zb.len();
+            let (c, v) = a.row(i);
+            let mut s = 0.0;
+            for (&j, &v) in c.iter().zip(v) {
+                let j = j as usize;
+                let zj = if block.contains(&j) {
+                    zb[j - start]
+                } else {
+                    before[j]
+                };
+                s += v * zj;
+            }
+            zb[i - start] += (r[i] - s) * self.inverse_diagonal[i];
+        });
     }
+}
+
+/// The smoothing blocks of `out` in parallel ([`SMOOTHING_BLOCK`] rows each): `row(start, i,
+/// block)` for every unmasked row `i` of the block that starts at row `start`, in order or in
+/// `reverse` order, with the block's part of `out` (row `i` at `i − start`).
+fn by_blocks(
+    out: &mut [f64],
+    mask: Mask,
+    reverse: bool,
+    row: impl Fn(usize, usize, &mut [f64]) + Sync,
+) {
+    out.par_chunks_mut(SMOOTHING_BLOCK)
+        .enumerate()
+        .for_each(|(b, block)| {
+            let start = b * SMOOTHING_BLOCK;
+            let rows = start..start + block.len();
+            let mut visit = |i: usize| {
+                if !is_masked(mask, i) {
+                    row(start, i, block);
+                }
+            };
+            if reverse {
+                rows.rev().for_each(&mut visit);
+            } else {
+                rows.for_each(&mut visit);
+            }
+        });
 }
 
 /// Whether row `i` is masked.
@@ -534,8 +536,8 @@ struct Prepared {
     rows: Vec<bool>,
     /// Block index → dof.
     dofs: Vec<usize>,
-    /// By block index: eliminated in the solve the coarse levels were built for.
-    coarse_eliminated: Vec<bool>,
+    /// By dof: free in the solve the coarse levels were built for.
+    coarse_free: Vec<bool>,
     cycle: VCycle,
 }
 
@@ -548,7 +550,7 @@ impl Prepared {
     fn build(
         matrix: Csc<'_>,
         rows: Vec<bool>,
-        free: &[bool],
+        free: Vec<bool>,
         hierarchy: &VertexHierarchy,
         n_components: usize,
     ) -> Result<Prepared, SolveError> {
@@ -567,11 +569,11 @@ impl Prepared {
             let row = a.row_ptr.partition_point(|&s| s <= i) - 1;
             return Err(SolveError::NonFiniteData(dofs[row]));
         }
-        let cycle = VCycle::build(hierarchy, n_components, a, &rows, free)?;
+        let cycle = VCycle::build(hierarchy, n_components, a, &rows, &free)?;
         Ok(Prepared {
             values: matrix.values.to_vec(),
             pattern: Prepared::pattern_of(matrix),
-            coarse_eliminated: dofs.iter().map(|&d| !free[d]).collect(),
+            coarse_free: free,
             rows,
             dofs,
             cycle,
@@ -582,23 +584,24 @@ impl Prepared {
         (matrix.row_idx.as_ptr() as usize, matrix.row_idx.len())
     }
 
-    /// Whether this was built for `matrix` with the block `rows`, and a solve that masks `masked`
-    /// (by block index) is close enough to the one its coarse levels were built for.
-    fn fits(&self, matrix: Csc<'_>, rows: &[bool], masked: &[bool]) -> bool {
+    /// Whether this was built for `matrix` with the block `rows`, and a solve that leaves the
+    /// dofs `solved` free is close enough to the one its coarse levels were built for.
+    fn fits(&self, matrix: Csc<'_>, rows: &[bool], solved: &[bool]) -> bool {
         let same_matrix = self.pattern == Prepared::pattern_of(matrix)
+            && self.rows == rows
             && self.values.len() == matrix.values.len()
             && self
                 .values
                 .par_iter()
                 .zip(matrix.values)
                 .all(|(a, b)| a.to_bits() == b.to_bits());
-        if !same_matrix || self.rows != rows {
+        if !same_matrix {
             return false;
         }
-        let changed = masked
+        let changed = self
+            .dofs
             .iter()
-            .zip(&self.coarse_eliminated)
-            .filter(|(a, b)| a != b)
+            .filter(|&&d| solved[d] != self.coarse_free[d])
             .count();
         changed as f64 <= MAX_MASK_CHANGE * self.dofs.len() as f64
     }
@@ -693,10 +696,10 @@ impl MultigridSolver {
             x[d] = v;
             solved[d] = false;
         }
-        let reuse = self.prepared.as_ref().is_some_and(|p| {
-            let masked: Vec<bool> = p.dofs.iter().map(|&d| !solved[d]).collect();
-            p.fits(matrix, &rows, &masked)
-        });
+        let reuse = self
+            .prepared
+            .as_ref()
+            .is_some_and(|p| p.fits(matrix, &rows, &solved));
         if !reuse {
             self.prepared = None;
             // Without a hierarchy (a mesh of one level) the coarsest level is the mesh itself.
@@ -705,7 +708,7 @@ impl MultigridSolver {
             self.prepared = Some(Box::new(Prepared::build(
                 matrix,
                 rows,
-                &solved,
+                solved.clone(),
                 hierarchy,
                 self.n_components,
             )?));
