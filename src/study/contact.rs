@@ -324,11 +324,7 @@ impl Problem for ContactProblem {
     }
 
     fn finish_cycle(&mut self, disc: &Discretisation, dofs: DofMap, solution: Solution) {
-        self.previous = Some(PreviousSolution {
-            mesh: disc.mesh.clone(),
-            dofs,
-            u: solution.u,
-        });
+        self.previous = Some(PreviousSolution::of(disc, dofs, solution.u));
     }
 
     fn pictures(

@@ -439,11 +439,7 @@ impl Problem for ModelAdaptiveContact {
     fn finish_cycle(&mut self, disc: &Discretisation, dofs: DofMap, _solution: Solution) {
         self.history.push(std::mem::take(&mut self.accurate));
         if let Some(u) = self.z_solution.take() {
-            self.previous_z = Some(PreviousSolution {
-                mesh: disc.mesh.clone(),
-                dofs,
-                u,
-            });
+            self.previous_z = Some(PreviousSolution::of(disc, dofs, u));
         }
     }
 
