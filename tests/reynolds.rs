@@ -388,7 +388,7 @@ fn auto_cavitation_switches_where_the_pressure_gets_negative() {
         let mut model = ReynoldsFilm::new(
             s.problem.reynolds().unwrap(),
             &s.scene.domain,
-            Default::default(),
+            study::solver_of(&s),
         );
         let mut adaptation = study::build_adaptation(&s.study, &s.scene);
         run_study(

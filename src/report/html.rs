@@ -992,7 +992,9 @@ fn performance_section(h: &mut String, entries: &[Entry]) {
          run side by side (<code>--jobs</code>, one per core by default) share the cores, so \
          their phases take longer than alone; run with <code>--jobs 1</code> to time one table. \
          The Reynolds systems are solved by multigrid-preconditioned CG unless the run chose \
-         <code>--solver direct</code>; the CG iterations are the most of any cycle.</p>\n",
+         <code>--solver direct</code>, the elasticity systems by the direct solver unless it \
+         chose <code>--solver multigrid</code>, the contact systems always by the direct \
+         solver; the CG iterations are the most of any cycle.</p>\n",
     );
     let _ = writeln!(
         h,
