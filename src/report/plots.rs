@@ -76,6 +76,20 @@ fn log_log_axes<'a, DB: DrawingBackend + 'a>(
     Ok(chart)
 }
 
+/// The note in place of a chart with nothing to draw, at `at` (pixels) on `area`.
+fn empty_note<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    text: &str,
+    at: (i32, i32),
+) -> io::Result<()> {
+    area.draw(&Text::new(
+        text,
+        at,
+        ("sans-serif", 18).into_font().color(&GUIDE),
+    ))
+    .map_err(plot_err)
+}
+
 /// A point that can sit on a log–log axis.
 pub(super) fn loggable(p: &(f64, f64)) -> bool {
     p.0.is_finite() && p.1.is_finite() && p.0 > 0.0 && p.1 > 0.0
@@ -365,12 +379,7 @@ fn log_log_chart(
     )?;
 
     if curves.is_empty() {
-        root.draw(&Text::new(
-            empty,
-            (280, 250),
-            ("sans-serif", 18).into_font().color(&GUIDE),
-        ))
-        .map_err(plot_err)?;
+        empty_note(root, empty, (280, 250))?;
     }
     if !guide_pts.is_empty() {
         let style = GUIDE.stroke_width(1);
@@ -570,12 +579,11 @@ fn cost_accuracy(
         ("cumulative wall seconds", estimate),
     )?;
     if points.is_empty() {
-        area.draw(&Text::new(
+        empty_note(
+            area,
             "no positive timings and estimates to plot",
             (200, 200),
-            ("sans-serif", 18).into_font().color(&GUIDE),
-        ))
-        .map_err(plot_err)?;
+        )?;
         return Ok(());
     }
     chart
@@ -2065,12 +2073,7 @@ pub fn solve_cost(path: &Path, runs: &[&RunResult]) -> io::Result<()> {
                 .legend(move |(x, y)| Circle::new((x + 11, y), 4, color.filled()));
         }
         if all.is_empty() {
-            root.draw(&Text::new(
-                "no cycle with unknowns on this page",
-                (280, 250),
-                ("sans-serif", 18).into_font().color(&GUIDE),
-            ))
-            .map_err(plot_err)?;
+            empty_note(&root, "no cycle with unknowns on this page", (280, 250))?;
         } else {
             series_legend(&mut chart, SeriesLabelPosition::UpperLeft, 16)?;
         }
