@@ -76,9 +76,14 @@ struct Head<'a> {
 }
 
 impl Head<'_> {
+    /// Bytes of the array's data.
+    fn data_bytes(&self) -> usize {
+        self.values * self.size
+    }
+
     /// Bytes in the appended section: the UInt64 count, then the data.
     fn bytes(&self) -> usize {
-        8 + self.values * self.size
+        8 + self.data_bytes()
     }
 }
 
@@ -215,7 +220,7 @@ pub fn write(out: &mut impl Write, mesh: &LastMesh) -> io::Result<()> {
 
 /// The UInt64 byte count before an array's data.
 fn count(out: &mut impl Write, h: &Head) -> io::Result<()> {
-    out.write_all(&((h.values * h.size) as u64).to_le_bytes())
+    out.write_all(&(h.data_bytes() as u64).to_le_bytes())
 }
 
 /// Doubles in little-endian order.
@@ -232,6 +237,14 @@ fn xml_escape(name: &str) -> String {
         .replace('<', "&lt;")
         .replace('>', "&gt;")
         .replace('"', "&quot;")
+}
+
+/// `name` with the replacements of [`xml_escape`] undone.
+fn xml_unescape(name: &str) -> String {
+    name.replace("&quot;", "\"")
+        .replace("&lt;", "<")
+        .replace("&gt;", ">")
+        .replace("&amp;", "&")
 }
 
 /// A `.vtu` file as [`write`] writes it, read back: the counts of its piece and every data array
@@ -301,15 +314,17 @@ pub fn read(bytes: &[u8]) -> io::Result<VtuFile> {
             attribute(tag, "Name")?,
             number(tag, "offset")?,
         );
-        let word = |at: usize| -> io::Result<[u8; 8]> {
-            data.get(at..at + 8)
-                .and_then(|b| b.try_into().ok())
-                .ok_or_else(|| invalid(format!("array {name} runs past the end of the file")))
-        };
-        let n_bytes = u64::from_le_bytes(word(offset)?) as usize;
-        let body = data
-            .get(offset + 8..offset + 8 + n_bytes)
-            .ok_or_else(|| invalid(format!("array {name} runs past the end of the file")))?;
+        let past_end = || invalid(format!("array {name} runs past the end of the file"));
+        let start = offset.checked_add(8).ok_or_else(past_end)?;
+        let count: [u8; 8] = data
+            .get(offset..start)
+            .and_then(|b| b.try_into().ok())
+            .ok_or_else(past_end)?;
+        let end = usize::try_from(u64::from_le_bytes(count))
+            .ok()
+            .and_then(|n| start.checked_add(n))
+            .ok_or_else(past_end)?;
+        let body = data.get(start..end).ok_or_else(past_end)?;
         let values: Vec<f64> = match kind.as_str() {
             "Float64" => body
                 .chunks_exact(8)
@@ -322,13 +337,7 @@ pub fn read(bytes: &[u8]) -> io::Result<VtuFile> {
             "UInt8" => body.iter().map(|&b| b as f64).collect(),
             other => return Err(invalid(format!("array {name}: type {other} not read"))),
         };
-        arrays.push((
-            name.replace("&quot;", "\"")
-                .replace("&lt;", "<")
-                .replace("&gt;", ">")
-                .replace("&amp;", "&"),
-            values,
-        ));
+        arrays.push((xml_unescape(&name), values));
     }
     Ok(VtuFile {
         points,
@@ -421,6 +430,16 @@ mod tests {
         let mut out = Vec::new();
         write(&mut out, &square()).unwrap();
         let e = read(&out[..out.len() - 40]).unwrap_err();
+        assert!(e.to_string().contains("runs past the end"), "{e}");
+        // A byte count near 2⁶⁴ is an error, not an overflow.
+        let data = out
+            .windows(2)
+            .position(|w| w == b"\n_")
+            .expect("appended data")
+            + 2;
+        let mut huge = out.clone();
+        huge[data..data + 8].copy_from_slice(&(u64::MAX - 3).to_le_bytes());
+        let e = read(&huge).unwrap_err();
         assert!(e.to_string().contains("runs past the end"), "{e}");
         assert!(read(b"<VTKFile>").is_err());
     }
