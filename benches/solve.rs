@@ -13,11 +13,11 @@ use std::time::Instant;
 use tribo::experiment;
 use tribo::fe::hierarchy::vertex_hierarchy;
 use tribo::fe::System;
-use tribo::linalg::multigrid::MultigridSolver;
-use tribo::linalg::DirectSolver;
+use tribo::linalg::{LinearSolver, SolverKind};
 use tribo::mesh::Mesh;
 use tribo::models::elasticity::Elasticity;
 use tribo::models::reynolds::{Load, ReynoldsProblem};
+use tribo::study::problem::PrepareSolver;
 
 const TARGETS: [usize; 4] = [50_000, 200_000, 700_000, 1_500_000];
 
@@ -111,18 +111,19 @@ fn one(problem: &str, target: usize, solver: &str) {
         elasticity.assemble(&mesh, &mut system);
     }
     let n = system.dofs.n_dofs();
-    let m = measure(|| match solver {
-        "direct" => {
-            let mut s = DirectSolver::cholesky();
-            s.reorder(system.ordering());
-            (system.solve(&mut s).expect("direct solve"), None)
-        }
-        _ => {
-            let mut s = MultigridSolver::default();
-            s.set_hierarchy(vertex_hierarchy(&mesh, &system.dofs.vertices), components);
-            let u = system.solve(&mut s).expect("multigrid solve");
-            (u, s.take_iterations().first().copied())
-        }
+    let kind = match solver {
+        "direct" => SolverKind::Direct,
+        _ => SolverKind::Multigrid,
+    };
+    // Prepared and solved as a study's cycle does (study::problem::setup_system).
+    let m = measure(|| {
+        let mut s = LinearSolver::spd(kind);
+        let levels = s
+            .needs_levels()
+            .then(|| vertex_hierarchy(&mesh, &system.dofs.vertices));
+        s.prepare(&system, levels);
+        let u = system.solve(&mut s).expect("solve");
+        (u, s.take_iterations().and_then(|k| k.first().copied()))
     });
     let finite = m.solution.iter().all(|v| v.is_finite());
     assert!(finite, "{problem} {n} {solver}: a non-finite solution");
