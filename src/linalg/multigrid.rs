@@ -150,23 +150,37 @@ impl Sparse {
                 (ends, entries)
             })
             .collect();
-        let nnz = blocks.iter().map(|b| b.1.len()).sum();
-        let mut m = Sparse {
-            n_cols,
-            row_ptr: Vec::with_capacity(n_rows + 1),
-            cols: Vec::with_capacity(nnz),
-            vals: Vec::with_capacity(nnz),
-        };
-        m.row_ptr.push(0);
-        for (ends, entries) in blocks {
-            let base = m.cols.len();
-            m.row_ptr.extend(ends.into_iter().map(|e| base + e));
-            for (j, v) in entries {
-                m.cols.push(j);
-                m.vals.push(v);
-            }
+        // Stitched in parallel: each block's entries go to their place in the whole.
+        let mut row_ptr = Vec::with_capacity(n_rows + 1);
+        row_ptr.push(0);
+        for (ends, entries) in &blocks {
+            let base = *row_ptr.last().expect("starts with 0");
+            row_ptr.extend(ends.iter().map(|e| base + e));
+            debug_assert_eq!(ends.last().copied().unwrap_or(0), entries.len());
         }
-        m
+        let nnz = *row_ptr.last().expect("starts with 0");
+        let mut cols = vec![0u32; nnz];
+        let mut vals = vec![0.0; nnz];
+        let mut pieces = Vec::with_capacity(blocks.len());
+        let (mut c_rest, mut v_rest) = (&mut cols[..], &mut vals[..]);
+        for (_, entries) in &blocks {
+            let (c, c_tail) = c_rest.split_at_mut(entries.len());
+            let (v, v_tail) = v_rest.split_at_mut(entries.len());
+            pieces.push((c, v, entries));
+            (c_rest, v_rest) = (c_tail, v_tail);
+        }
+        pieces.into_par_iter().for_each(|(c, v, entries)| {
+            for ((c, v), &(j, a)) in c.iter_mut().zip(v.iter_mut()).zip(entries.iter()) {
+                *c = j;
+                *v = a;
+            }
+        });
+        Sparse {
+            n_cols,
+            row_ptr,
+            cols,
+            vals,
+        }
     }
 
     /// y = A x, rows in parallel, each summed in order.
@@ -292,18 +306,22 @@ impl Level {
     }
 
     /// Position of the first entry of row `i` in the smoothing block that starts at row `start`:
-    /// the entries before it are the row's coupling to earlier blocks.
+    /// the entries before it are the row's coupling to earlier blocks (none in most rows).
     #[inline]
     fn first_in_block(&self, i: usize, start: usize) -> usize {
-        let lower = self.a.row_ptr[i]..self.diag[i];
+        let first = self.a.row_ptr[i];
+        if self.a.cols[first] as usize >= start {
+            return first;
+        }
+        let lower = first..self.diag[i];
         lower.start + self.a.cols[lower].partition_point(|&j| (j as usize) < start)
     }
 
     /// One forward sweep for A z = r from z = 0 (module docs, *hybrid Gauss–Seidel*): in each
     /// block the lower part of a row inside the block meets the new z, the part in earlier blocks
-    /// the initial zero. Returns the residual r − A z, which is then minus the rest of A times
-    /// z: the coupling to earlier blocks and the upper part.
-    fn forward_sweep_from_zero(&self, r: &[f64], z: &mut [f64], mask: Mask) -> Vec<f64> {
+    /// the initial zero. Writes the residual r − A z to `residual`: minus the rest of A times z,
+    /// the coupling to earlier blocks and the upper part.
+    fn forward_sweep_from_zero(&self, r: &[f64], z: &mut [f64], residual: &mut [f64], mask: Mask) {
         let a = &self.a;
         by_blocks(z, mask, false, |start, i, zb| {
             let lower = self.first_in_block(i, start)..self.diag[i];
@@ -313,33 +331,46 @@ impl Level {
             }
             zb[i - start] = (r[i] - s) * self.inverse_diagonal[i];
         });
-        let mut residual = vec![0.0; r.len()];
-        by_blocks(&mut residual, mask, false, |start, i, rb| {
+        if mask.is_some() {
+            residual.fill(0.0);
+        }
+        by_blocks(residual, mask, false, |start, i, rb| {
             let before = a.row_ptr[i]..self.first_in_block(i, start);
             let upper = self.diag[i] + 1..a.row_ptr[i + 1];
             rb[i - start] = -(Sparse::dot(&a.cols[before.clone()], &a.vals[before], z)
                 + Sparse::dot(&a.cols[upper.clone()], &a.vals[upper], z));
         });
-        residual
     }
 
     /// One backward sweep for A z = r, the adjoint of the forward one: in each block, rows in
-    /// reverse order, the part of a row in other blocks meeting z as it was before the sweep.
-    fn backward_sweep(&self, r: &[f64], z: &mut [f64], mask: Mask) {
+    /// reverse order, the part of a row in other blocks meeting z as it was before the sweep
+    /// (`before`, a copy of z).
+    fn backward_sweep(&self, r: &[f64], z: &mut [f64], before: &mut [f64], mask: Mask) {
         let a = &self.a;
-        let before = z.to_vec();
+        before
+            .par_chunks_mut(SMOOTHING_BLOCK)
+            .zip(z.par_chunks(SMOOTHING_BLOCK))
+            .for_each(|(b, z)| b.copy_from_slice(z));
+        let before = &*before;
         by_blocks(z, mask, true, |start, i, zb| {
-            let block = start..start + zb.len();
+            let end = start + zb.len();
             let (c, v) = a.row(i);
+            let inside = c[0] as usize >= start && (c[c.len() - 1] as usize) < end;
             let mut s = 0.0;
-            for (&j, &v) in c.iter().zip(v) {
-                let j = j as usize;
-                let zj = if block.contains(&j) {
-                    zb[j - start]
-                } else {
-                    before[j]
-                };
-                s += v * zj;
+            if inside {
+                for (&j, &v) in c.iter().zip(v) {
+                    s += v * zb[j as usize - start];
+                }
+            } else {
+                for (&j, &v) in c.iter().zip(v) {
+                    let j = j as usize;
+                    let zj = if (start..end).contains(&j) {
+                        zb[j - start]
+                    } else {
+                        before[j]
+                    };
+                    s += v * zj;
+                }
             }
             zb[i - start] += (r[i] - s) * self.inverse_diagonal[i];
         });
@@ -393,6 +424,28 @@ struct VCycle {
     /// Coarsest first.
     levels: Vec<Level>,
     coarse: RefCell<Option<CholeskyFactor>>,
+    /// The vectors of one application, kept across the iterations of a solve.
+    work: RefCell<Vec<Work>>,
+}
+
+/// The vectors of a V-cycle on one level: its right-hand side and correction, the residual after
+/// the forward sweep, the correction before the backward sweep (all of the level's size).
+struct Work {
+    r: Vec<f64>,
+    z: Vec<f64>,
+    residual: Vec<f64>,
+    before: Vec<f64>,
+}
+
+impl Work {
+    fn new(n: usize) -> Work {
+        Work {
+            r: vec![0.0; n],
+            z: vec![0.0; n],
+            residual: vec![0.0; n],
+            before: vec![0.0; n],
+        }
+    }
 }
 
 impl VCycle {
@@ -445,38 +498,51 @@ impl VCycle {
         let coarse = factor(&coarsest)?;
         levels_fine_first.push(coarsest);
         levels_fine_first.reverse();
+        let work = levels_fine_first
+            .iter()
+            .map(|l| Work::new(l.a.n_rows()))
+            .collect();
         Ok(VCycle {
             levels: levels_fine_first,
             coarse: RefCell::new(coarse),
+            work: RefCell::new(work),
         })
     }
 
-    /// z = V(r) on level `k`; `mask` applies to the rows of that level (the finest).
-    fn cycle(&self, k: usize, r: &[f64], mask: Mask) -> Vec<f64> {
+    /// z = V(r) on level `k` with `work` the vectors of levels 0..=k, r in `work[k].r` (unless
+    /// given as `top_r` on the finest level) and z into `work[k].z`; `mask` applies to the rows
+    /// of that level (the finest).
+    fn cycle(&self, k: usize, work: &mut [Work], top_r: Option<&[f64]>, mask: Mask) {
         let level = &self.levels[k];
+        let (coarser, this) = work.split_at_mut(k);
+        let Work {
+            r,
+            z,
+            residual,
+            before,
+        } = &mut this[0];
+        let r = top_r.unwrap_or(r);
         let Some((p, pt)) = &level.p else {
-            let mut z = r.to_vec();
+            z.copy_from_slice(r);
             if let Some(f) = self.coarse.borrow_mut().as_mut() {
-                f.solve_in_place(&mut z);
+                f.solve_in_place(z);
             }
             for (i, z) in z.iter_mut().enumerate() {
                 if is_masked(mask, i) {
                     *z = 0.0;
                 }
             }
-            return z;
+            return;
         };
-        let mut z = vec![0.0; r.len()];
-        let mut residual = level.forward_sweep_from_zero(r, &mut z, mask);
-        let mut coarse_r = vec![0.0; pt.n_rows()];
-        pt.multiply_into(&residual, &mut coarse_r);
-        let coarse_z = self.cycle(k - 1, &coarse_r, None);
-        p.multiply_masked(&coarse_z, &mut residual, mask);
-        for (z, c) in z.iter_mut().zip(&residual) {
-            *z += c;
-        }
-        level.backward_sweep(r, &mut z, mask);
-        z
+        z.fill(0.0);
+        level.forward_sweep_from_zero(r, z, residual, mask);
+        pt.multiply_into(residual, &mut coarser[k - 1].r);
+        self.cycle(k - 1, coarser, None, None);
+        p.multiply_masked(&coarser[k - 1].z, residual, mask);
+        z.par_iter_mut()
+            .zip(residual.par_iter())
+            .for_each(|(z, c)| *z += c);
+        level.backward_sweep(r, z, before, mask);
     }
 }
 
@@ -489,7 +555,9 @@ struct MaskedCycle<'a> {
 impl Preconditioner for MaskedCycle<'_> {
     fn apply(&self, r: &[f64], z: &mut [f64]) {
         let top = self.cycle.levels.len() - 1;
-        z.copy_from_slice(&self.cycle.cycle(top, r, self.mask));
+        let mut work = self.cycle.work.borrow_mut();
+        self.cycle.cycle(top, &mut work, Some(r), self.mask);
+        z.copy_from_slice(&work[top].z);
     }
 }
 
