@@ -264,6 +264,7 @@ pub fn primal_dual_active_set(
         ),
     };
     let matrix = problem.matrix.with_values(&values);
+    solver.set_rotation(problem.rotation.map_or(&[], |r| &r.frames[..]));
     let diag = matrix.diagonal();
     let rho = problem.row_sign();
     let bounds = problem.bounds;

@@ -47,6 +47,11 @@ pub trait SolveConstrained {
         always: usize,
     ) -> Result<Vec<f64>, SolveError>;
 
+    /// The vertices whose two dofs the next solves take in their normal and tangential frame
+    /// (the contact solves, [`super::active_set::Rotation`]); nothing to do for a solver that
+    /// does not look at the mesh.
+    fn set_rotation(&mut self, _rotated: &[(u32, [f64; 2])]) {}
+
     /// The solve with every entry of `eliminated` a constraint.
     fn solve(
         &mut self,
@@ -80,6 +85,10 @@ impl SolveConstrained for MultigridSolver {
         always: usize,
     ) -> Result<Vec<f64>, SolveError> {
         MultigridSolver::solve_overlay(self, matrix, rhs, eliminated, always)
+    }
+
+    fn set_rotation(&mut self, rotated: &[(u32, [f64; 2])]) {
+        MultigridSolver::set_rotation(self, rotated);
     }
 }
 
@@ -126,6 +135,12 @@ impl SolveConstrained for LinearSolver {
         match self {
             LinearSolver::Direct(d) => d.solve(matrix, rhs, eliminated),
             LinearSolver::Multigrid(m) => m.solve_overlay(matrix, rhs, eliminated, always),
+        }
+    }
+
+    fn set_rotation(&mut self, rotated: &[(u32, [f64; 2])]) {
+        if let LinearSolver::Multigrid(m) = self {
+            m.set_rotation(rotated);
         }
     }
 }
