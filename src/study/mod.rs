@@ -258,7 +258,7 @@ fn feasible(experiment: &Experiment) -> Result<(), RunError> {
 /// components, the component-wise prolongation no longer fits and CG took 100–500 iterations,
 /// growing with the mesh (IV.6–IV.17, tried). With a prolongation that rotates too
 /// ([`crate::linalg::multigrid`], *Rotated frames*) it took 16–102 iterations on IV.14, still
-/// growing with the mesh, the solve phases of IV.6, IV.10 and IV.14 were 2–4 times the direct
+/// growing with the mesh, the solve phases of IV.6, IV.10 and IV.14 were 1.7–4 times the direct
 /// solver's, and IV.10 refined to 2 dofs more in cycle 1 (a marking tie decided otherwise; the
 /// cycle-0 estimates of the two solvers are 6.5e-12 apart).
 pub fn solver_of(experiment: &Experiment) -> SolverKind {
