@@ -2,6 +2,8 @@
 //! definite operators, with a pluggable preconditioner: the inner solver of the Uzawa variants
 //! of §III.2.3.4 (III.88)–(III.92), and the iterative alternative to the direct solvers.
 
+use rayon::prelude::*;
+
 use super::Csc;
 
 /// A symmetric positive definite approximation M ≈ A, applied as z = M⁻¹r.
@@ -72,13 +74,89 @@ pub enum CgError {
     NonFinite(usize),
 }
 
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
+/// How CG runs its vector operations (dot products and updates).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum VectorOps {
+    /// One thread; every dot product summed from the first entry to the last.
+    Sequential,
+    /// In parallel over fixed chunks of [`CHUNK`] entries: each chunk's part of a dot product
+    /// summed in order, the parts summed in chunk order — the same bits whatever the number of
+    /// threads, and those of [`VectorOps::Sequential`] for vectors of at most one chunk.
+    Chunked,
+}
+
+/// Entries per chunk of [`VectorOps::Chunked`].
+pub const CHUNK: usize = 16384;
+
+impl VectorOps {
+    fn dot(self, a: &[f64], b: &[f64]) -> f64 {
+        let sum = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+        match self {
+            VectorOps::Sequential => sum(a, b),
+            VectorOps::Chunked => a
+                .par_chunks(CHUNK)
+                .zip(b.par_chunks(CHUNK))
+                .map(|(a, b)| sum(a, b))
+                .collect::<Vec<f64>>()
+                .into_iter()
+                .sum(),
+        }
+    }
+
+    /// x += α p and r −= α q; returns ‖r‖₂² of the updated r.
+    fn step(self, alpha: f64, p: &[f64], q: &[f64], x: &mut [f64], r: &mut [f64]) -> f64 {
+        let step = |p: &[f64], q: &[f64], x: &mut [f64], r: &mut [f64]| {
+            for i in 0..x.len() {
+                x[i] += alpha * p[i];
+                r[i] -= alpha * q[i];
+            }
+            r.iter().map(|r| r * r).sum::<f64>()
+        };
+        match self {
+            VectorOps::Sequential => step(p, q, x, r),
+            VectorOps::Chunked => x
+                .par_chunks_mut(CHUNK)
+                .zip(r.par_chunks_mut(CHUNK))
+                .zip(p.par_chunks(CHUNK).zip(q.par_chunks(CHUNK)))
+                .map(|((x, r), (p, q))| step(p, q, x, r))
+                .collect::<Vec<f64>>()
+                .into_iter()
+                .sum(),
+        }
+    }
+
+    /// p = z + β p.
+    fn direction(self, beta: f64, z: &[f64], p: &mut [f64]) {
+        let update = |z: &[f64], p: &mut [f64]| {
+            for (p, z) in p.iter_mut().zip(z) {
+                *p = z + beta * *p;
+            }
+        };
+        match self {
+            VectorOps::Sequential => update(z, p),
+            VectorOps::Chunked => p
+                .par_chunks_mut(CHUNK)
+                .zip(z.par_chunks(CHUNK))
+                .for_each(|(p, z)| update(z, p)),
+        }
+    }
 }
 
 /// Solve A x = b by preconditioned CG from the initial guess in `x`; `apply(v, out)` computes
-/// out = A v.
+/// out = A v. The vector operations run on one thread ([`conjugate_gradient_with`]).
 pub fn conjugate_gradient(
+    apply: impl Fn(&[f64], &mut [f64]),
+    b: &[f64],
+    x: &mut [f64],
+    preconditioner: &dyn Preconditioner,
+    stopping: Stopping,
+) -> Result<CgReport, CgError> {
+    conjugate_gradient_with(VectorOps::Sequential, apply, b, x, preconditioner, stopping)
+}
+
+/// [`conjugate_gradient`] with the vector operations run by `ops`.
+pub fn conjugate_gradient_with(
+    ops: VectorOps,
     apply: impl Fn(&[f64], &mut [f64]),
     b: &[f64],
     x: &mut [f64],
@@ -91,13 +169,15 @@ pub fn conjugate_gradient(
     for (r, b) in r.iter_mut().zip(b) {
         *r = b - *r;
     }
-    let target = stopping.absolute.max(stopping.relative * dot(b, b).sqrt());
+    let target = stopping
+        .absolute
+        .max(stopping.relative * ops.dot(b, b).sqrt());
     let mut z = vec![0.0; n];
     preconditioner.apply(&r, &mut z);
     let mut p = z.clone();
     let mut ap = vec![0.0; n];
-    let mut rz = dot(&r, &z);
-    let mut residual = dot(&r, &r).sqrt();
+    let mut rz = ops.dot(&r, &z);
+    let mut residual = ops.dot(&r, &r).sqrt();
     for iteration in 0..stopping.max_iterations {
         if residual <= target {
             return Ok(CgReport {
@@ -106,7 +186,7 @@ pub fn conjugate_gradient(
             });
         }
         apply(&p, &mut ap);
-        let pap = dot(&p, &ap);
+        let pap = ops.dot(&p, &ap);
         if !pap.is_finite() {
             return Err(CgError::NonFinite(iteration + 1));
         }
@@ -114,18 +194,12 @@ pub fn conjugate_gradient(
             return Err(CgError::Breakdown(iteration + 1));
         }
         let alpha = rz / pap;
-        for i in 0..n {
-            x[i] += alpha * p[i];
-            r[i] -= alpha * ap[i];
-        }
+        residual = ops.step(alpha, &p, &ap, x, &mut r).sqrt();
         preconditioner.apply(&r, &mut z);
-        let rz_next = dot(&r, &z);
+        let rz_next = ops.dot(&r, &z);
         let beta = rz_next / rz;
         rz = rz_next;
-        for i in 0..n {
-            p[i] = z[i] + beta * p[i];
-        }
-        residual = dot(&r, &r).sqrt();
+        ops.direction(beta, &z, &mut p);
         if !residual.is_finite() {
             return Err(CgError::NonFinite(iteration + 1));
         }

@@ -68,7 +68,7 @@ use std::cell::RefCell;
 
 use rayon::prelude::*;
 
-use super::krylov::{conjugate_gradient, CgError, Preconditioner, Stopping};
+use super::krylov::{conjugate_gradient_with, CgError, Preconditioner, Stopping, VectorOps};
 use super::{CholeskyFactor, Csc, SolveError};
 
 /// The prolongation from the vertices of one level mesh to those of the next finer kept one
@@ -197,6 +197,48 @@ impl Sparse {
         }
     }
 
+    /// The matrix with `n_rows` rows of `len(i)` entries each, row `i` written by `fill(i,
+    /// cols, vals)` into its place (sorted by column) — in parallel over blocks of rows, with no
+    /// copy of the entries: for rows whose length is cheap to know beforehand.
+    fn by_counted_rows<L, F>(n_rows: usize, n_cols: usize, len: L, fill: F) -> Sparse
+    where
+        L: Fn(usize) -> usize + Sync,
+        F: Fn(usize, &mut [u32], &mut [f64]) + Sync,
+    {
+        let lens: Vec<usize> = (0..n_rows).into_par_iter().map(&len).collect();
+        let mut row_ptr = Vec::with_capacity(n_rows + 1);
+        row_ptr.push(0);
+        for l in lens {
+            row_ptr.push(row_ptr[row_ptr.len() - 1] + l);
+        }
+        let nnz = row_ptr[n_rows];
+        let mut cols = vec![0u32; nnz];
+        let mut vals = vec![0.0; nnz];
+        let mut pieces = Vec::with_capacity(n_rows.div_ceil(ROWS_PER_TASK));
+        let (mut c_rest, mut v_rest) = (&mut cols[..], &mut vals[..]);
+        for first in (0..n_rows).step_by(ROWS_PER_TASK) {
+            let rows = first..(first + ROWS_PER_TASK).min(n_rows);
+            let len = row_ptr[rows.end] - row_ptr[rows.start];
+            let (c, c_tail) = c_rest.split_at_mut(len);
+            let (v, v_tail) = v_rest.split_at_mut(len);
+            pieces.push((rows, c, v));
+            (c_rest, v_rest) = (c_tail, v_tail);
+        }
+        pieces.into_par_iter().for_each(|(rows, c, v)| {
+            let base = row_ptr[rows.start];
+            for i in rows {
+                let r = row_ptr[i] - base..row_ptr[i + 1] - base;
+                fill(i, &mut c[r.clone()], &mut v[r]);
+            }
+        });
+        Sparse {
+            n_cols,
+            row_ptr,
+            cols,
+            vals,
+        }
+    }
+
     /// y = A x, rows in parallel, each summed in order.
     fn multiply_into(&self, x: &[f64], y: &mut [f64]) {
         self.multiply_masked(x, y, None);
@@ -211,6 +253,16 @@ impl Sparse {
                 let (c, v) = self.row(i);
                 Sparse::dot(c, v, x)
             };
+        });
+    }
+
+    /// y += A x on the rows that are not masked.
+    fn add_product_masked(&self, x: &[f64], y: &mut [f64], mask: Mask) {
+        y.par_iter_mut().enumerate().for_each(|(i, y)| {
+            if !is_masked(mask, i) {
+                let (c, v) = self.row(i);
+                *y += Sparse::dot(c, v, x);
+            }
         });
     }
 
@@ -466,10 +518,13 @@ struct Work {
 }
 
 impl Work {
-    fn new(n: usize) -> Work {
+    /// The vectors of a level of `n` rows; on the finest level (`top`) r and z are those of the
+    /// application ([`VCycle::cycle`]).
+    fn new(n: usize, top: bool) -> Work {
+        let own = if top { 0 } else { n };
         Work {
-            r: vec![0.0; n],
-            z: vec![0.0; n],
+            r: vec![0.0; own],
+            z: vec![0.0; own],
             residual: vec![0.0; n],
             before: vec![0.0; n],
         }
@@ -564,9 +619,11 @@ impl VCycle {
         };
         levels_fine_first.push(coarsest);
         levels_fine_first.reverse();
+        let top = levels_fine_first.len() - 1;
         let work = levels_fine_first
             .iter()
-            .map(|l| Work::new(l.a.n_rows()))
+            .enumerate()
+            .map(|(k, l)| Work::new(l.a.n_rows(), k == top))
             .collect();
         Ok(VCycle {
             levels: levels_fine_first,
@@ -575,19 +632,22 @@ impl VCycle {
         })
     }
 
-    /// z = V(r) on level `k` with `work` the vectors of levels 0..=k, r in `work[k].r` (unless
-    /// given as `top_r` on the finest level) and z into `work[k].z`; `mask` applies to the rows
-    /// of that level (the finest).
-    fn cycle(&self, k: usize, work: &mut [Work], top_r: Option<&[f64]>, mask: Mask) {
+    /// z = V(r) on level `k` with `work` the vectors of levels 0..=k: r in `work[k].r` and z into
+    /// `work[k].z`, or on the finest level the given `top` (r, z); `mask` applies to the rows of
+    /// that level (the finest).
+    fn cycle(&self, k: usize, work: &mut [Work], top: Option<(&[f64], &mut [f64])>, mask: Mask) {
         let level = &self.levels[k];
         let (coarser, this) = work.split_at_mut(k);
         let Work {
-            r,
-            z,
+            r: own_r,
+            z: own_z,
             residual,
             before,
         } = &mut this[0];
-        let r = top_r.unwrap_or(r);
+        let (r, z): (&[f64], &mut [f64]) = match top {
+            Some((r, z)) => (r, z),
+            None => (own_r, own_z),
+        };
         let Some((p, pt)) = &level.p else {
             z.copy_from_slice(r);
             if let Some(f) = self.coarse.borrow_mut().as_mut() {
@@ -600,14 +660,14 @@ impl VCycle {
             }
             return;
         };
-        z.fill(0.0);
+        if mask.is_some() {
+            // The sweep reads only entries it wrote before, but for masked rows.
+            z.fill(0.0);
+        }
         level.forward_sweep_from_zero(r, z, residual, mask);
         pt.multiply_into(residual, &mut coarser[k - 1].r);
         self.cycle(k - 1, coarser, None, None);
-        p.multiply_masked(&coarser[k - 1].z, residual, mask);
-        z.par_iter_mut()
-            .zip(residual.par_iter())
-            .for_each(|(z, c)| *z += c);
+        p.add_product_masked(&coarser[k - 1].z, z, mask);
         level.backward_sweep(r, z, before, mask);
     }
 }
@@ -622,8 +682,7 @@ impl Preconditioner for MaskedCycle<'_> {
     fn apply(&self, r: &[f64], z: &mut [f64]) {
         let top = self.cycle.levels.len() - 1;
         let mut work = self.cycle.work.borrow_mut();
-        self.cycle.cycle(top, &mut work, Some(r), self.mask);
-        z.copy_from_slice(&work[top].z);
+        self.cycle.cycle(top, &mut work, Some((r, z)), self.mask);
     }
 }
 
@@ -678,13 +737,27 @@ fn factor(level: &Level) -> Result<Option<CholeskyFactor>, SolveError> {
     CholeskyFactor::new(csc, None).map(Some)
 }
 
+/// The block of a symmetric matrix on the dofs `rows` (`true` in the block).
+#[derive(Clone, Copy)]
+struct BlockOf<'a> {
+    matrix: Csc<'a>,
+    rows: &'a [bool],
+}
+
+impl BlockOf<'_> {
+    /// The positions of the entries of dof `d`'s row (= column) inside the block, in order.
+    fn entries(&self, d: usize) -> impl Iterator<Item = usize> + '_ {
+        let (matrix, rows) = (self.matrix, self.rows);
+        (matrix.col_ptr[d]..matrix.col_ptr[d + 1]).filter(move |&p| rows[matrix.row_idx[p]])
+    }
+}
+
 /// The operator of one matrix made ready for its solves (module docs, *Active sets*): the block
 /// of the dofs that every solve leaves free and its V-cycle, whose coarse levels are those of the
 /// dofs free in the first solve.
 struct Prepared {
-    /// The matrix it was built from: its values (compared bitwise before reuse) and the address
-    /// and length of its pattern.
-    values: Vec<f64>,
+    /// The address and length of the pattern of the matrix it was built from (its values are
+    /// those of the block, compared bitwise before reuse).
     pattern: (usize, usize),
     /// By dof: `true` in the block (not eliminated by the constraints).
     rows: Vec<bool>,
@@ -711,22 +784,27 @@ impl Prepared {
     ) -> Result<Prepared, SolveError> {
         let index = numbering(&rows);
         let dofs: Vec<usize> = (0..rows.len()).filter(|&d| rows[d]).collect();
-        let a = Sparse::by_rows(dofs.len(), dofs.len(), |i, out| {
-            let d = dofs[i];
-            for p in matrix.col_ptr[d]..matrix.col_ptr[d + 1] {
-                let j = matrix.row_idx[p];
-                if rows[j] {
-                    out.push((index[j] as u32, matrix.values[p]));
+        let block = BlockOf {
+            matrix,
+            rows: &rows,
+        };
+        let a = Sparse::by_counted_rows(
+            dofs.len(),
+            dofs.len(),
+            |i| block.entries(dofs[i]).count(),
+            |i, cols, vals| {
+                for ((c, v), p) in cols.iter_mut().zip(vals).zip(block.entries(dofs[i])) {
+                    *c = index[matrix.row_idx[p]] as u32;
+                    *v = matrix.values[p];
                 }
-            }
-        });
+            },
+        );
         if let Some(i) = a.vals.iter().position(|v| !v.is_finite()) {
             let row = a.row_ptr.partition_point(|&s| s <= i) - 1;
             return Err(SolveError::NonFiniteData(dofs[row]));
         }
         let cycle = VCycle::build(hierarchy, n_components, frames, a, &rows, &free)?;
         Ok(Prepared {
-            values: matrix.values.to_vec(),
             pattern: Prepared::pattern_of(matrix),
             coarse_free: free,
             rows,
@@ -742,14 +820,19 @@ impl Prepared {
     /// Whether this was built for `matrix` with the block `rows`, and a solve that leaves the
     /// dofs `solved` free is close enough to the one its coarse levels were built for.
     fn fits(&self, matrix: Csc<'_>, rows: &[bool], solved: &[bool]) -> bool {
-        let same_matrix = self.pattern == Prepared::pattern_of(matrix)
-            && self.rows == rows
-            && self.values.len() == matrix.values.len()
-            && self
-                .values
-                .par_iter()
-                .zip(matrix.values)
-                .all(|(a, b)| a.to_bits() == b.to_bits());
+        let same_matrix = self.pattern == Prepared::pattern_of(matrix) && self.rows == rows && {
+            // The solves read the block from here and the rest of the matrix afresh.
+            let (block, kept) = (self.block(), BlockOf { matrix, rows });
+            self.dofs.par_iter().enumerate().all(|(i, &d)| {
+                let (_, vals) = block.row(i);
+                let mut entries = kept.entries(d);
+                vals.iter().all(|v| {
+                    entries
+                        .next()
+                        .is_some_and(|p| matrix.values[p].to_bits() == v.to_bits())
+                }) && entries.next().is_none()
+            })
+        };
         if !same_matrix {
             return false;
         }
@@ -937,7 +1020,8 @@ impl MultigridSolver {
             cycle: &prepared.cycle,
             mask,
         };
-        let report = conjugate_gradient(
+        let report = conjugate_gradient_with(
+            VectorOps::Sequential,
             |v, out| block.multiply_masked(v, out, mask),
             &b,
             &mut xf,
