@@ -20,6 +20,7 @@
 //! refined mesh therefore describes the same body as its coarse grid, and the Q₁ spaces of the
 //! refinements are nested (the hanging-node constraint "mean of the two ends" stays exact).
 
+use rayon::prelude::*;
 use serde::Deserialize;
 
 /// Deepest refinement level a cell can reach: the mesh supports `MAX_LEVEL` refinement levels
@@ -458,6 +459,39 @@ pub struct Mesh {
     active: Vec<CellId>,
     /// Position of each cell in `active` (`NONE` for refined cells).
     active_index: Vec<u32>,
+    /// Which storage this is, and which one it was rebuilt from ([`Lineage`]).
+    lineage: Lineage,
+}
+
+/// The identity of a mesh's storage: a stamp that no other storage in the process has (a clone
+/// keeps it: same cells, same ids), and after a refinement ([`Mesh::refine_and_coarsen`]) the
+/// stamp of the storage it was rebuilt from with the id each cell had there (`NONE` for a cell
+/// the refinement created). It lets the next cycle find the cells it kept without searching
+/// their positions ([`Mesh::kept_from`]).
+#[derive(Clone, Debug)]
+struct Lineage {
+    stamp: u64,
+    before: Option<(u64, Vec<CellId>)>,
+}
+
+impl Lineage {
+    /// The lineage of new storage, rebuilt from the storage stamped `before` (with the old id of
+    /// each cell), or of none.
+    fn new(before: Option<(u64, Vec<CellId>)>) -> Lineage {
+        static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+        Lineage {
+            stamp: NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
+            before,
+        }
+    }
+}
+
+/// What a later mesh needs of this one to find the cells it kept ([`Mesh::kept_from`]): the
+/// stamp of its storage and the active index of each cell.
+#[derive(Clone, Debug)]
+pub struct ActiveCells {
+    stamp: u64,
+    active_index: Vec<u32>,
 }
 
 impl Mesh {
@@ -506,6 +540,7 @@ impl Mesh {
             cells,
             active,
             active_index,
+            lineage: Lineage::new(None),
         })
     }
 
@@ -991,9 +1026,11 @@ impl Mesh {
         // Breadth-first over levels so that children are consecutive; the active list is then
         // collected depth-first.
         let mut queue: Vec<(u32, u32)> = (0..roots as u32).map(|i| (i, i)).collect(); // (old, new)
+        let mut old_id = vec![NONE; n_cells];
         let mut head = 0;
         while head < queue.len() {
             let (old, new) = queue[head];
+            old_id[new as usize] = old;
             head += 1;
             let oc = self.cells[old as usize];
             let keep_children = oc.children != NONE && !coarsen_parent[old as usize];
@@ -1019,7 +1056,45 @@ impl Mesh {
         }
         assert_eq!(cells.len(), n_cells, "cells counted before the rebuild");
         self.cells = cells;
+        self.lineage = Lineage::new(Some((self.lineage.stamp, old_id)));
         self.collect_active();
+    }
+
+    /// The stamp of this mesh's storage and the active index of each of its cells, for
+    /// [`Mesh::kept_from`] on a later mesh.
+    pub fn active_cells(&self) -> ActiveCells {
+        ActiveCells {
+            stamp: self.lineage.stamp,
+            active_index: self.active_index.clone(),
+        }
+    }
+
+    /// If this mesh is that of `before`, or was rebuilt from it by one refinement
+    /// ([`Mesh::refine_and_coarsen`]): for each active cell (in [`Mesh::active`] order) its
+    /// index among the active cells of that mesh, if it was active there — the same cell, at
+    /// the same integer position and size. `None` for a mesh of another lineage.
+    pub fn kept_from(&self, before: &ActiveCells) -> Option<Vec<Option<u32>>> {
+        if before.stamp == self.lineage.stamp {
+            return Some((0..self.active.len() as u32).map(Some).collect());
+        }
+        let (stamp, old_id) = self.lineage.before.as_ref()?;
+        if *stamp != before.stamp {
+            return None;
+        }
+        Some(
+            self.active
+                .par_iter()
+                .map(|&c| {
+                    let old = old_id[c as usize];
+                    let k = if old == NONE {
+                        NONE
+                    } else {
+                        before.active_index[old as usize]
+                    };
+                    (k != NONE).then_some(k)
+                })
+                .collect(),
+        )
     }
 
     /// The active cells depth-first over the trees, and their indices.
@@ -1070,6 +1145,7 @@ impl Mesh {
             active: Vec::new(),
             active_index: Vec::new(),
             moved: self.moved.clone(),
+            lineage: Lineage::new(None),
             ..*self
         };
         mesh.collect_active();

@@ -439,7 +439,18 @@ fn cell_data_are_bitwise_the_pointwise_evaluation() {
             .collect();
         let none = vec![false; flags.len()];
         mesh.refine_and_coarsen(&flags, &none).unwrap();
-        let data = p.cell_data_reusing(&mesh, load, Some(&first)).data;
+        let cache = p.cell_data_reusing(&mesh, load, Some(&first));
+        // The cells outside the corner block are those of the first mesh.
+        let outside = mesh
+            .active()
+            .iter()
+            .filter(|&&c| mesh.cell_box(c)[2] > 0.375 || mesh.cell_box(c)[3] > 0.5)
+            .count();
+        assert_eq!(
+            cache.reused, outside,
+            "{t}: cells taken from the first mesh"
+        );
+        let data = cache.data;
         for (k, &c) in mesh.active().iter().enumerate() {
             let shape = mesh.cell_shape(c);
             for (q, &(xi, eta, _)) in quadrature_points().iter().enumerate() {

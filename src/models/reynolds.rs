@@ -40,7 +40,7 @@ use crate::linalg::active_set::{
     primal_dual_active_set, ActiveSetOptions, ActiveSetSolution, Bounds, NodalBounds, Sense,
     ViolationTolerance,
 };
-use crate::mesh::{CellId, CellKey, Mesh};
+use crate::mesh::{ActiveCells, CellId, Mesh};
 use crate::models::thin_film::{CavitationSource, ThinFilm};
 
 /// Which expression of the Reynolds product (II.9) to assemble (module docs).
@@ -61,8 +61,8 @@ pub enum Load {
 }
 
 /// The 2×2 Gauss points of the reference square, in the order of [`CellData`].
-pub fn quadrature_points() -> Vec<(f64, f64, f64)> {
-    quadrature::square(2)
+pub fn quadrature_points() -> [(f64, f64, f64); 4] {
+    quadrature::square_rule::<4>()
 }
 
 /// Per-cell data at the 2×2 Gauss points (order of [`quadrature_points`]): the load l, Δg/g
@@ -77,13 +77,15 @@ pub struct CellData {
 /// The values of one cell in [`CellData`]: load, Δg/g, squeeze part.
 type PointData = ([f64; 4], [f64; 4], [f64; 4]);
 
-/// [`CellData`] of one mesh with the integer keys of its cells, for reuse on the next mesh
+/// [`CellData`] of one mesh with what the next mesh needs to find the cells it kept
 /// ([`ReynoldsProblem::cell_data_reusing`]).
 pub struct CellDataCache {
     pub load: Load,
-    /// (stable cell id, active index), sorted by id.
-    sorted: Vec<(CellKey, u32)>,
+    /// The mesh's cells ([`Mesh::kept_from`]).
+    cells: ActiveCells,
     pub data: CellData,
+    /// How many cells took their values from the previous mesh's cache.
+    pub reused: usize,
 }
 
 /// One Reynolds example (§IV.3): film data, boundary pressure ψ₀, reading of γ₃c.
@@ -165,105 +167,116 @@ impl ReynoldsProblem {
     /// The film data of a scene are functions of the gap's jet and of constants
     /// ([`ThinFilm::film_jets`]), so where the gap does not vary in x₂ ([`Gap::varies_in_x2`]:
     /// plain, linear and wave gaps) every value depends on the x₁ coordinate of the point alone,
-    /// bitwise. The Chapter I formulas are then evaluated once per distinct x₁ among the
-    /// quadrature points — a few thousand per mesh instead of four per cell — and looked up;
-    /// the values are the same bits as a direct evaluation. The hill gap is evaluated point by
-    /// point.
+    /// bitwise. On a mesh of rectangles the x₁ of a quadrature point depends only on the
+    /// cell's column — its level and the integer position of its left side
+    /// ([`CellShape::point`]) — so the Chapter I formulas are evaluated once per column of
+    /// cells (a few thousand per mesh instead of four points per cell) and looked up; the
+    /// values are the same bits as a direct evaluation. Where the gap does not vary at all
+    /// ([`Gap::varies_in_x1`]) one evaluation serves every cell. The hill gap, and any gap on a
+    /// moved mesh, is evaluated point by point.
     ///
     /// [`Gap::varies_in_x2`]: crate::models::thin_film::Gap::varies_in_x2
+    /// [`Gap::varies_in_x1`]: crate::models::thin_film::Gap::varies_in_x1
+    /// [`CellShape::point`]: crate::mesh::CellShape::point
     fn fresh_point_data(&self, mesh: &Mesh, cells: &[CellId], load: Load) -> Vec<PointData> {
-        if self.film.gap.varies_in_x2() {
-            return cells
-                .par_iter()
-                .map(|&c| Self::point_data(mesh, c, |x| self.point_values(x, load)))
-                .collect();
+        let evaluate = |c: CellId| Self::point_data(mesh, c, |x| self.point_values(x, load));
+        let gap = &self.film.gap;
+        if gap.varies_in_x2() || mesh.is_moved() {
+            return cells.par_iter().map(|&c| evaluate(c)).collect();
         }
-        let quad = quadrature_points();
-        let mut x1: Vec<f64> = cells
-            .par_iter()
-            .flat_map_iter(|&c| {
-                let shape = mesh.cell_shape(c);
-                quad.iter()
-                    .map(move |&(xi, eta, _)| shape.point(xi, eta)[0])
-            })
-            .collect();
-        x1.par_sort_unstable_by(f64::total_cmp);
-        x1.dedup_by(|a, b| a.to_bits() == b.to_bits());
-        let profile: Vec<(f64, f64, f64)> = x1
-            .par_iter()
-            .map(|&x| self.point_values([x, 0.0], load))
-            .collect();
+        if !gap.varies_in_x1() {
+            return match cells.first() {
+                Some(&c) => vec![evaluate(c); cells.len()],
+                None => Vec::new(),
+            };
+        }
+        let column = |c: CellId| {
+            let key = mesh.cell_key(c);
+            (key.level, key.x)
+        };
+        // One cell of each column, the first in `cells`.
+        let mut firsts: Vec<((u8, u64), CellId)> =
+            cells.par_iter().map(|&c| (column(c), c)).collect();
+        firsts.par_sort_by_key(|e| e.0);
+        firsts.dedup_by_key(|e| e.0);
+        let values: Vec<PointData> = firsts.par_iter().map(|&(_, c)| evaluate(c)).collect();
         cells
             .par_iter()
             .map(|&c| {
-                Self::point_data(mesh, c, |x| {
-                    let i = x1
-                        .binary_search_by(|p| p.total_cmp(&x[0]))
-                        .expect("every quadrature x₁ is in the profile");
-                    profile[i]
-                })
+                let col = column(c);
+                let i = firsts
+                    .binary_search_by_key(&col, |e| e.0)
+                    .expect("every column has a first cell");
+                values[i]
             })
             .collect()
     }
 
     /// [`Self::cell_data`] reusing the values of cells that are unchanged since `previous`
-    /// (same load, same integer corners — the quadrature points are then the same, so the
-    /// values are bitwise those of a fresh evaluation). Returns the data of `mesh` and the cache
-    /// for the next mesh. About 40 % of the cells survive a cycle of 30 % refinement; the others
-    /// are evaluated afresh, once per distinct x₁ where the gap does not vary in x₂.
+    /// (same load, and a cell the refinement from the previous mesh kept, [`Mesh::kept_from`]:
+    /// the same integer corners, so the quadrature points are the same and the values are
+    /// bitwise those of a fresh evaluation). Returns the data of `mesh` and the cache for the
+    /// next mesh. About 40 % of the cells survive a cycle of 30 % refinement; the others are
+    /// evaluated afresh, once per distinct x₁ where the gap does not vary in x₂.
     pub fn cell_data_reusing(
         &self,
         mesh: &Mesh,
         load: Load,
         previous: Option<&CellDataCache>,
     ) -> CellDataCache {
-        const FRESH: u32 = u32::MAX;
         let active = mesh.active();
-        let keys: Vec<CellKey> = active.par_iter().map(|&c| mesh.cell_key(c)).collect();
+        // For each active cell: its index in `previous`, if it has one.
         let previous = previous.filter(|p| p.load == load);
-        // For each active cell: its index in `previous`, or FRESH.
-        let source: Vec<u32> = keys
-            .par_iter()
-            .map(|key| {
-                previous
-                    .and_then(|p| {
-                        let i = p.sorted.binary_search_by_key(key, |e| e.0).ok()?;
-                        Some(p.sorted[i].1)
-                    })
-                    .unwrap_or(FRESH)
-            })
-            .collect();
+        let kept = previous
+            .and_then(|p| mesh.kept_from(&p.cells))
+            .unwrap_or_else(|| vec![None; active.len()]);
         let fresh_cells: Vec<CellId> = active
             .iter()
-            .zip(&source)
-            .filter(|(_, &s)| s == FRESH)
+            .zip(&kept)
+            .filter(|(_, s)| s.is_none())
             .map(|(&c, _)| c)
             .collect();
-        let mut fresh = self.fresh_point_data(mesh, &fresh_cells, load).into_iter();
-        let mut data = CellData {
-            load: Vec::with_capacity(active.len()),
-            dg_over_g: Vec::with_capacity(active.len()),
-            squeeze: Vec::with_capacity(active.len()),
-        };
-        for &s in &source {
-            let (l, d, q) = match previous {
-                Some(p) if s != FRESH => {
-                    let k = s as usize;
-                    (p.data.load[k], p.data.dg_over_g[k], p.data.squeeze[k])
+        let reused = active.len() - fresh_cells.len();
+        let fresh = self.fresh_point_data(mesh, &fresh_cells, load);
+        // Cell k's values: from the previous mesh, or the next fresh ones in cell order.
+        let mut next_fresh = 0;
+        let source: Vec<Result<usize, usize>> = kept
+            .iter()
+            .map(|s| match s {
+                Some(k) => Ok(*k as usize),
+                None => {
+                    next_fresh += 1;
+                    Err(next_fresh - 1)
                 }
-                _ => fresh.next().expect("one fresh value per fresh cell"),
-            };
-            data.load.push(l);
-            data.dg_over_g.push(d);
-            data.squeeze.push(q);
-        }
-        let mut sorted: Vec<(CellKey, u32)> = keys
-            .into_iter()
-            .enumerate()
-            .map(|(k, key)| (key, k as u32))
+            })
             .collect();
-        sorted.par_sort_unstable_by_key(|e| e.0);
-        CellDataCache { load, sorted, data }
+        let none = CellData {
+            load: Vec::new(),
+            dg_over_g: Vec::new(),
+            squeeze: Vec::new(),
+        };
+        let old = previous.map_or(&none, |p| &p.data);
+        let column = |fresh_part: fn(&PointData) -> [f64; 4],
+                      kept_part: fn(&CellData) -> &Vec<[f64; 4]>| {
+            source
+                .par_iter()
+                .map(|s| match s {
+                    Ok(k) => kept_part(old)[*k],
+                    Err(j) => fresh_part(&fresh[*j]),
+                })
+                .collect()
+        };
+        let data = CellData {
+            load: column(|v| v.0, |d| &d.load),
+            dg_over_g: column(|v| v.1, |d| &d.dg_over_g),
+            squeeze: column(|v| v.2, |d| &d.squeeze),
+        };
+        CellDataCache {
+            load,
+            cells: mesh.active_cells(),
+            data,
+            reused,
+        }
     }
 
     /// ψ = ψ₀ on ∂Ω₂: every boundary vertex fixed at the boundary pressure.

@@ -381,6 +381,16 @@ impl Gap {
         }
     }
 
+    /// Whether g depends on x at all: the plain gap does not, bitwise ([`Gap::jet`] reads no
+    /// coordinate), so the Reynolds cell data evaluate it once for every cell. Exhaustive on
+    /// purpose, like [`Gap::varies_in_x2`].
+    pub fn varies_in_x1(&self) -> bool {
+        match self {
+            Gap::Plain { .. } => false,
+            Gap::Linear { .. } | Gap::WaveHorizontal { .. } | Gap::Hill { .. } => true,
+        }
+    }
+
     /// g(x) only.
     pub fn value(&self, x: [f64; 2]) -> f64 {
         self.jet(x).v
