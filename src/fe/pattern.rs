@@ -22,23 +22,15 @@ struct Expanded {
     wexp: u8,
 }
 
-#[derive(Clone, Copy, Debug)]
-struct MatEntry {
-    pos: u32,
-    lij: u16,
-    wexp: u8,
-}
-
 /// Symmetric sparsity pattern over all dofs (full storage, compressed columns) and the plan to
-/// scatter cell matrices into it.
+/// scatter cell matrices into it: the expanded local dofs of every cell (the positions of their
+/// pairs in the matrix are found when assembling, [`SparsityPattern::assemble`]).
 pub struct SparsityPattern {
     n: usize,
     n_local: usize,
     col_ptr: Vec<usize>,
     row_idx: Vec<usize>,
     diag: Vec<usize>,
-    cell_start: Vec<usize>,
-    entries: Vec<MatEntry>,
     rhs_start: Vec<usize>,
     rhs_entries: Vec<Expanded>,
 }
@@ -92,12 +84,9 @@ impl SparsityPattern {
             })
             .collect();
         let mut rhs_start = Vec::with_capacity(n_cells + 1);
-        let mut cell_start = Vec::with_capacity(n_cells + 1);
         rhs_start.push(0);
-        cell_start.push(0);
         for &m in &counts {
             rhs_start.push(rhs_start.last().unwrap() + m);
-            cell_start.push(cell_start.last().unwrap() + m * m);
         }
         drop(counts);
         let mut rhs_entries = vec![
@@ -176,55 +165,37 @@ impl SparsityPattern {
             }
         }
         let nnz = col_ptr[n];
-        let mut row_idx = Vec::with_capacity(nnz);
-        for (_, rows) in blocks {
-            row_idx.extend_from_slice(&rows);
-        }
+        // Stitched in parallel: each block's rows go to their place in the whole.
+        let mut row_idx = vec![0usize; nnz];
+        let block_starts: Vec<usize> = (0..=blocks.len())
+            .map(|b| col_ptr[(b * BLOCK).min(n)])
+            .collect();
+        split_by_offsets(&mut row_idx, &block_starts)
+            .into_par_iter()
+            .zip(&blocks)
+            .for_each(|(out, (_, rows))| out.copy_from_slice(rows));
         assert!(
             nnz < u32::MAX as usize,
             "matrix too large for 32-bit positions"
         );
-        let find = |i: usize, j: usize| -> usize {
-            let col = &row_idx[col_ptr[j]..col_ptr[j + 1]];
-            col_ptr[j] + col.binary_search(&i).expect("entry in pattern")
-        };
-        let diag: Vec<usize> = (0..n).into_par_iter().map(|i| find(i, i)).collect();
-        let mut entries = vec![
-            MatEntry {
-                pos: 0,
-                lij: 0,
-                wexp: 0
-            };
-            cell_start[n_cells]
-        ];
-        split_by_offsets(&mut entries, &cell_start)
-            .into_par_iter()
-            .enumerate()
-            .for_each(|(k, out)| {
-                let e = &rhs_entries[rhs_start[k]..rhs_start[k + 1]];
-                let mut i = 0;
-                for a in e {
-                    for b in e {
-                        out[i] = MatEntry {
-                            pos: find(a.global as usize, b.global as usize) as u32,
-                            lij: (a.local as usize * n_local + b.local as usize) as u16,
-                            wexp: a.wexp + b.wexp,
-                        };
-                        i += 1;
-                    }
-                }
-            });
-        SparsityPattern {
+        let mut pattern = SparsityPattern {
             n,
             n_local,
             col_ptr,
             row_idx,
-            diag,
-            cell_start,
-            entries,
+            diag: Vec::new(),
             rhs_start,
             rhs_entries,
-        }
+        };
+        pattern.diag = (0..n).into_par_iter().map(|i| pattern.find(i, i)).collect();
+        pattern
+    }
+
+    /// Position of entry (i, j), which is in the pattern.
+    #[inline]
+    fn find(&self, i: usize, j: usize) -> usize {
+        let col = &self.row_idx[self.col_ptr[j]..self.col_ptr[j + 1]];
+        self.col_ptr[j] + col.binary_search(&i).expect("entry in pattern")
     }
 
     pub fn n(&self) -> usize {
@@ -259,37 +230,68 @@ impl SparsityPattern {
         F: Fn(usize, &mut [f64], &mut [f64]) + Sync,
     {
         let nl = self.n_local;
-        // Cells are computed in parallel blocks into one reused buffer and summed block by
-        // block: no cell-matrix array of the whole mesh.
+        // Cells are computed in parallel blocks, with the matrix positions of their expanded
+        // dof pairs, into reused buffers and summed block by block in cell order: no array of
+        // the whole mesh.
         const BLOCK: usize = 8192;
         let mut ke = vec![0.0; BLOCK.min(n_cells) * nl * nl];
         let mut fe = vec![0.0; BLOCK.min(n_cells) * nl];
+        let mut positions: Vec<u32> = Vec::new();
         // Written, not calloc'ed: a fresh zero page that is read before it is written costs a
         // copy-on-write fault with a TLB shootdown on every page.
         let mut values = zeros(self.nnz());
         let mut rhs = zeros(self.n);
         for first in (0..n_cells).step_by(BLOCK) {
             let len = BLOCK.min(n_cells - first);
+            let cells = first..first + len;
+            // Where each cell's positions start: it has m² for m expanded dofs.
+            let mut starts = Vec::with_capacity(len + 1);
+            starts.push(0);
+            for k in cells.clone() {
+                let m = self.rhs_start[k + 1] - self.rhs_start[k];
+                starts.push(starts[starts.len() - 1] + m * m);
+            }
+            positions.resize(starts[len], 0);
             ke[..len * nl * nl].fill(0.0);
             fe[..len * nl].fill(0.0);
             ke[..len * nl * nl]
                 .par_chunks_mut(nl * nl)
                 .zip(fe[..len * nl].par_chunks_mut(nl))
+                .zip(split_by_offsets(&mut positions, &starts))
                 .enumerate()
-                .for_each(|(i, (m, f))| cell(first + i, m, f));
-            for i in 0..len {
-                let k = first + i;
+                .for_each(|(i, ((m, f), pos))| {
+                    cell(first + i, m, f);
+                    let e = self.expanded(first + i);
+                    for (a, out) in e.iter().zip(pos.chunks_mut(e.len())) {
+                        for (b, out) in e.iter().zip(out) {
+                            *out = self.find(a.global as usize, b.global as usize) as u32;
+                        }
+                    }
+                });
+            for (i, k) in cells.enumerate() {
                 let m = &ke[i * nl * nl..(i + 1) * nl * nl];
-                for e in &self.entries[self.cell_start[k]..self.cell_start[k + 1]] {
-                    values[e.pos as usize] += m[e.lij as usize] * weight(e.wexp);
+                let e = self.expanded(k);
+                let mut pos = positions[starts[i]..starts[i + 1]].iter();
+                for a in e {
+                    for b in e {
+                        let p = *pos.next().expect("a position per pair") as usize;
+                        let lij = a.local as usize * nl + b.local as usize;
+                        values[p] += m[lij] * weight(a.wexp + b.wexp);
+                    }
                 }
                 let f = &fe[i * nl..(i + 1) * nl];
-                for e in &self.rhs_entries[self.rhs_start[k]..self.rhs_start[k + 1]] {
+                for e in e {
                     rhs[e.global as usize] += f[e.local as usize] * weight(e.wexp);
                 }
             }
         }
         (values, rhs)
+    }
+
+    /// The expanded local dofs of active cell `k`.
+    #[inline]
+    fn expanded(&self, k: usize) -> &[Expanded] {
+        &self.rhs_entries[self.rhs_start[k]..self.rhs_start[k + 1]]
     }
 
     /// The matrix with this pattern and the given values (e.g. assembled by
