@@ -1021,7 +1021,7 @@ impl MultigridSolver {
             mask,
         };
         let report = conjugate_gradient_with(
-            VectorOps::Sequential,
+            VectorOps::Chunked,
             |v, out| block.multiply_masked(v, out, mask),
             &b,
             &mut xf,
