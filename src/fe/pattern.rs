@@ -7,6 +7,8 @@
 //! diagonal entry — also those of hanging and fixed dofs, whose rows the solver eliminates while
 //! keeping the diagonal, so the pattern does not depend on which dofs are fixed.
 
+use std::ops::Range;
+
 use rayon::prelude::*;
 
 use super::constraints::Constraints;
@@ -268,22 +270,28 @@ impl SparsityPattern {
                         }
                     }
                 });
-            for (i, k) in cells.enumerate() {
-                let m = &ke[i * nl * nl..(i + 1) * nl * nl];
-                let e = self.expanded(k);
-                let mut pos = positions[starts[i]..starts[i + 1]].iter();
-                for a in e {
-                    for b in e {
-                        let p = *pos.next().expect("a position per pair") as usize;
-                        let lij = a.local as usize * nl + b.local as usize;
-                        values[p] += m[lij] * weight(a.wexp + b.wexp);
-                    }
-                }
-                let f = &fe[i * nl..(i + 1) * nl];
-                for e in e {
-                    rhs[e.global as usize] += f[e.local as usize] * weight(e.wexp);
-                }
-            }
+            // Summed on both cores, each owning the columns on one side of the middle dof of
+            // the block: each still adds in cell order, so the sums are those of one pass.
+            let (lo, hi) = cells.clone().fold((usize::MAX, 0), |(lo, hi), k| {
+                self.expanded(k).iter().fold((lo, hi), |(lo, hi), e| {
+                    (lo.min(e.global as usize), hi.max(e.global as usize))
+                })
+            });
+            let middle = lo + (hi - lo) / 2;
+            let (values_lo, values_hi) = values.split_at_mut(self.col_ptr[middle]);
+            let (rhs_lo, rhs_hi) = rhs.split_at_mut(middle);
+            let block = Block {
+                pattern: self,
+                first,
+                ke: &ke,
+                fe: &fe,
+                positions: &positions,
+                starts: &starts,
+            };
+            rayon::join(
+                || block.sum(values_lo, rhs_lo, 0, 0..middle),
+                || block.sum(values_hi, rhs_hi, self.col_ptr[middle], middle..self.n),
+            );
         }
         (values, rhs)
     }
@@ -303,6 +311,48 @@ impl SparsityPattern {
             row_idx: &self.row_idx,
             diag: &self.diag,
             values,
+        }
+    }
+}
+
+/// One block of computed cells of [`SparsityPattern::assemble`]: cell matrices and vectors
+/// and the matrix positions of their expanded dof pairs.
+struct Block<'a> {
+    pattern: &'a SparsityPattern,
+    /// The first cell of the block.
+    first: usize,
+    ke: &'a [f64],
+    fe: &'a [f64],
+    positions: &'a [u32],
+    starts: &'a [usize],
+}
+
+impl Block<'_> {
+    /// Add the block's cells, in cell order, to the part of the matrix values that starts at
+    /// position `offset` (the columns `dofs`) and the part `rhs` of the load (the same dofs).
+    fn sum(&self, values: &mut [f64], rhs: &mut [f64], offset: usize, dofs: Range<usize>) {
+        let nl = self.pattern.n_local;
+        let n_cells = self.starts.len() - 1;
+        for i in 0..n_cells {
+            let m = &self.ke[i * nl * nl..(i + 1) * nl * nl];
+            let e = self.pattern.expanded(self.first + i);
+            let mut pos = self.positions[self.starts[i]..self.starts[i + 1]].iter();
+            for a in e {
+                for b in e {
+                    let p = *pos.next().expect("a position per pair") as usize;
+                    if dofs.contains(&(b.global as usize)) {
+                        let lij = a.local as usize * nl + b.local as usize;
+                        values[p - offset] += m[lij] * weight(a.wexp + b.wexp);
+                    }
+                }
+            }
+            let f = &self.fe[i * nl..(i + 1) * nl];
+            for e in e {
+                let g = e.global as usize;
+                if dofs.contains(&g) {
+                    rhs[g - dofs.start] += f[e.local as usize] * weight(e.wexp);
+                }
+            }
         }
     }
 }
