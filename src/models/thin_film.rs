@@ -42,6 +42,15 @@ const NAN3: [[[f64; 2]; 2]; 2] = [[[f64::NAN; 2]; 2]; 2];
 /// orders that are themselves unknown, because the order-k entry of a sum, product or composition
 /// only depends on orders ≤ k of its operands. [`Jet::valid_order`] reports how many orders are
 /// known.
+///
+/// The operations are always inlined, so that a formula built from them (the source terms and
+/// loads of [`FilmJets`]) is one function in which the compiler sees every entry. It then
+/// computes only what the result uses: entries that are never read are dropped, and a product or
+/// sum with a `NaN` entry of an unknown order folds to `NaN` whatever the other operand, so the
+/// unknown orders cost nothing either. Every entry that is computed is computed by the same
+/// expression, to the same bits (Rust neither reorders nor contracts floating-point operations).
+/// Called one by one instead, each operation computes all 15 entries and passes its 120-byte
+/// operands through memory: the loads took twice as long (`cargo bench --bench load`).
 #[derive(Debug, Clone, Copy)]
 pub struct Jet {
     /// Value f.
@@ -59,6 +68,7 @@ impl Jet {
     pub const ZERO: Jet = Jet::constant(0.0);
 
     /// A constant function: value `c`, all derivatives exactly zero.
+    #[inline(always)]
     pub const fn constant(c: f64) -> Jet {
         Jet {
             v: c,
@@ -69,6 +79,7 @@ impl Jet {
     }
 
     /// The coordinate function x ↦ x_axis evaluated at `x` (`axis` ∈ {0, 1}).
+    #[inline(always)]
     pub fn variable(x: [f64; 2], axis: usize) -> Jet {
         let mut r = Jet::constant(x[axis]);
         r.d[axis] = 1.0;
@@ -77,6 +88,7 @@ impl Jet {
 
     /// A function of one coordinate only, x ↦ f(x_axis), from its derivatives
     /// `f = [f, f', f'', f''']` at the point.
+    #[inline(always)]
     pub fn univariate(axis: usize, f: [f64; 4]) -> Jet {
         let mut r = Jet::constant(f[0]);
         r.d[axis] = f[1];
@@ -87,6 +99,7 @@ impl Jet {
 
     /// Composition φ ∘ self for a scalar function φ, given `phi = [φ, φ', φ'', φ''']` evaluated at
     /// `self.v` (Faà di Bruno up to third order; exact).
+    #[inline(always)]
     pub fn compose(&self, phi: [f64; 4]) -> Jet {
         let (g, gd, gdd) = (self.d, self.dd, self.ddd);
         let mut r = Jet::constant(phi[0]);
@@ -105,6 +118,7 @@ impl Jet {
     }
 
     /// Reciprocal 1/f (exact up to third order; `NaN`/`inf` if f = 0).
+    #[inline(always)]
     pub fn recip(&self) -> Jet {
         let t = 1.0 / self.v;
         let t2 = t * t;
@@ -112,6 +126,7 @@ impl Jet {
     }
 
     /// Multiplication by a scalar.
+    #[inline(always)]
     pub fn scale(&self, s: f64) -> Jet {
         let mut r = *self;
         r.v *= s;
@@ -129,6 +144,7 @@ impl Jet {
 
     /// Partial derivative ∂_mu f (`mu` ∈ {0, 1}). The result knows one order less than `self`:
     /// its third-order entries are set to `NaN` (unknown).
+    #[inline(always)]
     pub fn partial(&self, mu: usize) -> Jet {
         Jet {
             v: self.d[mu],
@@ -140,6 +156,7 @@ impl Jet {
 
     /// 2-D Laplacian Δf = ∂₁∂₁f + ∂₂∂₂f. The result knows two orders less than `self`: its second-
     /// and third-order entries are set to `NaN` (unknown).
+    #[inline(always)]
     pub fn laplacian(&self) -> Jet {
         Jet {
             v: self.dd[0][0] + self.dd[1][1],
@@ -173,6 +190,7 @@ impl Jet {
 
 impl Add for Jet {
     type Output = Jet;
+    #[inline(always)]
     fn add(self, b: Jet) -> Jet {
         let mut r = self;
         r += b;
@@ -181,6 +199,7 @@ impl Add for Jet {
 }
 
 impl AddAssign for Jet {
+    #[inline(always)]
     fn add_assign(&mut self, b: Jet) {
         self.v += b.v;
         for i in 0..2 {
@@ -197,6 +216,7 @@ impl AddAssign for Jet {
 
 impl Neg for Jet {
     type Output = Jet;
+    #[inline(always)]
     fn neg(self) -> Jet {
         self.scale(-1.0)
     }
@@ -204,6 +224,7 @@ impl Neg for Jet {
 
 impl Sub for Jet {
     type Output = Jet;
+    #[inline(always)]
     fn sub(self, b: Jet) -> Jet {
         self + (-b)
     }
@@ -212,6 +233,7 @@ impl Sub for Jet {
 impl Mul for Jet {
     type Output = Jet;
     /// Product by the Leibniz rule up to third order.
+    #[inline(always)]
     fn mul(self, b: Jet) -> Jet {
         let a = self;
         let mut r = Jet::constant(a.v * b.v);
@@ -238,6 +260,7 @@ impl Mul for Jet {
 
 impl Mul<f64> for Jet {
     type Output = Jet;
+    #[inline(always)]
     fn mul(self, s: f64) -> Jet {
         self.scale(s)
     }
@@ -245,6 +268,7 @@ impl Mul<f64> for Jet {
 
 impl Mul<Jet> for f64 {
     type Output = Jet;
+    #[inline(always)]
     fn mul(self, a: Jet) -> Jet {
         a.scale(self)
     }
@@ -254,6 +278,7 @@ impl Div for Jet {
     type Output = Jet;
     /// Quotient a / b = a · (1/b).
     #[allow(clippy::suspicious_arithmetic_impl)]
+    #[inline(always)]
     fn div(self, b: Jet) -> Jet {
         self * b.recip()
     }
@@ -339,7 +364,9 @@ fn sin_range(lo: f64, hi: f64) -> (f64, f64) {
 
 impl Gap {
     /// g and its analytic derivatives up to third order at `x` (needed because R₃ (I.77) contains
-    /// ∂(gΔg), spec §8.4).
+    /// ∂(gΔg), spec §8.4). Inlined like the [`Jet`] operations: the loads then use the entries of
+    /// the gap that are constant (zero for the plain, linear and wave gaps) as constants.
+    #[inline(always)]
     pub fn jet(&self, x: [f64; 2]) -> Jet {
         use std::f64::consts::TAU;
         match *self {
