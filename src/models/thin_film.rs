@@ -1386,6 +1386,49 @@ mod tests {
         }
     }
 
+    /// The loads of the examples whose gap needs no libm call (plain and linear: the bits do not
+    /// depend on the platform's `sin`) are pinned bitwise: a checksum over a 40 × 40 grid of l_R
+    /// and of l_{R,c} in each reading, recorded before the jet operations were inlined ([`Jet`]
+    /// type docs). A change to the jet arithmetic or to the formulas that is meant to keep every
+    /// value must keep these.
+    #[test]
+    fn loads_are_bitwise_pinned() {
+        use CavitationSource::{Printed, Reynolds, SelfConsistent};
+        let pinned = [
+            ("IV.7", 0xf26a_9000_0000_5d77),
+            ("IV.8", 0x8d95_6fff_ffff_e098),
+            ("IV.9", 0x7fff_ffff_ffff_bdef),
+            ("IV.10", 0x2196_ebd5_835f_18d4),
+            ("IV.11", 0x5e69_142a_7ca0_a53b),
+            ("IV.12", 0x6f12_5c60_8e8e_1f9d),
+            ("IV.13", 0x10ed_a39f_7171_a272),
+            ("IV.14", 0x7fff_ffff_ffff_bdef),
+        ];
+        let n = 40;
+        let mut failed = false;
+        for (eq, expected) in pinned {
+            let film = example(eq).unwrap();
+            let mut bits = 0u64;
+            for i in 0..=n {
+                for k in 0..=n {
+                    let x = [i as f64 / n as f64, k as f64 / n as f64];
+                    let loads = [
+                        film.reynolds_load(x),
+                        film.cavitation_load(x, Printed),
+                        film.cavitation_load(x, SelfConsistent),
+                        film.cavitation_load(x, Reynolds),
+                    ];
+                    for l in loads {
+                        bits = bits.rotate_left(5) ^ l.to_bits();
+                    }
+                }
+            }
+            println!("(\"{eq}\", 0x{bits:016x}),");
+            failed |= bits != expected;
+        }
+        assert!(!failed, "checksums differ (printed above)");
+    }
+
     /// The `reynolds` reading takes the source terms without cavitation: γ₃c = γ₃, R₃c = R₃,
     /// l_{R,c} = l_R (bitwise); on the wave gap with upward velocity it differs from the printed
     /// R₃c by (g/12)δv₃Δg.
