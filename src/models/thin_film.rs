@@ -42,6 +42,17 @@ const NAN3: [[[f64; 2]; 2]; 2] = [[[f64::NAN; 2]; 2]; 2];
 /// orders that are themselves unknown, because the order-k entry of a sum, product or composition
 /// only depends on orders ≤ k of its operands. [`Jet::valid_order`] reports how many orders are
 /// known.
+///
+/// The operations are always inlined, so that a formula built from them (the source terms and
+/// loads of [`FilmJets`]) is one function in which the compiler sees every entry. It then
+/// computes only what the result uses: entries that are never read are dropped, and a product or
+/// sum with a `NaN` entry of an unknown order folds to `NaN` whatever the other operand, so the
+/// unknown orders cost nothing either. Every entry that is computed is computed by the same
+/// expression, to the same bits (Rust neither reorders nor contracts floating-point operations).
+/// Called one by one instead, each operation computes all 15 entries and passes its 120-byte
+/// operands through memory (`cargo bench --bench load`: 850–1000 ns per point for both loads of
+/// an example, 380–530 with the operations inlined, 110–210 with the formulas of [`FilmJets`]
+/// inlined as well).
 #[derive(Debug, Clone, Copy)]
 pub struct Jet {
     /// Value f.
@@ -59,6 +70,7 @@ impl Jet {
     pub const ZERO: Jet = Jet::constant(0.0);
 
     /// A constant function: value `c`, all derivatives exactly zero.
+    #[inline(always)]
     pub const fn constant(c: f64) -> Jet {
         Jet {
             v: c,
@@ -69,6 +81,7 @@ impl Jet {
     }
 
     /// The coordinate function x ↦ x_axis evaluated at `x` (`axis` ∈ {0, 1}).
+    #[inline(always)]
     pub fn variable(x: [f64; 2], axis: usize) -> Jet {
         let mut r = Jet::constant(x[axis]);
         r.d[axis] = 1.0;
@@ -77,6 +90,7 @@ impl Jet {
 
     /// A function of one coordinate only, x ↦ f(x_axis), from its derivatives
     /// `f = [f, f', f'', f''']` at the point.
+    #[inline(always)]
     pub fn univariate(axis: usize, f: [f64; 4]) -> Jet {
         let mut r = Jet::constant(f[0]);
         r.d[axis] = f[1];
@@ -87,6 +101,7 @@ impl Jet {
 
     /// Composition φ ∘ self for a scalar function φ, given `phi = [φ, φ', φ'', φ''']` evaluated at
     /// `self.v` (Faà di Bruno up to third order; exact).
+    #[inline(always)]
     pub fn compose(&self, phi: [f64; 4]) -> Jet {
         let (g, gd, gdd) = (self.d, self.dd, self.ddd);
         let mut r = Jet::constant(phi[0]);
@@ -105,6 +120,7 @@ impl Jet {
     }
 
     /// Reciprocal 1/f (exact up to third order; `NaN`/`inf` if f = 0).
+    #[inline(always)]
     pub fn recip(&self) -> Jet {
         let t = 1.0 / self.v;
         let t2 = t * t;
@@ -112,6 +128,7 @@ impl Jet {
     }
 
     /// Multiplication by a scalar.
+    #[inline(always)]
     pub fn scale(&self, s: f64) -> Jet {
         let mut r = *self;
         r.v *= s;
@@ -129,6 +146,7 @@ impl Jet {
 
     /// Partial derivative ∂_mu f (`mu` ∈ {0, 1}). The result knows one order less than `self`:
     /// its third-order entries are set to `NaN` (unknown).
+    #[inline(always)]
     pub fn partial(&self, mu: usize) -> Jet {
         Jet {
             v: self.d[mu],
@@ -140,6 +158,7 @@ impl Jet {
 
     /// 2-D Laplacian Δf = ∂₁∂₁f + ∂₂∂₂f. The result knows two orders less than `self`: its second-
     /// and third-order entries are set to `NaN` (unknown).
+    #[inline(always)]
     pub fn laplacian(&self) -> Jet {
         Jet {
             v: self.dd[0][0] + self.dd[1][1],
@@ -173,6 +192,7 @@ impl Jet {
 
 impl Add for Jet {
     type Output = Jet;
+    #[inline(always)]
     fn add(self, b: Jet) -> Jet {
         let mut r = self;
         r += b;
@@ -181,6 +201,7 @@ impl Add for Jet {
 }
 
 impl AddAssign for Jet {
+    #[inline(always)]
     fn add_assign(&mut self, b: Jet) {
         self.v += b.v;
         for i in 0..2 {
@@ -197,6 +218,7 @@ impl AddAssign for Jet {
 
 impl Neg for Jet {
     type Output = Jet;
+    #[inline(always)]
     fn neg(self) -> Jet {
         self.scale(-1.0)
     }
@@ -204,6 +226,7 @@ impl Neg for Jet {
 
 impl Sub for Jet {
     type Output = Jet;
+    #[inline(always)]
     fn sub(self, b: Jet) -> Jet {
         self + (-b)
     }
@@ -212,6 +235,7 @@ impl Sub for Jet {
 impl Mul for Jet {
     type Output = Jet;
     /// Product by the Leibniz rule up to third order.
+    #[inline(always)]
     fn mul(self, b: Jet) -> Jet {
         let a = self;
         let mut r = Jet::constant(a.v * b.v);
@@ -238,6 +262,7 @@ impl Mul for Jet {
 
 impl Mul<f64> for Jet {
     type Output = Jet;
+    #[inline(always)]
     fn mul(self, s: f64) -> Jet {
         self.scale(s)
     }
@@ -245,6 +270,7 @@ impl Mul<f64> for Jet {
 
 impl Mul<Jet> for f64 {
     type Output = Jet;
+    #[inline(always)]
     fn mul(self, a: Jet) -> Jet {
         a.scale(self)
     }
@@ -254,6 +280,7 @@ impl Div for Jet {
     type Output = Jet;
     /// Quotient a / b = a · (1/b).
     #[allow(clippy::suspicious_arithmetic_impl)]
+    #[inline(always)]
     fn div(self, b: Jet) -> Jet {
         self * b.recip()
     }
@@ -339,7 +366,9 @@ fn sin_range(lo: f64, hi: f64) -> (f64, f64) {
 
 impl Gap {
     /// g and its analytic derivatives up to third order at `x` (needed because R₃ (I.77) contains
-    /// ∂(gΔg), spec §8.4).
+    /// ∂(gΔg), spec §8.4). Inlined like the [`Jet`] operations: the loads then use the entries of
+    /// the gap that are constant (zero for the plain, linear and wave gaps) as constants.
+    #[inline(always)]
     pub fn jet(&self, x: [f64; 2]) -> Jet {
         use std::f64::consts::TAU;
         match *self {
@@ -499,6 +528,16 @@ impl From<crate::experiment::CavitationSource> for CavitationSource {
 /// Orders: with inputs known to third order, [`FilmJets::gamma3`], [`FilmJets::gamma3c`] and
 /// [`FilmJets::gamma`] are known to first order, [`FilmJets::sigma3`] and [`FilmJets::r1`] to
 /// second order, and [`FilmJets::r3`], [`FilmJets::r3c`] and the loads to order zero (value only).
+///
+/// The methods are always inlined, like the [`Jet`] operations, and so is
+/// [`ThinFilm::film_jets`]: a load of [`ThinFilm`] is then one function from the gap's jet to the
+/// value, in which the compiler computes only the entries the value uses (γ₃ is needed to first
+/// order there, R₁ to order zero, most of every third-order product is never read) and knows the
+/// wall data of the examples that are constant (z₀ = 0, v(z₀) = 0, κ = 0, the derivatives of
+/// v(z₁)); each entry it computes has the same expression, so the same bits. The components are
+/// computed in loops over μ rather than by `[0, 1].map(..)`, whose closure the compiler called
+/// instead of inlining, with the wall data in memory (`cargo bench --bench load`: 380–530 ns per
+/// point for both loads with the [`Jet`] operations alone inlined, 110–210 with this).
 #[derive(Debug, Clone, Copy)]
 pub struct FilmJets {
     /// Lower wall z₀.
@@ -523,7 +562,10 @@ pub struct FilmJets {
 
 impl FilmJets {
     /// Builds the derived quantities g, z̄, v̄, δv (list after (I.46)) from the wall data.
+    #[inline(always)]
     pub fn from_walls(z0: Jet, z1: Jet, v0: [Jet; 3], v1: [Jet; 3], kappa: [Jet; 2]) -> FilmJets {
+        let vbar = |i: usize| (v1[i] + v0[i]).scale(0.5);
+        let dv = |i: usize| v1[i] - v0[i];
         FilmJets {
             z0,
             z1,
@@ -532,32 +574,40 @@ impl FilmJets {
             kappa,
             g: z1 - z0,
             zbar: (z1 + z0).scale(0.5),
-            vbar: [0, 1, 2].map(|i| (v1[i] + v0[i]).scale(0.5)),
-            dv: [0, 1, 2].map(|i| v1[i] - v0[i]),
+            vbar: [vbar(0), vbar(1), vbar(2)],
+            dv: [dv(0), dv(1), dv(2)],
         }
     }
 
     /// (I.47): (γ₃)_μ = −2 ∂_ν v̄_μ ∂_ν g − 2 ∂_ν δv_μ ∂_ν z̄ − v̄_μ Δg − δv_μ Δz̄.
+    #[inline(always)]
     pub fn gamma3(&self) -> [Jet; 2] {
         let (g, zb) = (self.g, self.zbar);
-        [0, 1].map(|mu| {
+        let mut gamma3 = [Jet::ZERO; 2];
+        for mu in 0..2 {
             let mut r = -(self.vbar[mu] * g.laplacian()) - self.dv[mu] * zb.laplacian();
             for nu in 0..2 {
                 r += (self.vbar[mu].partial(nu) * g.partial(nu)).scale(-2.0);
                 r += (self.dv[mu].partial(nu) * zb.partial(nu)).scale(-2.0);
             }
-            r
-        })
+            gamma3[mu] = r;
+        }
+        gamma3
     }
 
     /// (I.52), (I.72): γ_μ = (γ₃)_μ + (12/g) v̄_μ (SubStokes momentum source).
+    #[inline(always)]
     pub fn gamma(&self) -> [Jet; 2] {
-        let g3 = self.gamma3();
+        let mut r = self.gamma3();
         let ginv = self.g.recip();
-        [0, 1].map(|mu| g3[mu] + (self.vbar[mu] * ginv).scale(12.0))
+        for mu in 0..2 {
+            r[mu] += (self.vbar[mu] * ginv).scale(12.0);
+        }
+        r
     }
 
     /// (I.50), (I.73): σ₃ = −δv₃ + δv_μ ∂_μ z̄ + 2 v̄_μ ∂_μ g (SubStokes mass source).
+    #[inline(always)]
     pub fn sigma3(&self) -> Jet {
         let mut r = -self.dv[2];
         for mu in 0..2 {
@@ -568,6 +618,7 @@ impl FilmJets {
     }
 
     /// R₁ of (I.77): R₁ = g ∂_ν v̄_ν − δv_ν ∂_ν z̄.
+    #[inline(always)]
     pub fn r1(&self) -> Jet {
         let mut r = Jet::ZERO;
         for nu in 0..2 {
@@ -578,6 +629,7 @@ impl FilmJets {
     }
 
     /// R₃ of (I.77): R₃ = (g/12) ∂_ν( g ((γ₃)_ν + Δ(v̄_ν g)) ). Value only (order 0).
+    #[inline(always)]
     pub fn r3(&self) -> Jet {
         let g3 = self.gamma3();
         let mut s = Jet::ZERO;
@@ -591,46 +643,61 @@ impl FilmJets {
     /// − g ∂_μ(δv₃/g) for [`CavitationSource::Printed`]; 2γ₃ − (that) for
     /// [`CavitationSource::SelfConsistent`] (spec §15 item 9); γ₃ for
     /// [`CavitationSource::Reynolds`].
+    #[inline(always)]
     pub fn gamma3c(&self, source: CavitationSource) -> [Jet; 2] {
         let g3 = self.gamma3();
-        let (g, zb) = (self.g, self.zbar);
-        let printed = || {
-            // Scalars whose μ-derivative is needed: Σ_ν ∂_ν(v̄_ν g + δv_ν z̄), Σ_ν ∂_ν v̄_ν,
-            // Σ_ν ∂_ν δv_ν.
-            let mut div_flux = Jet::ZERO;
-            let mut div_vbar = Jet::ZERO;
-            let mut div_dv = Jet::ZERO;
-            for nu in 0..2 {
-                div_flux += (self.vbar[nu] * g + self.dv[nu] * zb).partial(nu);
-                div_vbar += self.vbar[nu].partial(nu);
-                div_dv += self.dv[nu].partial(nu);
-            }
-            let dv3_over_g = self.dv[2] / g;
-            [0, 1].map(|mu| {
-                g3[mu] + div_flux.partial(mu)
-                    - (g * div_vbar.partial(mu) + zb * div_dv.partial(mu))
-                    - g * dv3_over_g.partial(mu)
-            })
-        };
         match source {
-            CavitationSource::Printed => printed(),
+            CavitationSource::Printed => self.gamma3c_printed(g3),
             CavitationSource::SelfConsistent => {
-                let p = printed();
-                [0, 1].map(|mu| g3[mu].scale(2.0) - p[mu])
+                let p = self.gamma3c_printed(g3);
+                let mut r = g3;
+                for mu in 0..2 {
+                    r[mu] = g3[mu].scale(2.0) - p[mu];
+                }
+                r
             }
             CavitationSource::Reynolds => g3,
         }
     }
 
+    /// (γ₃c)_μ of (I.61) as printed, given `g3` = γ₃.
+    #[inline(always)]
+    fn gamma3c_printed(&self, g3: [Jet; 2]) -> [Jet; 2] {
+        let (g, zb) = (self.g, self.zbar);
+        // Scalars whose μ-derivative is needed: Σ_ν ∂_ν(v̄_ν g + δv_ν z̄), Σ_ν ∂_ν v̄_ν,
+        // Σ_ν ∂_ν δv_ν.
+        let mut div_flux = Jet::ZERO;
+        let mut div_vbar = Jet::ZERO;
+        let mut div_dv = Jet::ZERO;
+        for nu in 0..2 {
+            div_flux += (self.vbar[nu] * g + self.dv[nu] * zb).partial(nu);
+            div_vbar += self.vbar[nu].partial(nu);
+            div_dv += self.dv[nu].partial(nu);
+        }
+        let dv3_over_g = self.dv[2] / g;
+        let mut r = g3;
+        for mu in 0..2 {
+            r[mu] = g3[mu] + div_flux.partial(mu)
+                - (g * div_vbar.partial(mu) + zb * div_dv.partial(mu))
+                - g * dv3_over_g.partial(mu);
+        }
+        r
+    }
+
     /// (I.65): γ_c = γ₃c + (12/g) v̄ (SubStokes-with-cavitation momentum source).
+    #[inline(always)]
     pub fn gamma_c(&self, source: CavitationSource) -> [Jet; 2] {
-        let g3c = self.gamma3c(source);
+        let mut r = self.gamma3c(source);
         let ginv = self.g.recip();
-        [0, 1].map(|mu| g3c[mu] + (self.vbar[mu] * ginv).scale(12.0))
+        for mu in 0..2 {
+            r[mu] += (self.vbar[mu] * ginv).scale(12.0);
+        }
+        r
     }
 
     /// R₃c of (I.81): R₃c = (g/12) ∂_μ[ g Δ(g v̄_μ) + g ∂_μ∂_ν(g v̄_ν) + g (γ₃c)_μ ]; R₃ of (I.77)
     /// for [`CavitationSource::Reynolds`]. Value only.
+    #[inline(always)]
     pub fn r3c(&self, source: CavitationSource) -> Jet {
         if source == CavitationSource::Reynolds {
             return self.r3();
@@ -650,6 +717,7 @@ impl FilmJets {
     }
 
     /// (g/12) ∂_ν(g κ_ν) (body-force term of (I.77)).
+    #[inline(always)]
     fn kappa_term(&self) -> Jet {
         let mut s = Jet::ZERO;
         for nu in 0..2 {
@@ -660,29 +728,34 @@ impl FilmJets {
 
     /// Right-hand side of the Reynolds equation (I.77):
     /// (g/12) ∂_μ(g² ∂_μ(ψ/g)) = δv₃ + (g/12) ∂_ν(g κ_ν) + R₁ + R₃. Value only.
+    #[inline(always)]
     pub fn reynolds_rhs(&self) -> Jet {
         self.dv[2] + self.kappa_term() + self.r1() + self.r3()
     }
 
     /// Right-hand side of the Reynolds inequality (I.81): δv₃ + (g/12) ∂_ν(g κ_ν) + R₁ + R₃c.
     /// Value only.
+    #[inline(always)]
     pub fn cavitation_rhs(&self, source: CavitationSource) -> Jet {
         self.dv[2] + self.kappa_term() + self.r1() + self.r3c(source)
     }
 
     /// Reynolds load (II.37), from (I.79):
     /// l_R = −12 [ δv₃/g² + ∂_ν(g κ_ν)/(12 g) + (R₁ + R₃)/g² ]. Value only.
+    #[inline(always)]
     pub fn reynolds_load(&self) -> Jet {
         self.load(self.r3())
     }
 
     /// Reynolds-with-cavitation load l_{R,c} (II.39), from (I.82): l_R with R₃c in place of R₃.
     /// Value only.
+    #[inline(always)]
     pub fn cavitation_load(&self, source: CavitationSource) -> Jet {
         self.load(self.r3c(source))
     }
 
     /// −12 [ δv₃/g² + ∂_ν(g κ_ν)/(12 g) + (R₁ + r)/g² ].
+    #[inline(always)]
     fn load(&self, r: Jet) -> Jet {
         let g = self.g;
         let ginv2 = (g * g).recip();
@@ -718,7 +791,9 @@ impl ThinFilm {
         }
     }
 
-    /// Wall data at `x` as jets (z₀ = 0, z₁ = g, v(z₀) = 0, v(z₁) constant, κ = 0).
+    /// Wall data at `x` as jets (z₀ = 0, z₁ = g, v(z₀) = 0, v(z₁) constant, κ = 0). Inlined, so
+    /// that the formulas of [`FilmJets`] see the constant data as constants.
+    #[inline(always)]
     pub fn film_jets(&self, x: [f64; 2]) -> FilmJets {
         FilmJets::from_walls(
             Jet::ZERO,
@@ -1319,6 +1394,49 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// The loads of the examples whose gap needs no libm call (plain and linear: the bits do not
+    /// depend on the platform's `sin`) are pinned bitwise: a checksum over a 40 × 40 grid of l_R
+    /// and of l_{R,c} in each reading, recorded before the jet operations were inlined ([`Jet`]
+    /// type docs). A change to the jet arithmetic or to the formulas that is meant to keep every
+    /// value must keep these.
+    #[test]
+    fn loads_are_bitwise_pinned() {
+        use CavitationSource::{Printed, Reynolds, SelfConsistent};
+        let pinned = [
+            ("IV.7", 0xf26a_9000_0000_5d77),
+            ("IV.8", 0x8d95_6fff_ffff_e098),
+            ("IV.9", 0x7fff_ffff_ffff_bdef),
+            ("IV.10", 0x2196_ebd5_835f_18d4),
+            ("IV.11", 0x5e69_142a_7ca0_a53b),
+            ("IV.12", 0x6f12_5c60_8e8e_1f9d),
+            ("IV.13", 0x10ed_a39f_7171_a272),
+            ("IV.14", 0x7fff_ffff_ffff_bdef),
+        ];
+        let n = 40;
+        let mut failed = false;
+        for (eq, expected) in pinned {
+            let film = example(eq).unwrap();
+            let mut bits = 0u64;
+            for i in 0..=n {
+                for k in 0..=n {
+                    let x = [i as f64 / n as f64, k as f64 / n as f64];
+                    let loads = [
+                        film.reynolds_load(x),
+                        film.cavitation_load(x, Printed),
+                        film.cavitation_load(x, SelfConsistent),
+                        film.cavitation_load(x, Reynolds),
+                    ];
+                    for l in loads {
+                        bits = bits.rotate_left(5) ^ l.to_bits();
+                    }
+                }
+            }
+            println!("(\"{eq}\", 0x{bits:016x}),");
+            failed |= bits != expected;
+        }
+        assert!(!failed, "checksums differ (printed above)");
     }
 
     /// The `reynolds` reading takes the source terms without cavitation: γ₃c = γ₃, R₃c = R₃,
