@@ -167,7 +167,7 @@ mod tests {
     use crate::fe::quadrature::square_rule;
     use crate::fe::{LocalDofs, System};
     use crate::linalg::multigrid::MultigridSolver;
-    use crate::linalg::{DirectSolver, Rotation, SolveConstrained};
+    use crate::linalg::{Accuracy, DirectSolver, Rotation, SolveConstrained};
 
     /// max |a_i − b_i|, with b = 0 where it is shorter (max |a_i| for an empty b).
     fn max_difference(a: &[f64], b: &[f64]) -> f64 {
@@ -394,7 +394,13 @@ mod tests {
             let mut eliminated = constraints.clone();
             eliminated.extend(active.iter().map(|&d| (d, 0.1)));
             let u = mg
-                .solve_overlay(system.matrix(), &system.rhs, &eliminated, constraints.len())
+                .solve_overlay(
+                    system.matrix(),
+                    &system.rhs,
+                    &eliminated,
+                    constraints.len(),
+                    Accuracy::Full,
+                )
                 .unwrap();
             let direct = DirectSolver::cholesky()
                 .solve(system.matrix(), &system.rhs, &eliminated)

@@ -16,7 +16,7 @@ pub mod uzawa;
 pub use active_set::{ActiveSetOptions, ActiveSetSolution, Bound, Rotation};
 pub use direct::{CholeskyFactor, DirectSolver, Factorisation, SolveError};
 pub use ordering::Ordering;
-pub use solver::{LinearSolver, SolveConstrained, SolverKind};
+pub use solver::{Accuracy, LinearSolver, SolveConstrained, SolverKind};
 
 use rayon::prelude::*;
 

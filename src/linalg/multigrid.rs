@@ -60,7 +60,10 @@
 //! treats indicators within a relative 1e-10 of the cut as tied, and an algebraic error shifts
 //! the indicators of cells that are equal by symmetry apart. At 1e-12 the last marking of
 //! Table IV.36 (cycle 6) refined 3 cells fewer than with the direct solver; at 1e-13 every
-//! Reynolds table keeps the direct solver's meshes.
+//! Reynolds table keeps the direct solver's meshes. A step of an active-set iteration, whose
+//! solution only decides the next active set ([`Accuracy::ActiveSetStep`]), stops at
+//! [`STEP_TOLERANCE`] = 1e-10; the final active set is confirmed by a solve at the full
+//! tolerance ([`super::active_set`], *Inexact steps*).
 //! Every operation is sequential or row-parallel with a fixed order of summation, so the result
 //! does not depend on the number of threads.
 
@@ -69,6 +72,7 @@ use std::cell::RefCell;
 use rayon::prelude::*;
 
 use super::krylov::{conjugate_gradient_with, CgError, Preconditioner, Stopping, VectorOps};
+use super::solver::Accuracy;
 use super::{CholeskyFactor, Csc, SolveError};
 
 /// The prolongation from the vertices of one level mesh to those of the next finer kept one
@@ -867,6 +871,9 @@ pub struct MultigridSolver {
     rotated: Vec<(u32, [f64; 2])>,
     prepared: Option<Box<Prepared>>,
     pub relative_tolerance: f64,
+    /// The relative residual of a step of an active-set iteration ([`Accuracy::ActiveSetStep`],
+    /// module docs, *Stopping*).
+    pub step_tolerance: f64,
     pub max_iterations: usize,
     /// CG iterations of each solve since the last [`MultigridSolver::take_iterations`].
     iterations: Vec<usize>,
@@ -874,6 +881,9 @@ pub struct MultigridSolver {
 
 /// Default relative residual of the multigrid solves (module docs).
 pub const RELATIVE_TOLERANCE: f64 = 1e-13;
+
+/// Default relative residual of a step of an active-set iteration (module docs, *Stopping*).
+pub const STEP_TOLERANCE: f64 = 1e-10;
 
 impl Default for MultigridSolver {
     fn default() -> Self {
@@ -884,6 +894,7 @@ impl Default for MultigridSolver {
             rotated: Vec::new(),
             prepared: None,
             relative_tolerance: RELATIVE_TOLERANCE,
+            step_tolerance: STEP_TOLERANCE,
             max_iterations: 500,
             iterations: Vec::new(),
         }
@@ -947,6 +958,7 @@ impl MultigridSolver {
         rhs: &[f64],
         eliminated: &[(usize, f64)],
         always: usize,
+        accuracy: Accuracy,
     ) -> Result<Vec<f64>, SolveError> {
         let n = matrix.n();
         SolveError::check_data(rhs)?;
@@ -1012,7 +1024,10 @@ impl MultigridSolver {
         };
         let block = prepared.block();
         let stopping = Stopping {
-            relative: self.relative_tolerance,
+            relative: match accuracy {
+                Accuracy::Full => self.relative_tolerance,
+                Accuracy::ActiveSetStep => self.step_tolerance,
+            },
             absolute: 0.0,
             max_iterations: self.max_iterations,
         };

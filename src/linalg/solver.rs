@@ -33,6 +33,19 @@ impl SolverKind {
     }
 }
 
+/// How accurately a solve must meet its equations. A direct solve is exact, whatever is asked;
+/// an iterative one stops earlier for a step of an active-set iteration
+/// ([`MultigridSolver::step_tolerance`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Accuracy {
+    /// The solution the caller keeps.
+    Full,
+    /// A step of an active-set iteration: its solution only decides the next active set, and
+    /// the final active set is confirmed by a [`Accuracy::Full`] solve
+    /// ([`super::active_set::primal_dual_active_set`]).
+    ActiveSetStep,
+}
+
 /// Solve A x = b where the dofs in `eliminated` take the given values.
 pub trait SolveConstrained {
     /// The solve, where the first `always` entries of `eliminated` are eliminated in every solve
@@ -45,7 +58,14 @@ pub trait SolveConstrained {
         rhs: &[f64],
         eliminated: &[(usize, f64)],
         always: usize,
+        accuracy: Accuracy,
     ) -> Result<Vec<f64>, SolveError>;
+
+    /// Whether a solve at [`Accuracy::ActiveSetStep`] may be less accurate than at
+    /// [`Accuracy::Full`] (an iterative solver).
+    fn inexact_steps(&self) -> bool {
+        false
+    }
 
     /// The vertices whose two dofs the next solves take in their normal and tangential frame
     /// (the contact solves, [`super::active_set::Rotation`]); nothing to do for a solver that
@@ -59,7 +79,7 @@ pub trait SolveConstrained {
         rhs: &[f64],
         eliminated: &[(usize, f64)],
     ) -> Result<Vec<f64>, SolveError> {
-        self.solve_overlay(matrix, rhs, eliminated, eliminated.len())
+        self.solve_overlay(matrix, rhs, eliminated, eliminated.len(), Accuracy::Full)
     }
 }
 
@@ -71,6 +91,7 @@ impl SolveConstrained for DirectSolver {
         rhs: &[f64],
         eliminated: &[(usize, f64)],
         _always: usize,
+        _accuracy: Accuracy,
     ) -> Result<Vec<f64>, SolveError> {
         DirectSolver::solve(self, matrix, rhs, eliminated)
     }
@@ -83,8 +104,13 @@ impl SolveConstrained for MultigridSolver {
         rhs: &[f64],
         eliminated: &[(usize, f64)],
         always: usize,
+        accuracy: Accuracy,
     ) -> Result<Vec<f64>, SolveError> {
-        MultigridSolver::solve_overlay(self, matrix, rhs, eliminated, always)
+        MultigridSolver::solve_overlay(self, matrix, rhs, eliminated, always, accuracy)
+    }
+
+    fn inexact_steps(&self) -> bool {
+        true
     }
 
     fn set_rotation(&mut self, rotated: &[(u32, [f64; 2])]) {
@@ -131,11 +157,18 @@ impl SolveConstrained for LinearSolver {
         rhs: &[f64],
         eliminated: &[(usize, f64)],
         always: usize,
+        accuracy: Accuracy,
     ) -> Result<Vec<f64>, SolveError> {
         match self {
             LinearSolver::Direct(d) => d.solve(matrix, rhs, eliminated),
-            LinearSolver::Multigrid(m) => m.solve_overlay(matrix, rhs, eliminated, always),
+            LinearSolver::Multigrid(m) => {
+                m.solve_overlay(matrix, rhs, eliminated, always, accuracy)
+            }
         }
+    }
+
+    fn inexact_steps(&self) -> bool {
+        matches!(self, LinearSolver::Multigrid(_))
     }
 
     fn set_rotation(&mut self, rotated: &[(u32, [f64; 2])]) {
