@@ -572,32 +572,37 @@ impl VCycle {
             let coarse_index = numbering(&coarse_free);
             let n_coarse_free = coarse_free.iter().filter(|&&f| f).count();
             let fine_dofs: Vec<usize> = (0..rows.len()).filter(|&d| rows[d]).collect();
-            let p = Sparse::by_rows(fine_dofs.len(), n_coarse_free, |i, out| {
+            let prolongation = Prolongation {
+                transfer: t,
+                n_components: nc,
+                fine_frames: &frames,
+                coarse_frames: &coarse_frames,
+                coarse_index: &coarse_index,
+            };
+            // Row i: the free fine dof fine_dofs[i] from the coarse dofs; empty where the dof
+            // is not free in the solve the levels are built for.
+            let row = |i: usize, emit: &mut dyn FnMut(u32, f64)| {
                 let d = fine_dofs[i];
-                if !free[d] {
-                    return;
+                if free[d] {
+                    prolongation.row(d, emit);
                 }
-                let (v, c) = (d / nc, d % nc);
-                let fine_frame = frames.get(v).copied().flatten();
-                for k in t.row_ptr[v]..t.row_ptr[v + 1] {
-                    let w = t.cols[k] as usize;
-                    let coarse_frame = coarse_frames.get(w).copied().flatten();
-                    if fine_frame.is_none() && coarse_frame.is_none() {
-                        let j = coarse_index[w * nc + c];
-                        if j != usize::MAX {
-                            out.push((j as u32, t.weights[k]));
-                        }
-                        continue;
-                    }
-                    for c2 in 0..nc {
-                        let weight = t.weights[k] * frame_change(fine_frame, coarse_frame, c, c2);
-                        let j = coarse_index[w * nc + c2];
-                        if weight != 0.0 && j != usize::MAX {
-                            out.push((j as u32, weight));
-                        }
-                    }
-                }
-            });
+            };
+            let p = Sparse::by_counted_rows(
+                fine_dofs.len(),
+                n_coarse_free,
+                |i| {
+                    let mut len = 0;
+                    row(i, &mut |_, _| len += 1);
+                    len
+                },
+                |i, cols, vals| {
+                    let mut k = 0;
+                    row(i, &mut |j, w| {
+                        (cols[k], vals[k]) = (j, w);
+                        k += 1;
+                    });
+                },
+            );
             let pt = p.transpose();
             let coarse_a = Sparse::galerkin(&a, &p, &pt);
             levels_fine_first.push(Level::new(a, Some((p, pt))));
@@ -708,6 +713,45 @@ fn frame_change(fine: Frame, coarse: Frame, c: usize, c2: usize) -> f64 {
     };
     let (rv, rw) = (rotation(fine), rotation(coarse));
     rv[c][0] * rw[c2][0] + rv[c][1] * rw[c2][1]
+}
+
+/// The prolongation of the dofs of one level mesh from those of the next coarser kept one
+/// ([`Transfer`] for each component, through the frames of rotated vertices).
+struct Prolongation<'a> {
+    transfer: &'a Transfer,
+    n_components: usize,
+    /// The frame of each fine and of each coarse vertex (empty: all Cartesian).
+    fine_frames: &'a [Frame],
+    coarse_frames: &'a [Frame],
+    /// The number of each coarse dof among the coarse level's free dofs (`usize::MAX`: none).
+    coarse_index: &'a [usize],
+}
+
+impl Prolongation<'_> {
+    /// The entries (coarse free dof, weight) of fine dof `d`'s row, in order.
+    fn row(&self, d: usize, emit: &mut dyn FnMut(u32, f64)) {
+        let (nc, t) = (self.n_components, self.transfer);
+        let (v, c) = (d / nc, d % nc);
+        let fine_frame = self.fine_frames.get(v).copied().flatten();
+        for k in t.row_ptr[v]..t.row_ptr[v + 1] {
+            let w = t.cols[k] as usize;
+            let coarse_frame = self.coarse_frames.get(w).copied().flatten();
+            if fine_frame.is_none() && coarse_frame.is_none() {
+                let j = self.coarse_index[w * nc + c];
+                if j != usize::MAX {
+                    emit(j as u32, t.weights[k]);
+                }
+                continue;
+            }
+            for c2 in 0..nc {
+                let weight = t.weights[k] * frame_change(fine_frame, coarse_frame, c, c2);
+                let j = self.coarse_index[w * nc + c2];
+                if weight != 0.0 && j != usize::MAX {
+                    emit(j as u32, weight);
+                }
+            }
+        }
+    }
 }
 
 /// Consecutive numbers for the `true` entries, `usize::MAX` elsewhere.
