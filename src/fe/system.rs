@@ -66,9 +66,8 @@ impl System {
     }
 
     /// The dofs, dropping the rest once the solve is done: the estimate and the transfer to
-    /// the next mesh need the numbering, not the assembled system, whose pattern with its
-    /// scatter plan (512 bytes per cell for vector Q₁) and matrix are the largest arrays alive
-    /// at that point.
+    /// the next mesh need the numbering, not the assembled system, whose pattern and matrix
+    /// are the largest arrays alive at that point.
     pub fn into_dofs(self) -> DofMap {
         self.dofs
     }
