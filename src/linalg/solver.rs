@@ -19,7 +19,7 @@ pub enum SolverKind {
     Direct,
     /// Conjugate gradients preconditioned by a geometric multigrid V-cycle on the quadtree
     /// levels: the default of the Reynolds tables, measured faster on the twenty of them at full
-    /// size (63.9 s against 78.9 s of wall time, 1.8 GB against 2.0 GB peak memory, one table at
+    /// size (41.2 s against 61.7 s of wall time, 1.6 GB against 2.0 GB peak memory, one table at
     /// a time on the 2-core machine, the same sitting) with the same meshes and active sets.
     Multigrid,
 }
