@@ -68,6 +68,7 @@
 //! does not depend on the number of threads.
 
 use std::cell::RefCell;
+use std::ops::Range;
 
 use rayon::prelude::*;
 
@@ -405,25 +406,83 @@ impl Level {
     /// block the lower part of a row inside the block meets the new z, the part in earlier blocks
     /// the initial zero. Writes the residual r − A z to `residual`: minus the rest of A times z,
     /// the coupling to earlier blocks and the upper part.
+    ///
+    /// The residual of a row needs z up to the row's last column, some rows further on: each
+    /// block computes it as soon as the sweep has got there, while the row is still in cache,
+    /// and leaves only the rows that reach into other blocks for after the sweep.
     fn forward_sweep_from_zero(&self, r: &[f64], z: &mut [f64], residual: &mut [f64], mask: Mask) {
         let a = &self.a;
-        by_blocks(z, mask, false, |start, i, zb| {
-            let lower = self.first_in_block(i, start)..self.diag[i];
-            let mut s = 0.0;
-            for (&j, &v) in a.cols[lower.clone()].iter().zip(&a.vals[lower]) {
-                s += v * zb[j as usize - start];
-            }
-            zb[i - start] = (r[i] - s) * self.inverse_diagonal[i];
-        });
         if mask.is_some() {
             residual.fill(0.0);
         }
-        by_blocks(residual, mask, false, |start, i, rb| {
-            let before = a.row_ptr[i]..self.first_in_block(i, start);
+        // −(the coupling to earlier blocks + the upper part) of row i times z, with `z` the
+        // values of the rows `from` on.
+        let residual_of = |i: usize, before: Range<usize>, z: &[f64], from: usize| {
             let upper = self.diag[i] + 1..a.row_ptr[i + 1];
-            rb[i - start] = -(Sparse::dot(&a.cols[before.clone()], &a.vals[before], z)
-                + Sparse::dot(&a.cols[upper.clone()], &a.vals[upper], z));
-        });
+            let dot = |range: Range<usize>| {
+                let mut s = 0.0;
+                for (&j, &v) in a.cols[range.clone()].iter().zip(&a.vals[range]) {
+                    s += v * z[j as usize - from];
+                }
+                s
+            };
+            -(dot(before) + dot(upper))
+        };
+        let deferred: Vec<Vec<usize>> = z
+            .par_chunks_mut(SMOOTHING_BLOCK)
+            .zip(residual.par_chunks_mut(SMOOTHING_BLOCK))
+            .enumerate()
+            .map(|(b, (zb, rb))| {
+                let start = b * SMOOTHING_BLOCK;
+                let end = start + zb.len();
+                let mut deferred = Vec::new();
+                // The next row whose residual is due.
+                let mut k = start;
+                for i in start..end {
+                    if !is_masked(mask, i) {
+                        let lower = self.first_in_block(i, start)..self.diag[i];
+                        let mut s = 0.0;
+                        for (&j, &v) in a.cols[lower.clone()].iter().zip(&a.vals[lower]) {
+                            s += v * zb[j as usize - start];
+                        }
+                        zb[i - start] = (r[i] - s) * self.inverse_diagonal[i];
+                    }
+                    while k <= i {
+                        let (first, last) = (a.row_ptr[k], a.row_ptr[k + 1] - 1);
+                        let last_column = a.cols[last] as usize;
+                        if last_column > i && last_column < end {
+                            break;
+                        }
+                        if !is_masked(mask, k) {
+                            if last_column >= end || (a.cols[first] as usize) < start {
+                                deferred.push(k);
+                            } else {
+                                rb[k - start] = residual_of(k, first..first, zb, start);
+                            }
+                        }
+                        k += 1;
+                    }
+                }
+                // The rows left reach past the block.
+                deferred.extend((k..end).filter(|&k| !is_masked(mask, k)));
+                deferred
+            })
+            .collect();
+        let z = &*z;
+        let late: Vec<(usize, f64)> = deferred
+            .par_iter()
+            .enumerate()
+            .flat_map_iter(|(b, rows)| {
+                let start = b * SMOOTHING_BLOCK;
+                rows.iter().map(move |&i| {
+                    let before = a.row_ptr[i]..self.first_in_block(i, start);
+                    (i, residual_of(i, before, z, 0))
+                })
+            })
+            .collect();
+        for (i, value) in late {
+            residual[i] = value;
+        }
     }
 
     /// One backward sweep for A z = r, the adjoint of the forward one: in each block, rows in
