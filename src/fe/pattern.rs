@@ -13,7 +13,7 @@ use rayon::prelude::*;
 
 use super::constraints::Constraints;
 use super::dofs::DofMap;
-use crate::linalg::Csc;
+use crate::linalg::{split_by_offsets, Csc};
 
 /// One local dof of a cell expanded to a global dof with weight 2^(−wexp)
 /// (hanging dofs expand to their two parents with weight ½).
@@ -365,17 +365,6 @@ fn weight(wexp: u8) -> f64 {
         2 => 0.25,
         w => 0.5f64.powi(w as i32),
     }
-}
-
-/// Split `data` into the consecutive pieces `offsets[k]..offsets[k + 1]`.
-fn split_by_offsets<'a, T>(mut data: &'a mut [T], offsets: &[usize]) -> Vec<&'a mut [T]> {
-    let mut out = Vec::with_capacity(offsets.len().saturating_sub(1));
-    for w in offsets.windows(2) {
-        let (head, tail) = data.split_at_mut(w[1] - w[0]);
-        out.push(head);
-        data = tail;
-    }
-    out
 }
 
 /// A vector of `len` zeros, written (in parallel) rather than allocated zeroed.

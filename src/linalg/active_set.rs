@@ -291,6 +291,13 @@ pub fn primal_dual_active_set(
     // The constraints' eliminated dofs, then the active bounds at their values (the overlay).
     let mut eliminated = problem.eliminated.to_vec();
     let constrained = eliminated.len();
+    // A step solve decides the next active set; when that is the same set, the set is confirmed
+    // on the full-accuracy solution (module docs, "Inexact steps").
+    let step = if solver.inexact_steps() {
+        Accuracy::ActiveSetStep
+    } else {
+        Accuracy::Full
+    };
     let mut iterations = 0;
     loop {
         iterations += 1;
@@ -302,13 +309,6 @@ pub fn primal_dual_active_set(
                 .filter(|(_, &a)| a)
                 .map(|(b, _)| (b.dof(), b.value)),
         );
-        // A step solve decides the next active set; when that is the same set, the set is
-        // confirmed on the full-accuracy solution (module docs, "Inexact steps").
-        let step = if solver.inexact_steps() {
-            Accuracy::ActiveSetStep
-        } else {
-            Accuracy::Full
-        };
         let solve = |solver: &mut dyn super::SolveConstrained, accuracy| {
             solver
                 .solve_overlay(matrix, &rhs, &eliminated, constrained, accuracy)
@@ -322,9 +322,11 @@ pub fn primal_dual_active_set(
             kx = matrix.multiply(&x);
             next = next_active(problem, &diag, &rhs, options, &active, &x, &kx);
         }
-        let multiplier = |b: &Bound| rho * b.sense.sign() * (rhs[b.dof()] - kx[b.dof()]);
         if next == active {
-            let multipliers = bounds.iter().map(|b| multiplier(&b)).collect();
+            let multipliers = bounds
+                .iter()
+                .map(|b| multiplier(rho, &rhs, &kx, &b))
+                .collect();
             let slack = bounds
                 .iter()
                 .map(|b| b.sense.sign() * (b.value - x[b.dof()]))
@@ -364,7 +366,6 @@ fn next_active(
     kx: &[f64],
 ) -> Vec<bool> {
     let rho = problem.row_sign();
-    let multiplier = |b: &Bound| rho * b.sense.sign() * (rhs[b.dof()] - kx[b.dof()]);
     let scale = match options.violation {
         ViolationTolerance::SolutionScale(_) => x.iter().fold(0.0f64, |m, v| m.max(v.abs())),
         ViolationTolerance::PerBound(_) => 0.0,
@@ -375,7 +376,7 @@ fn next_active(
         .zip(active)
         .map(|(b, &is_active)| {
             if is_active {
-                multiplier(&b) > -options.multiplier_tolerance
+                multiplier(rho, rhs, kx, &b) > -options.multiplier_tolerance
             } else {
                 let tol = match options.violation {
                     ViolationTolerance::PerBound(f) => f * (1.0 + b.value.abs()),
@@ -388,6 +389,12 @@ fn next_active(
             }
         })
         .collect()
+}
+
+/// The multiplier λ = ρσ(F − Kx)_d of bound `b` (module docs), with `kx` = Kx.
+#[inline]
+fn multiplier(rho: f64, rhs: &[f64], kx: &[f64], b: &Bound) -> f64 {
+    rho * b.sense.sign() * (rhs[b.dof()] - kx[b.dof()])
 }
 
 #[cfg(test)]

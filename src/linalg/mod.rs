@@ -20,6 +20,20 @@ pub use solver::{Accuracy, LinearSolver, SolveConstrained, SolverKind};
 
 use rayon::prelude::*;
 
+/// Split `data` into the consecutive pieces `offsets[k]..offsets[k + 1]`.
+pub(crate) fn split_by_offsets<'a, T>(
+    mut data: &'a mut [T],
+    offsets: &[usize],
+) -> Vec<&'a mut [T]> {
+    let mut out = Vec::with_capacity(offsets.len().saturating_sub(1));
+    for w in offsets.windows(2) {
+        let (head, tail) = data.split_at_mut(w[1] - w[0]);
+        out.push(head);
+        data = tail;
+    }
+    out
+}
+
 /// A symmetric sparse matrix in compressed columns with both triangles stored (full storage):
 /// column `j` has the row indices `row_idx[col_ptr[j]..col_ptr[j + 1]]` (sorted) and the values at
 /// the same positions; `diag[j]` is the position of entry (j, j), which every column has.

@@ -74,7 +74,7 @@ use rayon::prelude::*;
 
 use super::krylov::{conjugate_gradient_with, CgError, Preconditioner, Stopping, VectorOps};
 use super::solver::Accuracy;
-use super::{CholeskyFactor, Csc, SolveError};
+use super::{split_by_offsets, CholeskyFactor, Csc, SolveError};
 
 /// The prolongation from the vertices of one level mesh to those of the next finer kept one
 /// ([`crate::fe::hierarchy`]): row `v` (a fine vertex) lists coarse vertices and weights; hanging
@@ -180,26 +180,38 @@ impl Sparse {
         let nnz = *row_ptr.last().expect("starts with 0");
         let mut cols = vec![0u32; nnz];
         let mut vals = vec![0.0; nnz];
-        let mut pieces = Vec::with_capacity(blocks.len());
-        let (mut c_rest, mut v_rest) = (&mut cols[..], &mut vals[..]);
-        for (_, entries) in &blocks {
-            let (c, c_tail) = c_rest.split_at_mut(entries.len());
-            let (v, v_tail) = v_rest.split_at_mut(entries.len());
-            pieces.push((c, v, entries));
-            (c_rest, v_rest) = (c_tail, v_tail);
-        }
-        pieces.into_par_iter().for_each(|(c, v, entries)| {
-            for ((c, v), &(j, a)) in c.iter_mut().zip(v.iter_mut()).zip(entries.iter()) {
-                *c = j;
-                *v = a;
-            }
-        });
+        Sparse::per_task(&row_ptr, &mut cols, &mut vals)
+            .into_par_iter()
+            .zip(&blocks)
+            .for_each(|((c, v), (_, entries))| {
+                for ((c, v), &(j, a)) in c.iter_mut().zip(v.iter_mut()).zip(entries.iter()) {
+                    *c = j;
+                    *v = a;
+                }
+            });
         Sparse {
             n_cols,
             row_ptr,
             cols,
             vals,
         }
+    }
+
+    /// The entries `cols`, `vals` of the rows `row_ptr` cut into the pieces of consecutive
+    /// blocks of [`ROWS_PER_TASK`] rows, one per parallel task.
+    fn per_task<'a>(
+        row_ptr: &[usize],
+        cols: &'a mut [u32],
+        vals: &'a mut [f64],
+    ) -> Vec<(&'a mut [u32], &'a mut [f64])> {
+        let n_rows = row_ptr.len() - 1;
+        let starts: Vec<usize> = (0..n_rows.div_ceil(ROWS_PER_TASK) + 1)
+            .map(|b| row_ptr[(b * ROWS_PER_TASK).min(n_rows)])
+            .collect();
+        split_by_offsets(cols, &starts)
+            .into_iter()
+            .zip(split_by_offsets(vals, &starts))
+            .collect()
     }
 
     /// The matrix with `n_rows` rows of `len(i)` entries each, row `i` written by `fill(i,
@@ -219,23 +231,17 @@ impl Sparse {
         let nnz = row_ptr[n_rows];
         let mut cols = vec![0u32; nnz];
         let mut vals = vec![0.0; nnz];
-        let mut pieces = Vec::with_capacity(n_rows.div_ceil(ROWS_PER_TASK));
-        let (mut c_rest, mut v_rest) = (&mut cols[..], &mut vals[..]);
-        for first in (0..n_rows).step_by(ROWS_PER_TASK) {
-            let rows = first..(first + ROWS_PER_TASK).min(n_rows);
-            let len = row_ptr[rows.end] - row_ptr[rows.start];
-            let (c, c_tail) = c_rest.split_at_mut(len);
-            let (v, v_tail) = v_rest.split_at_mut(len);
-            pieces.push((rows, c, v));
-            (c_rest, v_rest) = (c_tail, v_tail);
-        }
-        pieces.into_par_iter().for_each(|(rows, c, v)| {
-            let base = row_ptr[rows.start];
-            for i in rows {
-                let r = row_ptr[i] - base..row_ptr[i + 1] - base;
-                fill(i, &mut c[r.clone()], &mut v[r]);
-            }
-        });
+        Sparse::per_task(&row_ptr, &mut cols, &mut vals)
+            .into_par_iter()
+            .enumerate()
+            .for_each(|(b, (c, v))| {
+                let rows = b * ROWS_PER_TASK..((b + 1) * ROWS_PER_TASK).min(n_rows);
+                let base = row_ptr[rows.start];
+                for i in rows {
+                    let r = row_ptr[i] - base..row_ptr[i + 1] - base;
+                    fill(i, &mut c[r.clone()], &mut v[r]);
+                }
+            });
         Sparse {
             n_cols,
             row_ptr,
