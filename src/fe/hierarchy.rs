@@ -83,81 +83,56 @@ fn cells_per_truncation(mesh: &Mesh) -> Vec<usize> {
 /// The prolongation from the Q₁ space of `coarse_mesh` (vertices `coarse`) to the vertices
 /// `fine` of a finer mesh of the same domain.
 fn prolongation(coarse_mesh: &Mesh, coarse: &Vertices, fine: &Vertices) -> Transfer {
-    // At most six coarse vertices per fine vertex: four corners, two of them hanging on
-    // different edges, each replaced by its two parents (which are shared with the corners).
-    type Row = ([(u32, f64); 6], usize);
-    let rows: Vec<Row> = fine
-        .keys
-        .par_iter()
-        .enumerate()
-        .map(|(v, &key)| {
-            let mut row: Row = ([(0, 0.0); 6], 0);
-            if fine.is_hanging[v] {
-                // Hanging dofs are eliminated at every level: no row.
-                return row;
-            }
-            let c = coarse_mesh.cell_at_vertex(key);
-            let corners = coarse_mesh.corner_keys(c);
-            let width = (corners[1].0 - corners[0].0) as f64;
-            let s = (key.0 - corners[0].0) as f64 / width;
-            let t = (key.1 - corners[0].1) as f64 / width;
-            let weights = [(1.0 - s) * (1.0 - t), s * (1.0 - t), (1.0 - s) * t, s * t];
-            let mut add = |w: u32, weight: f64| {
-                let (entries, n) = &mut row;
-                match entries[..*n].iter_mut().find(|e| e.0 == w) {
-                    Some(e) => e.1 += weight,
-                    None => {
-                        entries[*n] = (w, weight);
-                        *n += 1;
-                    }
-                }
-            };
-            for (&k, &weight) in corners.iter().zip(&weights) {
-                if weight == 0.0 {
-                    continue;
-                }
-                let w = coarse.find(k).expect("corner is a vertex");
-                if coarse.is_hanging[w as usize] {
-                    let i = coarse
-                        .hanging
-                        .binary_search_by_key(&w, |h| h.vertex)
-                        .expect("hanging vertex listed");
-                    for p in coarse.hanging[i].parents {
-                        add(p, 0.5 * weight);
-                    }
-                } else {
-                    add(w, weight);
-                }
-            }
-            row.0[..row.1].sort_unstable_by_key(|e| e.0);
-            row
-        })
-        .collect();
-    let mut row_ptr = Vec::with_capacity(rows.len() + 1);
-    row_ptr.push(0);
-    let nnz = rows.iter().map(|r| r.1).sum();
-    let mut cols = Vec::with_capacity(nnz);
-    let mut weights = Vec::with_capacity(nnz);
-    for (entries, n) in rows {
-        for &(w, weight) in &entries[..n] {
-            cols.push(w);
-            weights.push(weight);
+    let row = |v: usize, out: &mut Vec<(u32, f64)>| {
+        if fine.is_hanging[v] {
+            // Hanging dofs are eliminated at every level: no row.
+            return;
         }
-        row_ptr.push(cols.len());
-    }
+        let key = fine.keys[v];
+        let c = coarse_mesh.cell_at_vertex(key);
+        let corners = coarse_mesh.corner_keys(c);
+        let width = (corners[1].0 - corners[0].0) as f64;
+        let s = (key.0 - corners[0].0) as f64 / width;
+        let t = (key.1 - corners[0].1) as f64 / width;
+        let weights = [(1.0 - s) * (1.0 - t), s * (1.0 - t), (1.0 - s) * t, s * t];
+        // At most six coarse vertices per fine vertex: four corners, two of them hanging on
+        // different edges, each replaced by its two parents (which are shared with the corners).
+        let start = out.len();
+        let mut add = |w: u32, weight: f64| match out[start..].iter_mut().find(|e| e.0 == w) {
+            Some(e) => e.1 += weight,
+            None => out.push((w, weight)),
+        };
+        for (&k, &weight) in corners.iter().zip(&weights) {
+            if weight == 0.0 {
+                continue;
+            }
+            let w = coarse.find(k).expect("corner is a vertex");
+            if coarse.is_hanging[w as usize] {
+                let i = coarse
+                    .hanging
+                    .binary_search_by_key(&w, |h| h.vertex)
+                    .expect("hanging vertex listed");
+                for p in coarse.hanging[i].parents {
+                    add(p, 0.5 * weight);
+                }
+            } else {
+                add(w, weight);
+            }
+        }
+        out[start..].sort_unstable_by_key(|e| e.0);
+    };
     let fine_of_coarse = coarse
         .keys
         .par_iter()
         .map(|&k| fine.find(k).expect("a coarse vertex is a fine vertex"))
         .collect();
-    Transfer {
-        n_coarse: coarse.len(),
-        row_ptr,
-        cols,
-        weights,
+    Transfer::by_rows(
+        fine.len(),
+        coarse.len(),
+        row,
         fine_of_coarse,
-        coarse_hanging: coarse.is_hanging.clone(),
-    }
+        coarse.is_hanging.clone(),
+    )
 }
 
 #[cfg(test)]
