@@ -77,6 +77,44 @@ pub struct CellData {
 /// The values of one cell in [`CellData`]: load, Δg/g, squeeze part.
 type PointData = ([f64; 4], [f64; 4], [f64; 4]);
 
+/// The [`PointData`] of the cells a mesh did not keep, as evaluated
+/// ([`ReynoldsProblem::fresh_point_data`]): per cell, once for every cell, or per column of
+/// cells — read where they go, without a per-cell copy of the shared values.
+enum FreshData {
+    /// The values of the `j`-th fresh cell.
+    PerCell(Vec<PointData>),
+    /// The same values for every cell.
+    Everywhere(PointData),
+    /// The values of each column (sorted), [`FreshData::column`].
+    PerColumn {
+        columns: Vec<(u8, u64)>,
+        values: Vec<PointData>,
+    },
+}
+
+impl FreshData {
+    /// The column of cell `c`: its level and the integer position of its left side, which fix
+    /// the x₁ of its quadrature points on a mesh of rectangles.
+    fn column(mesh: &Mesh, c: CellId) -> (u8, u64) {
+        let key = mesh.cell_key(c);
+        (key.level, key.x)
+    }
+
+    /// The values of the `j`-th fresh cell, `c`.
+    fn get(&self, mesh: &Mesh, j: usize, c: CellId) -> PointData {
+        match self {
+            FreshData::PerCell(values) => values[j],
+            FreshData::Everywhere(values) => *values,
+            FreshData::PerColumn { columns, values } => {
+                let i = columns
+                    .binary_search(&FreshData::column(mesh, c))
+                    .expect("every column has a first cell");
+                values[i]
+            }
+        }
+    }
+}
+
 /// [`CellData`] of one mesh with what the next mesh needs to find the cells it kept
 /// ([`ReynoldsProblem::cell_data_reusing`]).
 pub struct CellDataCache {
@@ -178,38 +216,30 @@ impl ReynoldsProblem {
     /// [`Gap::varies_in_x2`]: crate::models::thin_film::Gap::varies_in_x2
     /// [`Gap::varies_in_x1`]: crate::models::thin_film::Gap::varies_in_x1
     /// [`CellShape::point`]: crate::mesh::CellShape::point
-    fn fresh_point_data(&self, mesh: &Mesh, cells: &[CellId], load: Load) -> Vec<PointData> {
+    fn fresh_point_data(&self, mesh: &Mesh, cells: &[CellId], load: Load) -> FreshData {
         let evaluate = |c: CellId| Self::point_data(mesh, c, |x| self.point_values(x, load));
         let gap = &self.film.gap;
         if gap.varies_in_x2() || mesh.is_moved() {
-            return cells.par_iter().map(|&c| evaluate(c)).collect();
+            return FreshData::PerCell(cells.par_iter().map(|&c| evaluate(c)).collect());
         }
         if !gap.varies_in_x1() {
             return match cells.first() {
-                Some(&c) => vec![evaluate(c); cells.len()],
-                None => Vec::new(),
+                Some(&c) => FreshData::Everywhere(evaluate(c)),
+                None => FreshData::PerCell(Vec::new()),
             };
         }
-        let column = |c: CellId| {
-            let key = mesh.cell_key(c);
-            (key.level, key.x)
-        };
         // One cell of each column, the first in `cells`.
-        let mut firsts: Vec<((u8, u64), CellId)> =
-            cells.par_iter().map(|&c| (column(c), c)).collect();
+        let mut firsts: Vec<((u8, u64), CellId)> = cells
+            .par_iter()
+            .map(|&c| (FreshData::column(mesh, c), c))
+            .collect();
         firsts.par_sort_by_key(|e| e.0);
         firsts.dedup_by_key(|e| e.0);
-        let values: Vec<PointData> = firsts.par_iter().map(|&(_, c)| evaluate(c)).collect();
-        cells
-            .par_iter()
-            .map(|&c| {
-                let col = column(c);
-                let i = firsts
-                    .binary_search_by_key(&col, |e| e.0)
-                    .expect("every column has a first cell");
-                values[i]
-            })
-            .collect()
+        let values = firsts.par_iter().map(|&(_, c)| evaluate(c)).collect();
+        FreshData::PerColumn {
+            columns: firsts.into_iter().map(|e| e.0).collect(),
+            values,
+        }
     }
 
     /// [`Self::cell_data`] reusing the values of cells that are unchanged since `previous`
@@ -238,39 +268,49 @@ impl ReynoldsProblem {
             .collect();
         let reused = active.len() - fresh_cells.len();
         let fresh = self.fresh_point_data(mesh, &fresh_cells, load);
-        // Cell k's values: from the previous mesh, or the next fresh ones in cell order.
-        let mut next_fresh = 0;
-        let source: Vec<Result<usize, usize>> = kept
-            .iter()
-            .map(|s| match s {
-                Some(k) => Ok(*k as usize),
-                None => {
-                    next_fresh += 1;
-                    Err(next_fresh - 1)
-                }
-            })
-            .collect();
         let none = CellData {
             load: Vec::new(),
             dg_over_g: Vec::new(),
             squeeze: Vec::new(),
         };
         let old = previous.map_or(&none, |p| &p.data);
-        let column = |fresh_part: fn(&PointData) -> [f64; 4],
-                      kept_part: fn(&CellData) -> &Vec<[f64; 4]>| {
-            source
-                .par_iter()
-                .map(|s| match s {
-                    Ok(k) => kept_part(old)[*k],
-                    Err(j) => fresh_part(&fresh[*j]),
-                })
-                .collect()
+        // Cell k's values: from the previous mesh, or the next fresh ones in cell order; by
+        // blocks of cells in parallel, each block starting after the fresh cells before it.
+        const CELLS_PER_TASK: usize = 4096;
+        let mut fresh_before: Vec<usize> = kept
+            .par_chunks(CELLS_PER_TASK)
+            .map(|block| block.iter().filter(|s| s.is_none()).count())
+            .collect();
+        let mut sum = 0;
+        for n in &mut fresh_before {
+            (*n, sum) = (sum, sum + *n);
+        }
+        let n = active.len();
+        let mut data = CellData {
+            load: vec![[0.0; 4]; n],
+            dg_over_g: vec![[0.0; 4]; n],
+            squeeze: vec![[0.0; 4]; n],
         };
-        let data = CellData {
-            load: column(|v| v.0, |d| &d.load),
-            dg_over_g: column(|v| v.1, |d| &d.dg_over_g),
-            squeeze: column(|v| v.2, |d| &d.squeeze),
-        };
+        data.load
+            .par_chunks_mut(CELLS_PER_TASK)
+            .zip(data.dg_over_g.par_chunks_mut(CELLS_PER_TASK))
+            .zip(data.squeeze.par_chunks_mut(CELLS_PER_TASK))
+            .zip(kept.par_chunks(CELLS_PER_TASK))
+            .zip(fresh_before)
+            .for_each(|((((load, dg_over_g), squeeze), kept), mut j)| {
+                for (i, s) in kept.iter().enumerate() {
+                    (load[i], dg_over_g[i], squeeze[i]) = match *s {
+                        Some(k) => {
+                            let k = k as usize;
+                            (old.load[k], old.dg_over_g[k], old.squeeze[k])
+                        }
+                        None => {
+                            j += 1;
+                            fresh.get(mesh, j - 1, fresh_cells[j - 1])
+                        }
+                    };
+                }
+            });
         CellDataCache {
             load,
             cells: mesh.active_cells(),
