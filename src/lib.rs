@@ -10,6 +10,7 @@ pub mod adaptivity;
 pub mod estimators;
 pub mod experiment;
 pub mod fe;
+pub mod heap;
 pub mod linalg;
 pub mod mesh;
 pub mod models;
