@@ -5,6 +5,7 @@
 //! `vertex · n_components + component`. Hanging vertices keep their dofs (the thesis counts them,
 //! as deal.II's `n_dofs()` does); their values follow from the two end points of the coarse edge.
 
+use rayon::iter::Either;
 use rayon::prelude::*;
 
 use crate::mesh::{Face, Mesh, Neighbor, Side, VertexKey, FACES};
@@ -53,29 +54,18 @@ impl Vertices {
     /// no cell vertices (`coords` and `cell_vertices` are empty). The level meshes of
     /// multigrid need no more ([`super::hierarchy`]).
     pub fn numbering_only(mesh: &Mesh) -> Vertices {
-        let mut keys = vertex_keys(mesh);
-        keys.par_sort_unstable();
+        let (keys, hanging_keys) = vertex_keys(mesh);
+        let keys = sorted(keys);
         assert!(
             keys.windows(2).all(|w| w[0] < w[1]),
             "a vertex listed twice"
         );
         let index = KeyIndex::new(&keys);
         let lookup = |k: VertexKey| index.find(&keys, k).expect("vertex exists");
-        let mut hanging: Vec<Hanging> = mesh
-            .active()
+        let mut hanging: Vec<Hanging> = hanging_keys
             .par_iter()
-            .flat_map_iter(|&c| {
-                let corners = mesh.corner_keys(c);
-                FACES
-                    .into_iter()
-                    .filter(move |&f| matches!(mesh.neighbor(c, f), Neighbor::Finer(_)))
-                    .map(move |f| {
-                        let [a, b] = f.vertices().map(|i| corners[i]);
-                        ((a.0 + b.0) / 2, (a.1 + b.1) / 2, a, b)
-                    })
-            })
-            .map(|(x, y, a, b)| Hanging {
-                vertex: lookup((x, y)),
+            .map(|&[v, a, b]| Hanging {
+                vertex: lookup(v),
                 parents: [lookup(a), lookup(b)],
             })
             .collect();
@@ -139,8 +129,12 @@ impl Vertices {
     }
 }
 
-/// The vertices of the active cells, each once, unsorted. Listing the four corners of every cell
-/// and removing the duplicates would sort four entries per vertex; instead each cell lists
+/// The vertices of the active cells, each once, unsorted, and the hanging vertices with the
+/// end points of their coarse edges ([position, end, end]), from one pass over the cells that
+/// asks for each face's neighbour once.
+///
+/// Listing the four corners of every cell and removing the duplicates would sort four entries
+/// per vertex; instead each cell lists
 /// - its lower-left corner;
 /// - the midpoints of its left and bottom faces where the neighbour is finer (hanging vertices:
 ///   the finer cells there have other lower-left corners);
@@ -149,29 +143,79 @@ impl Vertices {
 /// Every other corner is the lower-left corner of the active cell that holds it (cells are
 /// half-open, `[x, x + w) × [y, y + w)`, and tile the domain): a corner on the interior of that
 /// cell's bottom or left edge would make that face's neighbour finer, and is then its midpoint
-/// (2:1 rule). Each vertex therefore appears exactly once.
-fn vertex_keys(mesh: &Mesh) -> Vec<VertexKey> {
+/// (2:1 rule). Each vertex therefore appears exactly once. The hanging vertices are the
+/// midpoints of every face, of the four, whose neighbour is finer.
+fn vertex_keys(mesh: &Mesh) -> (Vec<VertexKey>, Vec<[VertexKey; 3]>) {
     let (right, top) = mesh.extent();
+    let midpoint = |a: VertexKey, b: VertexKey| ((a.0 + b.0) / 2, (a.1 + b.1) / 2);
     mesh.active()
         .par_iter()
         .flat_map_iter(|&c| {
-            let [ll, lr, ul, ur] = mesh.corner_keys(c);
-            let finer = |f: Face| matches!(mesh.neighbor(c, f), Neighbor::Finer(_));
-            let midpoint = |a: VertexKey, b: VertexKey| ((a.0 + b.0) / 2, (a.1 + b.1) / 2);
+            let corners = mesh.corner_keys(c);
+            let [ll, lr, ul, ur] = corners;
+            let finer = FACES.map(|f| matches!(mesh.neighbor(c, f), Neighbor::Finer(_)));
             let (at_right, at_top) = (lr.0 == right, ul.1 == top);
-            [
+            let keys = [
                 Some(ll),
-                finer(Face::Left).then(|| midpoint(ll, ul)),
-                finer(Face::Bottom).then(|| midpoint(ll, lr)),
+                finer[Face::Left as usize].then(|| midpoint(ll, ul)),
+                finer[Face::Bottom as usize].then(|| midpoint(ll, lr)),
                 at_right.then_some(lr),
                 at_top.then_some(ul),
                 (at_right && at_top).then_some(ur),
-            ]
-            .into_iter()
-            .flatten()
+            ];
+            let hanging = FACES.into_iter().zip(finer).filter_map(move |(f, finer)| {
+                finer.then(|| {
+                    let [a, b] = f.vertices().map(|i| corners[i]);
+                    Either::Right([midpoint(a, b), a, b])
+                })
+            });
+            keys.into_iter().flatten().map(Either::Left).chain(hanging)
         })
-        .collect()
+        .partition_map(|e| e)
 }
+
+/// Distinct vertex keys sorted (x first, then y): a least-significant-digit radix sort, by y
+/// and then, stably, by x, over the bits in which the keys differ (on a quadtree their low
+/// bits are zero below the finest level: one or two passes of [`RADIX_BITS`] per coordinate).
+/// The order is the one of any sort, the keys being distinct; a comparison sort took most of
+/// the numbering of a mesh.
+fn sorted(mut keys: Vec<VertexKey>) -> Vec<VertexKey> {
+    let mut spare = vec![(0, 0); keys.len()];
+    for coordinate in [|k: &VertexKey| k.1, |k: &VertexKey| k.0] {
+        let (any, all) = keys.iter().fold((0u64, u64::MAX), |(any, all), k| {
+            (any | coordinate(k), all & coordinate(k))
+        });
+        // The bits that differ between keys.
+        let differ = any & !all;
+        if differ == 0 {
+            continue;
+        }
+        let (low, high) = (differ.trailing_zeros(), 64 - differ.leading_zeros());
+        let mut shift = low;
+        while shift < high {
+            let digit = |k: &VertexKey| ((coordinate(k) >> shift) & RADIX_MASK) as usize;
+            let mut start = vec![0usize; RADIX_MASK as usize + 2];
+            for k in &keys {
+                start[digit(k) + 1] += 1;
+            }
+            for d in 0..=RADIX_MASK as usize {
+                start[d + 1] += start[d];
+            }
+            for k in &keys {
+                let d = digit(k);
+                spare[start[d]] = *k;
+                start[d] += 1;
+            }
+            std::mem::swap(&mut keys, &mut spare);
+            shift += RADIX_BITS;
+        }
+    }
+    keys
+}
+
+/// Bits per pass of [`sorted`].
+const RADIX_BITS: u32 = 11;
+const RADIX_MASK: u64 = (1 << RADIX_BITS) - 1;
 
 /// A hash table from integer positions to vertex numbers (open addressing, linear probing, at
 /// most half full): one or two cache lines per lookup where a binary search of the sorted keys
@@ -321,5 +365,40 @@ impl LocalDofs {
     #[inline]
     pub fn entry(&self, i: usize, j: usize) -> usize {
         i * self.len() + j
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The radix sort gives the order of a comparison sort: keys spread over many digits, keys
+    /// that differ only in high or only in low bits, a coordinate that is the same for all.
+    #[test]
+    fn radix_sort_of_vertex_keys_is_the_sorted_order() {
+        let mut state = 0x2545_F491_4F6C_DD1Du64;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        let cases: Vec<Vec<VertexKey>> = vec![
+            (0..5000).map(|_| (next() >> 20, next() >> 30)).collect(),
+            (0..5000).map(|_| ((next() % 64) << 40, (next() % 4096) << 13)).collect(),
+            (0..3000).map(|_| (7, next())).collect(),
+            (0..3000).map(|_| (next() % 1000, 12)).collect(),
+            vec![(3, 4)],
+            Vec::new(),
+        ];
+        for mut keys in cases {
+            keys.sort_unstable();
+            keys.dedup();
+            let mut shuffled = keys.clone();
+            shuffled.reverse();
+            let third = shuffled.len() / 3;
+            shuffled.rotate_left(third);
+            assert_eq!(sorted(shuffled), keys);
+        }
     }
 }
