@@ -163,12 +163,14 @@ fn vertex_keys(mesh: &Mesh) -> (Vec<VertexKey>, Vec<[VertexKey; 3]>) {
                 at_top.then_some(ul),
                 (at_right && at_top).then_some(ur),
             ];
-            let hanging = FACES.into_iter().zip(finer).filter_map(move |(f, finer)| {
-                finer.then(|| {
+            let hanging = FACES
+                .into_iter()
+                .zip(finer)
+                .filter(|&(_, finer)| finer)
+                .map(move |(f, _)| {
                     let [a, b] = f.vertices().map(|i| corners[i]);
                     Either::Right([midpoint(a, b), a, b])
-                })
-            });
+                });
             keys.into_iter().flatten().map(Either::Left).chain(hanging)
         })
         .partition_map(|e| e)
