@@ -441,6 +441,13 @@ pub enum Neighbor {
     Finer([CellId; 2]),
 }
 
+/// The cell across each face of every cell of a mesh ([`Mesh::face_neighbors`]): the
+/// same-level cell there or the coarser active one, none at the boundary.
+#[derive(Clone, Debug)]
+pub struct FaceNeighbors {
+    across: Vec<[CellId; 4]>,
+}
+
 /// Forest of quadtrees (see module docs).
 #[derive(Clone, Debug)]
 pub struct Mesh {
@@ -816,6 +823,21 @@ impl Mesh {
             let j = cell.y as i64 / size + dy;
             return (j * self.nx as i64 + i) as CellId;
         }
+        self.across_child(c, face, |parent| Some(self.across_inside(parent, face)))
+            .expect("inside the domain")
+    }
+
+    /// [`Mesh::across`] for the child `c` given what lies across the same face of its parent
+    /// (`parent_across(parent)`, `None` at the boundary): a sibling, or the parent's neighbour
+    /// where that is a leaf, or the child of it next to `c`.
+    #[inline]
+    fn across_child(
+        &self,
+        c: CellId,
+        face: Face,
+        parent_across: impl FnOnce(CellId) -> Option<CellId>,
+    ) -> Option<CellId> {
+        let cell = self.cells[c as usize];
         let parent = self.cells[cell.parent as usize];
         let ci = c - parent.children;
         // Bit of the child index that moves along the face normal, and whether the face
@@ -827,21 +849,35 @@ impl Mesh {
             Face::Top => (2, true),
         };
         if (ci & bit == 0) == up {
-            return parent.children + (ci ^ bit);
+            return Some(parent.children + (ci ^ bit));
         }
-        let n = self.across_inside(cell.parent, face);
+        let n = parent_across(cell.parent)?;
         let ncell = self.cells[n as usize];
-        if ncell.children == NONE {
+        Some(if ncell.children == NONE {
             n
         } else {
             ncell.children + (ci ^ bit)
-        }
+        })
     }
 
     /// What lies across `face` of the active cell `c`.
     pub fn neighbor(&self, c: CellId, face: Face) -> Neighbor {
+        self.neighbor_across(c, face, self.across(c, face))
+    }
+
+    /// [`Mesh::neighbor`] read from the table of every cell's neighbours (built by
+    /// [`Mesh::face_neighbors`] for this mesh): for the loops over all cells.
+    #[inline]
+    pub fn neighbor_in(&self, table: &FaceNeighbors, c: CellId, face: Face) -> Neighbor {
+        let n = table.across[c as usize][face as usize];
+        self.neighbor_across(c, face, (n != NONE).then_some(n))
+    }
+
+    /// [`Mesh::neighbor`] of `c` with `across` what [`Mesh::across`] gives.
+    #[inline]
+    fn neighbor_across(&self, c: CellId, face: Face, across: Option<CellId>) -> Neighbor {
         let level = self.cells[c as usize].level;
-        match self.across(c, face) {
+        match across {
             None => Neighbor::Boundary(face.side()),
             Some(n) => {
                 let ncell = self.cells[n as usize];
@@ -855,6 +891,41 @@ impl Mesh {
                 }
             }
         }
+    }
+
+    /// [`Mesh::across`] of every cell and face at once, top-down: the cells are stored level
+    /// after level (breadth-first, [`Mesh::truncated`] relies on it too), and a child's
+    /// neighbour follows from its parent's ([`Mesh::across_child`]), so each level is one
+    /// parallel pass and no query walks up the tree. The loops that visit every cell's four
+    /// faces (the vertex numbering, the estimators) read it through [`Mesh::neighbor_in`].
+    pub fn face_neighbors(&self) -> FaceNeighbors {
+        let n = self.cells.len();
+        let roots = self.nx * self.ny;
+        let mut across = vec![[NONE; 4]; n];
+        let entry = |a: Option<CellId>| a.unwrap_or(NONE);
+        for (c, row) in across[..roots].iter_mut().enumerate() {
+            *row = FACES.map(|face| entry(self.across(c as CellId, face)));
+        }
+        let mut start = roots;
+        while start < n {
+            let level = self.cells[start].level;
+            let end = start + self.cells[start..].partition_point(|c| c.level == level);
+            let (coarser, this) = across.split_at_mut(start);
+            this[..end - start]
+                .par_iter_mut()
+                .enumerate()
+                .for_each(|(i, row)| {
+                    let c = (start + i) as CellId;
+                    *row = FACES.map(|face| {
+                        entry(self.across_child(c, face, |parent| {
+                            let p = coarser[parent as usize][face as usize];
+                            (p != NONE).then_some(p)
+                        }))
+                    });
+                });
+            start = end;
+        }
+        FaceNeighbors { across }
     }
 
     /// Active cell containing the physical point `p` (points on shared edges go to the cell

@@ -39,6 +39,38 @@ fn twelve_levels_of_local_refinement_keep_two_to_one_and_valid_constraints() {
     }
 }
 
+/// The table of every cell's neighbours (built top-down, level by level) gives what the
+/// neighbour query gives, on an adapted mesh with refinement and coarsening, on its level
+/// meshes, and on a grid of several coarse cells.
+#[test]
+fn the_face_neighbour_table_agrees_with_the_neighbour_query() {
+    let mut mesh = Mesh::new([-2.0, 2.0], [0.0, 1.0], 4, 2);
+    refine_around(&mut mesh, [0.3, 0.7], 7);
+    refine_around(&mut mesh, [-1.0, 0.0], 5);
+    // Coarsen what the first refinement made near its point, refine a band elsewhere.
+    let refine: Vec<bool> = mesh.active().iter().map(|&c| mesh.cell_box(c)[0] > 1.5).collect();
+    let coarsen: Vec<bool> = mesh.active().iter().map(|&c| mesh.level(c) >= 6).collect();
+    mesh.refine_and_coarsen(&refine, &coarsen).unwrap();
+    let max_level = mesh.active().iter().map(|&c| mesh.level(c)).max().unwrap();
+    let mut checked = [0usize; 4];
+    for m in (0..=max_level).map(|l| mesh.truncated(l)).chain([mesh.clone()]) {
+        let table = m.face_neighbors();
+        for &c in m.active() {
+            for f in FACES {
+                let (expected, got) = (m.neighbor(c, f), m.neighbor_in(&table, c, f));
+                assert_eq!(got, expected, "cell {c} face {f:?}");
+                checked[match expected {
+                    Neighbor::Boundary(_) => 0,
+                    Neighbor::Same(_) => 1,
+                    Neighbor::Coarser(_) => 2,
+                    Neighbor::Finer(_) => 3,
+                }] += 1;
+            }
+        }
+    }
+    assert!(checked.iter().all(|&n| n > 100), "every kind of neighbour seen: {checked:?}");
+}
+
 /// Issue 15.1: coarse grids more than 128 cells wide (integer positions past 2³¹, whose vertex
 /// midpoints overflowed 32 bits: "hanging vertex exists") or 256 wide (past 2³²: an assert in
 /// `Mesh::new`). Hanging vertices at the far end of the strip, in x₁ and turned in x₂, are the

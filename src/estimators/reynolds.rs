@@ -144,6 +144,7 @@ pub fn indicator_sets<const N: usize>(
     let rule = square_rule::<4>();
     let (fp, fw) = quadrature::gauss(2);
     let active = mesh.active();
+    let neighbors = mesh.face_neighbors();
     let cells: Vec<[f64; N]> = per_cell(mesh, &rule, |k, c, cv| {
         let shape = cv.shape();
         let h = shape.diameter();
@@ -189,7 +190,7 @@ pub fn indicator_sets<const N: usize>(
                 }
                 s * len
             };
-            faces += match mesh.neighbor(c, face) {
+            faces += match mesh.neighbor_in(&neighbors, c, face) {
                 Neighbor::Boundary(_) => 0.0,
                 Neighbor::Same(nb) | Neighbor::Coarser(nb) => {
                     segment(pa, pb, mesh.active_index(nb))

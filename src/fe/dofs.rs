@@ -148,12 +148,14 @@ impl Vertices {
 fn vertex_keys(mesh: &Mesh) -> (Vec<VertexKey>, Vec<[VertexKey; 3]>) {
     let (right, top) = mesh.extent();
     let midpoint = |a: VertexKey, b: VertexKey| ((a.0 + b.0) / 2, (a.1 + b.1) / 2);
+    let neighbors = mesh.face_neighbors();
     mesh.active()
         .par_iter()
         .flat_map_iter(|&c| {
             let corners = mesh.corner_keys(c);
             let [ll, lr, ul, ur] = corners;
-            let finer = FACES.map(|f| matches!(mesh.neighbor(c, f), Neighbor::Finer(_)));
+            let finer =
+                FACES.map(|f| matches!(mesh.neighbor_in(&neighbors, c, f), Neighbor::Finer(_)));
             let (at_right, at_top) = (lr.0 == right, ul.1 == top);
             let keys = [
                 Some(ll),
