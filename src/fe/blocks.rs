@@ -103,7 +103,7 @@ impl SaddleBlocks {
                 continue;
             }
             for p in matrix.col_ptr[j]..matrix.col_ptr[j + 1] {
-                let (i, value) = (matrix.row_idx[p], matrix.values[p]);
+                let (i, value) = (matrix.row_idx[p] as usize, matrix.values[p]);
                 if index[i] == NONE || value == 0.0 {
                     continue;
                 }

@@ -31,7 +31,7 @@ pub struct SparsityPattern {
     n: usize,
     n_local: usize,
     col_ptr: Vec<usize>,
-    row_idx: Vec<usize>,
+    row_idx: Vec<u32>,
     diag: Vec<usize>,
     rhs_start: Vec<usize>,
     rhs_entries: Vec<Expanded>,
@@ -42,6 +42,7 @@ impl SparsityPattern {
     /// expanding hanging dofs into their parents) plus every diagonal entry.
     pub fn new(dofs: &DofMap, constraints: &Constraints) -> SparsityPattern {
         let n = dofs.n_dofs();
+        assert!(n < u32::MAX as usize, "too many dofs for 32-bit row indices");
         let nc = dofs.n_components;
         let n_local = 4 * nc;
         let v = &dofs.vertices;
@@ -131,22 +132,22 @@ impl SparsityPattern {
         // Column j: every dof sharing a cell with j, plus j itself; built in parallel blocks of
         // columns and stitched in column order.
         const BLOCK: usize = 4096;
-        let blocks: Vec<(Vec<usize>, Vec<usize>)> = (0..n.div_ceil(BLOCK))
+        let blocks: Vec<(Vec<usize>, Vec<u32>)> = (0..n.div_ceil(BLOCK))
             .into_par_iter()
             .map(|b| {
                 let cols = b * BLOCK..((b + 1) * BLOCK).min(n);
                 let mut lens = Vec::with_capacity(cols.len());
                 let mut rows = Vec::with_capacity(cols.len() * 10 * nc);
-                let mut buf: Vec<usize> = Vec::new();
+                let mut buf: Vec<u32> = Vec::new();
                 for j in cols {
                     buf.clear();
-                    buf.push(j);
+                    buf.push(j as u32);
                     for &k in &touch[touch_start[j]..touch_start[j + 1]] {
                         let k = k as usize;
                         buf.extend(
                             rhs_entries[rhs_start[k]..rhs_start[k + 1]]
                                 .iter()
-                                .map(|e| e.global as usize),
+                                .map(|e| e.global),
                         );
                     }
                     buf.sort_unstable();
@@ -168,7 +169,7 @@ impl SparsityPattern {
         }
         let nnz = col_ptr[n];
         // Stitched in parallel: each block's rows go to their place in the whole.
-        let mut row_idx = vec![0usize; nnz];
+        let mut row_idx = vec![0u32; nnz];
         let block_starts: Vec<usize> = (0..=blocks.len())
             .map(|b| col_ptr[(b * BLOCK).min(n)])
             .collect();
@@ -197,7 +198,7 @@ impl SparsityPattern {
     #[inline]
     fn find(&self, i: usize, j: usize) -> usize {
         let col = &self.row_idx[self.col_ptr[j]..self.col_ptr[j + 1]];
-        self.col_ptr[j] + col.binary_search(&i).expect("entry in pattern")
+        self.col_ptr[j] + col.binary_search(&(i as u32)).expect("entry in pattern")
     }
 
     pub fn n(&self) -> usize {
@@ -214,14 +215,14 @@ impl SparsityPattern {
     }
 
     /// Row indices of the pattern, sorted within each column.
-    pub fn row_idx(&self) -> &[usize] {
+    pub fn row_idx(&self) -> &[u32] {
         &self.row_idx
     }
 
     /// Position of entry (i, j) in the value array, if it is in the pattern.
     pub fn position(&self, i: usize, j: usize) -> Option<usize> {
         let col = &self.row_idx[self.col_ptr[j]..self.col_ptr[j + 1]];
-        col.binary_search(&i).ok().map(|p| self.col_ptr[j] + p)
+        col.binary_search(&(i as u32)).ok().map(|p| self.col_ptr[j] + p)
     }
 
     /// Assemble cell matrices and vectors. `cell(k, ke, fe)` fills the `n_local × n_local`

@@ -176,9 +176,9 @@ impl Rotation {
             let t = [-n[1], n[0]];
             let i0 = 2 * v as usize;
             for q in cp[i0]..cp[i0 + 1] {
-                let j = ri[q];
+                let j = ri[q] as usize;
                 let p0 = matrix.position(i0, j).expect("symmetric pattern");
-                debug_assert_eq!(ri[p0 + 1], i0 + 1);
+                debug_assert_eq!(ri[p0 + 1] as usize, i0 + 1);
                 let (y0, y1) = (values[p0], values[p0 + 1]);
                 values[p0] = n[0] * y0 + n[1] * y1;
                 values[p0 + 1] = t[0] * y0 + t[1] * y1;
@@ -406,7 +406,7 @@ mod tests {
     /// `n` intervals (the matrix of h⁻¹·tridiag(−1, 2, −1), load h·f), in full CSC storage.
     struct Laplacian1d {
         col_ptr: Vec<usize>,
-        row_idx: Vec<usize>,
+        row_idx: Vec<u32>,
         diag: Vec<usize>,
         values: Vec<f64>,
         rhs: Vec<f64>,
@@ -422,7 +422,7 @@ mod tests {
                     if i == j {
                         diag.push(values.len());
                     }
-                    row_idx.push(i);
+                    row_idx.push(i as u32);
                     values.push(if i == j { 2.0 / h } else { -1.0 / h });
                 }
                 col_ptr.push(values.len());
@@ -711,7 +711,7 @@ mod tests {
                 if i == j {
                     diag.push(values.len());
                 }
-                row_idx.push(i);
+                row_idx.push(i as u32);
                 values.push(row[j]);
             }
             col_ptr.push(values.len());

@@ -175,7 +175,9 @@ fn scratch(buffer: &mut Vec<MaybeUninit<u8>>, req: StackReq) -> &mut MemStack {
 pub struct DirectSolver {
     factorisation: Factorisation,
     ordering: Option<Ordering>,
-    symbolic: Option<SymbolicCholesky<usize>>,
+    /// The symbolic factorisation of the current pattern and the pattern's row indices as faer
+    /// reads them ([`Widened`]).
+    symbolic: Option<(SymbolicCholesky<usize>, Widened)>,
     buffers: Buffers,
 }
 
@@ -242,15 +244,15 @@ impl DirectSolver {
         let ordering = self.ordering.get_or_insert_with(|| Ordering::identity(n));
         if self.symbolic.is_none() {
             let perm = PermRef::new_checked(&ordering.fwd, &ordering.inv, n);
-            self.symbolic = Some(
-                factorize_symbolic_cholesky(
-                    symbolic_ref(&matrix),
-                    Side::Lower,
-                    SymmetricOrdering::Custom(perm),
-                    Default::default(),
-                )
-                .map_err(|e| SolveError::Symbolic(format!("{e:?}")))?,
-            );
+            let widened = Widened::of(&matrix);
+            let symbolic = factorize_symbolic_cholesky(
+                widened.symbolic(&matrix),
+                Side::Lower,
+                SymmetricOrdering::Custom(perm),
+                Default::default(),
+            )
+            .map_err(|e| SolveError::Symbolic(format!("{e:?}")))?;
+            self.symbolic = Some((symbolic, widened));
         }
         let mut buffers = std::mem::take(&mut self.buffers);
         let result = self.solve_in(&mut buffers, matrix, rhs, eliminated);
@@ -293,14 +295,14 @@ impl DirectSolver {
         };
         for &(d, val) in eliminated {
             for p in col_ptr[d]..col_ptr[d + 1] {
-                let i = row_idx[p];
+                let i = row_idx[p] as usize;
                 if !is_eliminated[i] {
                     b[i] -= a[p] * val;
                 }
                 a[p] = 0.0;
                 // The mirrored entry (d, i) in column i.
                 let col = &row_idx[col_ptr[i]..col_ptr[i + 1]];
-                a[col_ptr[i] + col.binary_search(&d).expect("symmetric pattern")] = 0.0;
+                a[col_ptr[i] + col.binary_search(&(d as u32)).expect("symmetric pattern")] = 0.0;
             }
         }
         for &(d, val) in eliminated {
@@ -311,8 +313,8 @@ impl DirectSolver {
             a[diag[d]] = s;
             b[d] = s * val;
         }
-        let symbolic = self.symbolic.as_ref().expect("symbolic factorisation");
-        let mat = SparseColMatRef::new(symbolic_ref(&matrix), &a[..]);
+        let (symbolic, widened) = self.symbolic.as_ref().expect("symbolic factorisation");
+        let mat = SparseColMatRef::new(widened.symbolic(&matrix), &a[..]);
         let par = FACTORISATION_PARALLELISM;
         let fwd = &self.ordering.as_ref().expect("ordering").fwd;
         // The dof of a failed pivot: faer numbers the pivot from 1 in its simplicial
@@ -424,8 +426,9 @@ impl CholeskyFactor {
             return Err(SolveError::NonFiniteData(dof));
         }
         let perm = PermRef::new_checked(&ordering.fwd, &ordering.inv, n);
+        let widened = Widened::of(&matrix);
         let symbolic = factorize_symbolic_cholesky(
-            symbolic_ref(&matrix),
+            widened.symbolic(&matrix),
             Side::Lower,
             SymmetricOrdering::Custom(perm),
             Default::default(),
@@ -439,7 +442,7 @@ impl CholeskyFactor {
             SymbolicCholeskyRaw::Simplicial(_) => fwd[index - 1],
             SymbolicCholeskyRaw::Supernodal(_) => fwd[index],
         };
-        let mat = SparseColMatRef::new(symbolic_ref(&matrix), matrix.values);
+        let mat = SparseColMatRef::new(widened.symbolic(&matrix), matrix.values);
         symbolic
             .factorize_numeric_llt(
                 &mut values,
@@ -488,9 +491,24 @@ impl CholeskyFactor {
     }
 }
 
-fn symbolic_ref<'a>(matrix: &Csc<'a>) -> SymbolicSparseColMatRef<'a, usize> {
-    let n = matrix.n();
-    SymbolicSparseColMatRef::new_checked(n, n, matrix.col_ptr, None, matrix.row_idx)
+/// The row indices of a pattern as faer reads them: faer takes one index type for the column
+/// pointers and the row indices, and [`Csc`] stores the row indices in 32 bits.
+struct Widened {
+    row_idx: Vec<usize>,
+}
+
+impl Widened {
+    fn of(matrix: &Csc<'_>) -> Widened {
+        Widened {
+            row_idx: matrix.row_idx.iter().map(|&i| i as usize).collect(),
+        }
+    }
+
+    /// faer's view of the pattern of `matrix` (the one this was made of).
+    fn symbolic<'a>(&'a self, matrix: &Csc<'a>) -> SymbolicSparseColMatRef<'a, usize> {
+        let n = matrix.n();
+        SymbolicSparseColMatRef::new_checked(n, n, matrix.col_ptr, None, &self.row_idx)
+    }
 }
 
 #[cfg(test)]
@@ -500,7 +518,7 @@ mod tests {
     /// Full-storage CSC of a dense symmetric matrix (zeros left out, diagonal always kept).
     struct Dense {
         col_ptr: Vec<usize>,
-        row_idx: Vec<usize>,
+        row_idx: Vec<u32>,
         diag: Vec<usize>,
         values: Vec<f64>,
     }
@@ -517,7 +535,7 @@ mod tests {
                         if i == j {
                             diag.push(values.len());
                         }
-                        row_idx.push(i);
+                        row_idx.push(i as u32);
                         values.push(row[j]);
                     }
                 }

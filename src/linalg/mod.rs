@@ -36,11 +36,13 @@ pub(crate) fn split_by_offsets<'a, T>(
 
 /// A symmetric sparse matrix in compressed columns with both triangles stored (full storage):
 /// column `j` has the row indices `row_idx[col_ptr[j]..col_ptr[j + 1]]` (sorted) and the values at
-/// the same positions; `diag[j]` is the position of entry (j, j), which every column has.
+/// the same positions; `diag[j]` is the position of entry (j, j), which every column has. Row
+/// indices are 32-bit (the pattern has fewer than 2³² entries): half the memory of the largest
+/// array of a system, read by the assembly and every solve.
 #[derive(Clone, Copy, Debug)]
 pub struct Csc<'a> {
     pub col_ptr: &'a [usize],
-    pub row_idx: &'a [usize],
+    pub row_idx: &'a [u32],
     pub diag: &'a [usize],
     pub values: &'a [f64],
 }
@@ -62,7 +64,7 @@ impl<'a> Csc<'a> {
     /// Position of entry (i, j) in the value array, if it is in the pattern.
     pub fn position(&self, i: usize, j: usize) -> Option<usize> {
         let col = &self.row_idx[self.col_ptr[j]..self.col_ptr[j + 1]];
-        col.binary_search(&i).ok().map(|p| self.col_ptr[j] + p)
+        col.binary_search(&(i as u32)).ok().map(|p| self.col_ptr[j] + p)
     }
 
     /// y = A x (row i of a symmetric matrix is column i; each row summed in order, in parallel
@@ -72,7 +74,7 @@ impl<'a> Csc<'a> {
             .into_par_iter()
             .map(|i| {
                 (self.col_ptr[i]..self.col_ptr[i + 1])
-                    .map(|p| self.values[p] * x[self.row_idx[p]])
+                    .map(|p| self.values[p] * x[self.row_idx[p] as usize])
                     .sum()
             })
             .collect()

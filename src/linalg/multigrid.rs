@@ -934,11 +934,10 @@ fn factor(a: &Sparse) -> Result<Option<CholeskyFactor>, SolveError> {
     if a.n_rows() == 0 {
         return Ok(None);
     }
-    let row_idx: Vec<usize> = a.cols.iter().map(|&j| j as usize).collect();
     let diag = a.diagonal_positions();
     let csc = Csc {
         col_ptr: &a.row_ptr,
-        row_idx: &row_idx,
+        row_idx: &a.cols,
         diag: &diag,
         values: &a.vals,
     };
@@ -956,7 +955,7 @@ impl BlockOf<'_> {
     /// The positions of the entries of dof `d`'s row (= column) inside the block, in order.
     fn entries(&self, d: usize) -> impl Iterator<Item = usize> + '_ {
         let (matrix, rows) = (self.matrix, self.rows);
-        (matrix.col_ptr[d]..matrix.col_ptr[d + 1]).filter(move |&p| rows[matrix.row_idx[p]])
+        (matrix.col_ptr[d]..matrix.col_ptr[d + 1]).filter(move |&p| rows[matrix.row_idx[p] as usize])
     }
 }
 
@@ -1004,7 +1003,7 @@ impl Prepared {
             |i| block.entries(dofs[i]).count(),
             |i, cols, vals| {
                 for ((c, v), p) in cols.iter_mut().zip(vals).zip(block.entries(dofs[i])) {
-                    *c = index[matrix.row_idx[p]] as u32;
+                    *c = index[matrix.row_idx[p] as usize] as u32;
                     *v = matrix.values[p];
                 }
             },
@@ -1211,8 +1210,8 @@ impl MultigridSolver {
                     return 0.0;
                 }
                 let eliminated_part: f64 = (matrix.col_ptr[d]..matrix.col_ptr[d + 1])
-                    .filter(|&p| !solved[matrix.row_idx[p]])
-                    .map(|p| matrix.values[p] * x[matrix.row_idx[p]])
+                    .filter(|&p| !solved[matrix.row_idx[p] as usize])
+                    .map(|p| matrix.values[p] * x[matrix.row_idx[p] as usize])
                     .sum();
                 rhs[d] - eliminated_part
             })

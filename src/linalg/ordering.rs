@@ -24,7 +24,7 @@ impl Ordering {
     pub fn nested_dissection(
         keys: &[VertexKey],
         col_ptr: &[usize],
-        row_idx: &[usize],
+        row_idx: &[u32],
         nc: usize,
     ) -> Ordering {
         let order = nested_dissection(keys, col_ptr, row_idx, nc);
@@ -64,7 +64,7 @@ const ND_PARALLEL: usize = 4096;
 fn nested_dissection(
     keys: &[VertexKey],
     col_ptr: &[usize],
-    row_idx: &[usize],
+    row_idx: &[u32],
     nc: usize,
 ) -> Vec<u32> {
     use std::sync::atomic::{AtomicBool, Ordering};
@@ -73,7 +73,7 @@ fn nested_dissection(
     struct Ctx<'a> {
         keys: &'a [VertexKey],
         col_ptr: &'a [usize],
-        row_idx: &'a [usize],
+        row_idx: &'a [u32],
         nc: usize,
         removed: &'a [AtomicBool],
         leaf: usize,
@@ -122,7 +122,7 @@ fn nested_dissection(
             ctx.row_idx[ctx.col_ptr[d]..ctx.col_ptr[d + 1]]
                 .iter()
                 .any(|&d| {
-                    let w = d / ctx.nc;
+                    let w = d as usize / ctx.nc;
                     coord(ctx.keys[w], axis) < m && !ctx.removed[w].load(Ordering::Relaxed)
                 })
         };

@@ -355,7 +355,7 @@ impl SaddlePoint {
                 if i == j {
                     diag.push(row_idx.len());
                 }
-                row_idx.push(i);
+                row_idx.push(i as u32);
                 values.push(v);
             }
             col_ptr.push(row_idx.len());
@@ -702,9 +702,10 @@ fn cholesky_of(a: &CsrMatrix, ordering: Option<&Ordering>) -> Result<CholeskyFac
                 .ok_or_else(|| format!("A has no diagonal entry in row {i}"))
         })
         .collect::<Result<Vec<usize>, String>>()?;
+    let col_idx: Vec<u32> = a.col_idx.iter().map(|&j| j as u32).collect();
     let matrix = Csc {
         col_ptr: &a.row_ptr,
-        row_idx: &a.col_idx,
+        row_idx: &col_idx,
         diag: &diag,
         values: &a.values,
     };

@@ -787,7 +787,7 @@ mod tests {
                 let mut off_diagonal_blocks = 0;
                 for j in 0..m.n() {
                     for p in m.col_ptr[j]..m.col_ptr[j + 1] {
-                        let i = m.row_idx[p];
+                        let i = m.row_idx[p] as usize;
                         let t = m.position(j, i).expect("symmetric pattern");
                         assert!(
                             (m.values[p] - m.values[t]).abs() <= 1e-12 * scale,
@@ -928,7 +928,7 @@ mod tests {
             let mut changed = 0;
             for j in 0..mc.n() {
                 for q in mc.col_ptr[j]..mc.col_ptr[j + 1] {
-                    let i = mc.row_idx[q];
+                    let i = mc.row_idx[q] as usize;
                     let t = mc.position(j, i).unwrap();
                     assert!((mc.values[q] - mc.values[t]).abs() <= 1e-12 * scale);
                     let diff = mc.values[q] - mp.values[q];
