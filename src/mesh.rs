@@ -652,6 +652,14 @@ impl Mesh {
         self.cells[c as usize].children == NONE
     }
 
+    /// The ancestor of cell `c` of level `level`, or `c` itself if it is not finer.
+    pub fn ancestor_at(&self, mut c: CellId, level: u8) -> CellId {
+        while self.cells[c as usize].level > level {
+            c = self.cells[c as usize].parent;
+        }
+        c
+    }
+
     pub fn parent(&self, c: CellId) -> Option<CellId> {
         let p = self.cells[c as usize].parent;
         (p != NONE).then_some(p)

@@ -71,6 +71,30 @@ fn the_face_neighbour_table_agrees_with_the_neighbour_query() {
     assert!(checked.iter().all(|&n| n > 100), "every kind of neighbour seen: {checked:?}");
 }
 
+/// The cell listed as each vertex's owner is the one `cell_at_vertex` finds (the multigrid
+/// prolongation starts from it), and its ancestor at a coarser level is the cell of the level
+/// mesh that holds the vertex — on an adapted mesh and on each of its level meshes.
+#[test]
+fn the_owner_of_a_vertex_is_the_cell_that_holds_it() {
+    let mut mesh = Mesh::new([0.0, 3.0], [0.0, 1.0], 3, 1);
+    refine_around(&mut mesh, [2.9, 0.95], 6);
+    refine_around(&mut mesh, [0.2, 0.3], 4);
+    let max_level = mesh.active().iter().map(|&c| mesh.level(c)).max().unwrap();
+    for m in (0..=max_level).map(|l| mesh.truncated(l)).chain([mesh.clone()]) {
+        let v = DofMap::new(&m, 1).vertices;
+        assert_eq!(v.owner.len(), v.len());
+        let finest = m.active().iter().map(|&c| m.level(c)).max().unwrap();
+        let coarser: Vec<Mesh> = (0..finest).map(|l| mesh.truncated(l)).collect();
+        for (k, &owner) in v.keys.iter().zip(&v.owner) {
+            assert_eq!(owner, m.cell_at_vertex(*k), "vertex {k:?}");
+            for (level, coarse) in coarser.iter().enumerate() {
+                let cell = mesh.ancestor_at(owner, level as u8);
+                assert_eq!(cell, coarse.cell_at_vertex(*k), "vertex {k:?} on level {level}");
+            }
+        }
+    }
+}
+
 /// Issue 15.1: coarse grids more than 128 cells wide (integer positions past 2³¹, whose vertex
 /// midpoints overflowed 32 bits: "hanging vertex exists") or 256 wide (past 2³²: an assert in
 /// `Mesh::new`). Hanging vertices at the far end of the strip, in x₁ and turned in x₂, are the

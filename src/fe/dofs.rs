@@ -8,7 +8,7 @@
 use rayon::iter::Either;
 use rayon::prelude::*;
 
-use crate::mesh::{Face, Mesh, Neighbor, Side, VertexKey, FACES};
+use crate::mesh::{CellId, Face, Mesh, Neighbor, Side, VertexKey, FACES};
 
 /// A vertex in the middle of a coarse cell's edge: value = ½(parent₀ + parent₁).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -30,6 +30,10 @@ pub struct Vertices {
     pub hanging: Vec<Hanging>,
     /// `true` for hanging vertices.
     pub is_hanging: Vec<bool>,
+    /// The active cell that holds each vertex where [`Mesh::cell_at_vertex`] finds it (the cell
+    /// to its upper right, or below or left of it on the right and top sides of the domain):
+    /// the cell that listed the vertex ([`vertex_keys`]).
+    pub owner: Vec<CellId>,
     extent: (u64, u64),
     /// Vertex number by integer position ([`Vertices::find`]).
     index: KeyIndex,
@@ -54,8 +58,8 @@ impl Vertices {
     /// no cell vertices (`coords` and `cell_vertices` are empty). The level meshes of
     /// multigrid need no more ([`super::hierarchy`]).
     pub fn numbering_only(mesh: &Mesh) -> Vertices {
-        let (keys, hanging_keys) = vertex_keys(mesh);
-        let keys = sorted(keys);
+        let (listed, hanging_keys) = vertex_keys(mesh);
+        let (keys, owner): (Vec<VertexKey>, Vec<CellId>) = sorted(listed).into_par_iter().unzip();
         assert!(
             keys.windows(2).all(|w| w[0] < w[1]),
             "a vertex listed twice"
@@ -80,6 +84,7 @@ impl Vertices {
             cell_vertices: Vec::new(),
             hanging,
             is_hanging,
+            owner,
             extent: mesh.extent(),
             index,
         }
@@ -145,7 +150,7 @@ impl Vertices {
 /// cell's bottom or left edge would make that face's neighbour finer, and is then its midpoint
 /// (2:1 rule). Each vertex therefore appears exactly once. The hanging vertices are the
 /// midpoints of every face, of the four, whose neighbour is finer.
-fn vertex_keys(mesh: &Mesh) -> (Vec<VertexKey>, Vec<[VertexKey; 3]>) {
+fn vertex_keys(mesh: &Mesh) -> (Vec<(VertexKey, CellId)>, Vec<[VertexKey; 3]>) {
     let (right, top) = mesh.extent();
     let midpoint = |a: VertexKey, b: VertexKey| ((a.0 + b.0) / 2, (a.1 + b.1) / 2);
     let neighbors = mesh.face_neighbors();
@@ -173,19 +178,23 @@ fn vertex_keys(mesh: &Mesh) -> (Vec<VertexKey>, Vec<[VertexKey; 3]>) {
                     let [a, b] = f.vertices().map(|i| corners[i]);
                     Either::Right([midpoint(a, b), a, b])
                 });
-            keys.into_iter().flatten().map(Either::Left).chain(hanging)
+            keys.into_iter()
+                .flatten()
+                .map(move |k| Either::Left((k, c)))
+                .chain(hanging)
         })
         .partition_map(|e| e)
 }
 
-/// Distinct vertex keys sorted (x first, then y): a least-significant-digit radix sort, by y
-/// and then, stably, by x, over the bits in which the keys differ (on a quadtree their low
-/// bits are zero below the finest level: one or two passes of [`RADIX_BITS`] per coordinate).
-/// The order is the one of any sort, the keys being distinct; a comparison sort took most of
-/// the numbering of a mesh.
-fn sorted(mut keys: Vec<VertexKey>) -> Vec<VertexKey> {
-    let mut spare = vec![(0, 0); keys.len()];
-    for coordinate in [|k: &VertexKey| k.1, |k: &VertexKey| k.0] {
+/// Vertices (with their cells) sorted by their distinct keys (x first, then y): a
+/// least-significant-digit radix sort, by y and then, stably, by x, over the bits in which the
+/// keys differ (on a quadtree their low bits are zero below the finest level: one or two passes
+/// of [`RADIX_BITS`] per coordinate). The order is the one of any sort, the keys being
+/// distinct; a comparison sort took most of the numbering of a mesh.
+fn sorted(mut keys: Vec<(VertexKey, CellId)>) -> Vec<(VertexKey, CellId)> {
+    let mut spare = vec![((0, 0), 0); keys.len()];
+    type Item = (VertexKey, CellId);
+    for coordinate in [|k: &Item| k.0 .1, |k: &Item| k.0 .0] {
         let (any, all) = keys.iter().fold((0u64, u64::MAX), |(any, all), k| {
             (any | coordinate(k), all & coordinate(k))
         });
@@ -197,7 +206,7 @@ fn sorted(mut keys: Vec<VertexKey>) -> Vec<VertexKey> {
         let (low, high) = (differ.trailing_zeros(), 64 - differ.leading_zeros());
         let mut shift = low;
         while shift < high {
-            let digit = |k: &VertexKey| ((coordinate(k) >> shift) & RADIX_MASK) as usize;
+            let digit = |k: &Item| ((coordinate(k) >> shift) & RADIX_MASK) as usize;
             let mut start = vec![0usize; RADIX_MASK as usize + 2];
             for k in &keys {
                 start[digit(k) + 1] += 1;
@@ -398,11 +407,16 @@ mod tests {
         for mut keys in cases {
             keys.sort_unstable();
             keys.dedup();
-            let mut shuffled = keys.clone();
+            // The cell of each key goes with it.
+            let items: Vec<(VertexKey, CellId)> = keys
+                .iter()
+                .map(|&k| (k, (k.0 ^ k.1.rotate_left(7)) as CellId))
+                .collect();
+            let mut shuffled = items.clone();
             shuffled.reverse();
             let third = shuffled.len() / 3;
             shuffled.rotate_left(third);
-            assert_eq!(sorted(shuffled), keys);
+            assert_eq!(sorted(shuffled), items);
         }
     }
 }

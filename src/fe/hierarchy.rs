@@ -49,7 +49,7 @@ pub fn vertex_hierarchy(mesh: &Mesh, finest: &Vertices) -> VertexHierarchy {
         let fine_vertices = fine.as_ref().unwrap_or(finest);
         let coarse_mesh = mesh.truncated(level);
         let coarse = Vertices::numbering_only(&coarse_mesh);
-        transfers.push(prolongation(&coarse_mesh, &coarse, fine_vertices));
+        transfers.push(prolongation(mesh, level, &coarse_mesh, &coarse, fine_vertices));
         fine = Some(coarse);
         fine_cells = coarse_cells;
     }
@@ -80,16 +80,27 @@ fn cells_per_truncation(mesh: &Mesh) -> Vec<usize> {
         .collect()
 }
 
-/// The prolongation from the Q₁ space of `coarse_mesh` (vertices `coarse`) to the vertices
-/// `fine` of a finer mesh of the same domain.
-fn prolongation(coarse_mesh: &Mesh, coarse: &Vertices, fine: &Vertices) -> Transfer {
+/// The prolongation from the Q₁ space of `coarse_mesh`, the truncation of `mesh` at `level`
+/// (vertices `coarse`), to the vertices `fine` of a finer truncation of `mesh` (or of `mesh`).
+///
+/// The coarse cell that holds a fine vertex is the ancestor at `level` of the fine cell that
+/// holds it ([`Vertices::owner`]; the truncations share the cells of `mesh`): a step or two up
+/// the tree instead of a descent from the root per vertex.
+fn prolongation(
+    mesh: &Mesh,
+    level: u8,
+    coarse_mesh: &Mesh,
+    coarse: &Vertices,
+    fine: &Vertices,
+) -> Transfer {
     let row = |v: usize, out: &mut Vec<(u32, f64)>| {
         if fine.is_hanging[v] {
             // Hanging dofs are eliminated at every level: no row.
             return;
         }
         let key = fine.keys[v];
-        let c = coarse_mesh.cell_at_vertex(key);
+        let c = mesh.ancestor_at(fine.owner[v], level);
+        debug_assert_eq!(c, coarse_mesh.cell_at_vertex(key));
         let corners = coarse_mesh.corner_keys(c);
         let width = (corners[1].0 - corners[0].0) as f64;
         let s = (key.0 - corners[0].0) as f64 / width;
