@@ -48,12 +48,19 @@ fn the_face_neighbour_table_agrees_with_the_neighbour_query() {
     refine_around(&mut mesh, [0.3, 0.7], 7);
     refine_around(&mut mesh, [-1.0, 0.0], 5);
     // Coarsen what the first refinement made near its point, refine a band elsewhere.
-    let refine: Vec<bool> = mesh.active().iter().map(|&c| mesh.cell_box(c)[0] > 1.5).collect();
+    let refine: Vec<bool> = mesh
+        .active()
+        .iter()
+        .map(|&c| mesh.cell_box(c)[0] > 1.5)
+        .collect();
     let coarsen: Vec<bool> = mesh.active().iter().map(|&c| mesh.level(c) >= 6).collect();
     mesh.refine_and_coarsen(&refine, &coarsen).unwrap();
     let max_level = mesh.active().iter().map(|&c| mesh.level(c)).max().unwrap();
     let mut checked = [0usize; 4];
-    for m in (0..=max_level).map(|l| mesh.truncated(l)).chain([mesh.clone()]) {
+    for m in (0..=max_level)
+        .map(|l| mesh.truncated(l))
+        .chain([mesh.clone()])
+    {
         let table = m.face_neighbors();
         for &c in m.active() {
             for f in FACES {
@@ -68,7 +75,10 @@ fn the_face_neighbour_table_agrees_with_the_neighbour_query() {
             }
         }
     }
-    assert!(checked.iter().all(|&n| n > 100), "every kind of neighbour seen: {checked:?}");
+    assert!(
+        checked.iter().all(|&n| n > 100),
+        "every kind of neighbour seen: {checked:?}"
+    );
 }
 
 /// The cell listed as each vertex's owner is the one `cell_at_vertex` finds (the multigrid
@@ -80,7 +90,10 @@ fn the_owner_of_a_vertex_is_the_cell_that_holds_it() {
     refine_around(&mut mesh, [2.9, 0.95], 6);
     refine_around(&mut mesh, [0.2, 0.3], 4);
     let max_level = mesh.active().iter().map(|&c| mesh.level(c)).max().unwrap();
-    for m in (0..=max_level).map(|l| mesh.truncated(l)).chain([mesh.clone()]) {
+    for m in (0..=max_level)
+        .map(|l| mesh.truncated(l))
+        .chain([mesh.clone()])
+    {
         let v = DofMap::new(&m, 1).vertices;
         assert_eq!(v.owner.len(), v.len());
         let finest = m.active().iter().map(|&c| m.level(c)).max().unwrap();
@@ -89,7 +102,11 @@ fn the_owner_of_a_vertex_is_the_cell_that_holds_it() {
             assert_eq!(owner, m.cell_at_vertex(*k), "vertex {k:?}");
             for (level, coarse) in coarser.iter().enumerate() {
                 let cell = mesh.ancestor_at(owner, level as u8);
-                assert_eq!(cell, coarse.cell_at_vertex(*k), "vertex {k:?} on level {level}");
+                assert_eq!(
+                    cell,
+                    coarse.cell_at_vertex(*k),
+                    "vertex {k:?} on level {level}"
+                );
             }
         }
     }

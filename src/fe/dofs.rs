@@ -398,7 +398,9 @@ mod tests {
         };
         let cases: Vec<Vec<VertexKey>> = vec![
             (0..5000).map(|_| (next() >> 20, next() >> 30)).collect(),
-            (0..5000).map(|_| ((next() % 64) << 40, (next() % 4096) << 13)).collect(),
+            (0..5000)
+                .map(|_| ((next() % 64) << 40, (next() % 4096) << 13))
+                .collect(),
             (0..3000).map(|_| (7, next())).collect(),
             (0..3000).map(|_| (next() % 1000, 12)).collect(),
             vec![(3, 4)],

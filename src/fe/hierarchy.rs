@@ -49,7 +49,13 @@ pub fn vertex_hierarchy(mesh: &Mesh, finest: &Vertices) -> VertexHierarchy {
         let fine_vertices = fine.as_ref().unwrap_or(finest);
         let coarse_mesh = mesh.truncated(level);
         let coarse = Vertices::numbering_only(&coarse_mesh);
-        transfers.push(prolongation(mesh, level, &coarse_mesh, &coarse, fine_vertices));
+        transfers.push(prolongation(
+            mesh,
+            level,
+            &coarse_mesh,
+            &coarse,
+            fine_vertices,
+        ));
         fine = Some(coarse);
         fine_cells = coarse_cells;
     }

@@ -13,7 +13,7 @@ use rayon::prelude::*;
 
 use super::constraints::Constraints;
 use super::dofs::DofMap;
-use crate::linalg::{split_by_offsets, Csc};
+use crate::linalg::{split_by_offsets, transpose, Csc};
 
 /// One local dof of a cell expanded to a global dof with weight 2^(−wexp)
 /// (hanging dofs expand to their two parents with weight ½).
@@ -42,7 +42,10 @@ impl SparsityPattern {
     /// expanding hanging dofs into their parents) plus every diagonal entry.
     pub fn new(dofs: &DofMap, constraints: &Constraints) -> SparsityPattern {
         let n = dofs.n_dofs();
-        assert!(n < u32::MAX as usize, "too many dofs for 32-bit row indices");
+        assert!(
+            n < u32::MAX as usize,
+            "too many dofs for 32-bit row indices"
+        );
         let nc = dofs.n_components;
         let n_local = 4 * nc;
         let v = &dofs.vertices;
@@ -111,24 +114,8 @@ impl SparsityPattern {
                 });
             });
         // Cells touching each global dof (after expansion), in cell order.
-        let mut touch_start = vec![0usize; n + 1];
-        for e in &rhs_entries {
-            touch_start[e.global as usize + 1] += 1;
-        }
-        for j in 0..n {
-            touch_start[j + 1] += touch_start[j];
-        }
-        let mut touch = vec![0u32; rhs_entries.len()];
-        {
-            let mut next = touch_start[..n].to_vec();
-            for k in 0..n_cells {
-                for e in &rhs_entries[rhs_start[k]..rhs_start[k + 1]] {
-                    let g = e.global as usize;
-                    touch[next[g]] = k as u32;
-                    next[g] += 1;
-                }
-            }
-        }
+        let (touch_start, touch, _) =
+            transpose(&rhs_start, |p| rhs_entries[p].global as usize, n, |_| ());
         // Column j: every dof sharing a cell with j, plus j itself; built in parallel blocks of
         // columns and stitched in column order.
         const BLOCK: usize = 4096;
@@ -222,7 +209,9 @@ impl SparsityPattern {
     /// Position of entry (i, j) in the value array, if it is in the pattern.
     pub fn position(&self, i: usize, j: usize) -> Option<usize> {
         let col = &self.row_idx[self.col_ptr[j]..self.col_ptr[j + 1]];
-        col.binary_search(&(i as u32)).ok().map(|p| self.col_ptr[j] + p)
+        col.binary_search(&(i as u32))
+            .ok()
+            .map(|p| self.col_ptr[j] + p)
     }
 
     /// Assemble cell matrices and vectors. `cell(k, ke, fe)` fills the `n_local × n_local`

@@ -89,7 +89,7 @@ use rayon::prelude::*;
 
 use super::krylov::{conjugate_gradient_with, CgError, Preconditioner, Stopping, VectorOps};
 use super::solver::Accuracy;
-use super::{split_by_offsets, CholeskyFactor, Csc, SolveError};
+use super::{split_by_offsets, transpose, CholeskyFactor, Csc, SolveError};
 
 /// The prolongation from the vertices of one level mesh to those of the next finer kept one
 /// ([`crate::fe::hierarchy`]): row `v` (a fine vertex) lists coarse vertices and weights; hanging
@@ -384,26 +384,13 @@ impl Sparse {
     }
 
     fn transpose(&self) -> Sparse {
-        let mut count = vec![0usize; self.n_cols + 1];
-        for &j in self.cols.iter() {
-            count[j as usize + 1] += 1;
-        }
-        for j in 0..self.n_cols {
-            count[j + 1] += count[j];
-        }
-        let row_ptr = count.clone();
-        let mut next = count;
-        let mut cols = vec![0; self.cols.len()];
-        let mut vals = vec![0.0; self.vals.len()];
-        for i in 0..self.n_rows() {
-            let (c, v) = self.row(i);
-            for (&j, &a) in c.iter().zip(v) {
-                let j = j as usize;
-                cols[next[j]] = i as u32;
-                vals[next[j]] = a;
-                next[j] += 1;
-            }
-        }
+        let (cols, vals) = (&self.cols, &self.vals);
+        let (row_ptr, cols, vals) = transpose(
+            &self.row_ptr,
+            |p| cols[p] as usize,
+            self.n_cols,
+            |p| vals[p],
+        );
         Sparse::new(self.n_rows(), row_ptr, cols, vals)
     }
 
@@ -955,7 +942,8 @@ impl BlockOf<'_> {
     /// The positions of the entries of dof `d`'s row (= column) inside the block, in order.
     fn entries(&self, d: usize) -> impl Iterator<Item = usize> + '_ {
         let (matrix, rows) = (self.matrix, self.rows);
-        (matrix.col_ptr[d]..matrix.col_ptr[d + 1]).filter(move |&p| rows[matrix.row_idx[p] as usize])
+        (matrix.col_ptr[d]..matrix.col_ptr[d + 1])
+            .filter(move |&p| rows[matrix.row_idx[p] as usize])
     }
 }
 
