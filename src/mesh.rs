@@ -790,7 +790,11 @@ impl Mesh {
     fn descend(&self, x: u64, y: u64, max_level: u8) -> CellId {
         let size = Self::width(0);
         let (i, j) = ((x / size) as usize, (y / size) as usize);
-        let mut c = (j * self.nx + i) as u32;
+        self.descend_from((j * self.nx + i) as u32, x, y, max_level)
+    }
+
+    /// [`Mesh::descend`] from the cell `c`, which contains `(x, y)`.
+    fn descend_from(&self, mut c: CellId, x: u64, y: u64, max_level: u8) -> CellId {
         loop {
             let cell = self.cells[c as usize];
             if cell.children == NONE || cell.level >= max_level {
@@ -1236,6 +1240,30 @@ impl Mesh {
     pub fn cell_at_vertex(&self, key: VertexKey) -> CellId {
         let (ex, ey) = self.extent();
         self.descend(key.0.min(ex - 1), key.1.min(ey - 1), MAX_LEVEL)
+    }
+
+    /// [`Mesh::cell_at_vertex`] of `key` in `before`, the mesh this one was rebuilt from by one
+    /// refinement ([`Mesh::kept_from`]), given the cell `c` of this mesh that holds the vertex
+    /// so: from the nearest ancestor of `c` that `before` had, down `before`'s tree — a step or
+    /// two where a descent from the root takes one per level. `None` for a mesh of another
+    /// lineage.
+    pub fn cell_at_vertex_in(&self, before: &Mesh, c: CellId, key: VertexKey) -> Option<CellId> {
+        let start = if before.lineage.stamp == self.lineage.stamp {
+            c
+        } else {
+            let (stamp, old_id) = self.lineage.before.as_ref()?;
+            if *stamp != before.lineage.stamp {
+                return None;
+            }
+            // The roots are always kept, so the walk ends.
+            let mut a = c;
+            while old_id[a as usize] == NONE {
+                a = self.cells[a as usize].parent;
+            }
+            old_id[a as usize]
+        };
+        let (ex, ey) = before.extent();
+        Some(before.descend_from(start, key.0.min(ex - 1), key.1.min(ey - 1), MAX_LEVEL))
     }
 
     /// Refine every active cell once (fails like [`Mesh::refine_and_coarsen`]).

@@ -112,6 +112,42 @@ fn the_owner_of_a_vertex_is_the_cell_that_holds_it() {
     }
 }
 
+/// The previous mesh's cell that holds a vertex of the next mesh, found from the vertex's
+/// cell through the refinement's lineage, is the one a search of the previous mesh finds —
+/// after refinement and coarsening; a mesh of another lineage gets none.
+#[test]
+fn the_previous_cell_of_a_vertex_is_found_through_the_lineage() {
+    let mut before = Mesh::new([0.0, 2.0], [0.0, 1.0], 2, 1);
+    refine_around(&mut before, [0.6, 0.4], 5);
+    let mut after = before.clone();
+    let refine: Vec<bool> = after
+        .active()
+        .iter()
+        .map(|&c| after.cell_box(c)[0] > 1.2)
+        .collect();
+    let coarsen: Vec<bool> = after
+        .active()
+        .iter()
+        .map(|&c| after.level(c) >= 4)
+        .collect();
+    after.refine_and_coarsen(&refine, &coarsen).unwrap();
+    let v = DofMap::new(&after, 1).vertices;
+    for (k, &owner) in v.keys.iter().zip(&v.owner) {
+        let expected = before.cell_at_vertex(*k);
+        assert_eq!(
+            after.cell_at_vertex_in(&before, owner, *k),
+            Some(expected),
+            "{k:?}"
+        );
+    }
+    // The same storage: the cell itself is a start.
+    let c = after.active()[7];
+    let key = after.corner_keys(c)[0];
+    assert_eq!(after.cell_at_vertex_in(&after, c, key), Some(c));
+    let other = Mesh::new([0.0, 2.0], [0.0, 1.0], 2, 1);
+    assert_eq!(after.cell_at_vertex_in(&other, c, key), None);
+}
+
 /// Issue 15.1: coarse grids more than 128 cells wide (integer positions past 2³¹, whose vertex
 /// midpoints overflowed 32 bits: "hanging vertex exists") or 256 wide (past 2³²: an assert in
 /// `Mesh::new`). Hanging vertices at the far end of the strip, in x₁ and turned in x₂, are the

@@ -282,6 +282,10 @@ impl Region {
             .iter()
             .map(|&v| vertices.coords[v as usize])
             .collect();
+        region_vertices.owner = mesh_vertex
+            .iter()
+            .map(|&v| vertices.owner[v as usize])
+            .collect();
         region_vertices.cell_vertices = cells
             .iter()
             .map(|&k| vertices.cell_vertices[k].map(|v| local[v as usize]))

@@ -157,7 +157,7 @@ impl Problem for ReynoldsFilm {
     fn setup(&mut self, disc: &Discretisation) -> System {
         let system = setup_system(disc, 1, &mut self.solver, |s| self.problem.constrain(s));
         if let (LinearSolver::Multigrid(m), Some(previous)) = (&mut self.solver, &self.previous) {
-            m.set_guess(previous.on_vertices(&system.dofs));
+            m.set_guess(previous.on_vertices(&disc.mesh, &system.dofs));
         }
         system
     }

@@ -7,15 +7,20 @@ use rayon::prelude::*;
 
 use crate::fe::cell_values::evaluate_at;
 use crate::fe::DofMap;
-use crate::mesh::Mesh;
+use crate::mesh::{CellId, Mesh};
 use crate::models::contact::ContactBoundary;
 
 /// Value of component `comp` of the Q₁ field `u` at a physical point (None outside the domain).
 pub fn evaluate(mesh: &Mesh, dofs: &DofMap, u: &[f64], comp: usize, p: [f64; 2]) -> Option<f64> {
     let c = mesh.locate(p)?;
+    Some(evaluate_in(mesh, dofs, u, comp, c, p))
+}
+
+/// [`evaluate`] in the active cell `c`, which holds `p`.
+fn evaluate_in(mesh: &Mesh, dofs: &DofMap, u: &[f64], comp: usize, c: CellId, p: [f64; 2]) -> f64 {
     let k = mesh.active_index(c);
     let shape = mesh.cell_shape(c);
-    Some(evaluate_at(&shape, dofs.corner_values(u, k, comp), p).0)
+    evaluate_at(&shape, dofs.corner_values(u, k, comp), p).0
 }
 
 /// Mesh, dofs and solution of the previous cycle.
@@ -44,23 +49,39 @@ impl PreviousSolution {
 }
 
 impl PreviousSolution {
-    /// The previous solution at every vertex of the new dofs `dofs` (the warm start of an
-    /// iterative solve): a vertex of both meshes keeps its value, a new one gets the previous
-    /// field's value at its position (0 outside the previous mesh).
-    pub fn on_vertices(&self, dofs: &DofMap) -> Vec<f64> {
+    /// The previous solution at every vertex of the new dofs `dofs` on `mesh` (the warm start
+    /// of an iterative solve): a vertex of both meshes keeps its value, a new one gets the
+    /// previous field's value at its position (0 outside the previous mesh). On an unmoved mesh
+    /// rebuilt from the previous one, the previous cell that holds a new vertex is found from
+    /// the vertex's cell ([`Mesh::cell_at_vertex_in`]): the cell [`Mesh::locate`] finds at its
+    /// position, without a descent from the root.
+    pub fn on_vertices(&self, mesh: &Mesh, dofs: &DofMap) -> Vec<f64> {
         let nc = dofs.n_components;
         let old = &self.dofs.vertices;
         let new = &dofs.vertices;
+        let unmoved = !mesh.is_moved() && !self.mesh.is_moved();
         (0..new.len())
             .into_par_iter()
             .flat_map_iter(|v| {
                 let found = old.find(new.keys[v]);
-                (0..nc).map(move |c| match found {
-                    Some(w) => self.u[self.dofs.dof(w, c)],
-                    None => self.value(c, new.coords[v]).unwrap_or(0.0),
+                let (key, p) = (new.keys[v], new.coords[v]);
+                let cell = match found {
+                    None if unmoved => mesh.cell_at_vertex_in(&self.mesh, new.owner[v], key),
+                    _ => None,
+                };
+                debug_assert!(cell.is_none() || cell == self.mesh.locate(p));
+                (0..nc).map(move |c| match (found, cell) {
+                    (Some(w), _) => self.u[self.dofs.dof(w, c)],
+                    (None, Some(cell)) => self.value_in(cell, c, p),
+                    (None, None) => self.value(c, p).unwrap_or(0.0),
                 })
             })
             .collect()
+    }
+
+    /// Component `comp` of the previous solution at the point `p` of its cell `cell`.
+    fn value_in(&self, cell: CellId, comp: usize, p: [f64; 2]) -> f64 {
+        evaluate_in(&self.mesh, &self.dofs, &self.u, comp, cell, p)
     }
 
     /// The previous solution at the contact vertices of the new dofs `dofs` (zero elsewhere):
