@@ -997,7 +997,9 @@ fn performance_section(h: &mut String, entries: &[Entry]) {
          solver; the CG iterations are the most of any solve of a cycle. CG stops at a relative \
          residual of 1e-13; in the cavitation tables a step of the active-set iteration, which \
          only decides the next active set, stops at 1e-10, and the final active set is \
-         confirmed by a solve at 1e-13, whose solution the table reports.</p>\n",
+         confirmed by a solve at 1e-13, whose solution the table reports. The V-cycle applies \
+         its level matrices in single precision, its vectors and sums in double; CG's operator \
+         is the matrix in double precision.</p>\n",
     );
     let _ = writeln!(
         h,
