@@ -243,16 +243,7 @@ impl DirectSolver {
         }
         let ordering = self.ordering.get_or_insert_with(|| Ordering::identity(n));
         if self.symbolic.is_none() {
-            let perm = PermRef::new_checked(&ordering.fwd, &ordering.inv, n);
-            let widened = Widened::of(&matrix);
-            let symbolic = factorize_symbolic_cholesky(
-                widened.symbolic(&matrix),
-                Side::Lower,
-                SymmetricOrdering::Custom(perm),
-                Default::default(),
-            )
-            .map_err(|e| SolveError::Symbolic(format!("{e:?}")))?;
-            self.symbolic = Some((symbolic, widened));
+            self.symbolic = Some(symbolic_factorisation(&matrix, ordering)?);
         }
         let mut buffers = std::mem::take(&mut self.buffers);
         let result = self.solve_in(&mut buffers, matrix, rhs, eliminated);
@@ -425,15 +416,7 @@ impl CholeskyFactor {
             let dof = matrix.col_ptr.partition_point(|&start| start <= p) - 1;
             return Err(SolveError::NonFiniteData(dof));
         }
-        let perm = PermRef::new_checked(&ordering.fwd, &ordering.inv, n);
-        let widened = Widened::of(&matrix);
-        let symbolic = factorize_symbolic_cholesky(
-            widened.symbolic(&matrix),
-            Side::Lower,
-            SymmetricOrdering::Custom(perm),
-            Default::default(),
-        )
-        .map_err(|e| SolveError::Symbolic(format!("{e:?}")))?;
+        let (symbolic, widened) = symbolic_factorisation(&matrix, ordering)?;
         let par = FACTORISATION_PARALLELISM;
         let mut values = vec![0.0; symbolic.len_val()];
         let mut work = Vec::new();
@@ -489,6 +472,24 @@ impl CholeskyFactor {
     pub fn len_val(&self) -> usize {
         self.values.len()
     }
+}
+
+/// faer's symbolic Cholesky factorisation of the pattern of `matrix` in `ordering`, with the
+/// pattern's row indices as faer reads them.
+fn symbolic_factorisation(
+    matrix: &Csc<'_>,
+    ordering: &Ordering,
+) -> Result<(SymbolicCholesky<usize>, Widened), SolveError> {
+    let perm = PermRef::new_checked(&ordering.fwd, &ordering.inv, matrix.n());
+    let widened = Widened::of(matrix);
+    let symbolic = factorize_symbolic_cholesky(
+        widened.symbolic(matrix),
+        Side::Lower,
+        SymmetricOrdering::Custom(perm),
+        Default::default(),
+    )
+    .map_err(|e| SolveError::Symbolic(format!("{e:?}")))?;
+    Ok((symbolic, widened))
 }
 
 /// The row indices of a pattern as faer reads them: faer takes one index type for the column
