@@ -37,30 +37,72 @@ pub const MIN_COARSENING: f64 = 0.4;
 /// The level meshes of `mesh` from coarsest to finest and the prolongations between them;
 /// `finest` are the vertices of `mesh` itself (the numbering of its dofs).
 pub fn vertex_hierarchy(mesh: &Mesh, finest: &Vertices) -> VertexHierarchy {
-    let cells = cells_per_truncation(mesh);
-    let mut transfers = Vec::new();
-    let mut fine: Option<Vertices> = None;
-    let mut fine_cells = mesh.n_active();
-    for level in (0..mesh.max_level()).rev() {
-        let coarse_cells = cells[level as usize];
-        if (coarse_cells as f64) > MIN_COARSENING * fine_cells as f64 && level > 0 {
-            continue;
+    CoarseLevels::of(mesh).with_finest(mesh, finest)
+}
+
+/// The part of a mesh's hierarchy below the mesh itself: the kept level meshes, their
+/// numberings and the prolongations between them, which need the mesh only, not the numbering
+/// of its dofs — so a setup can build them while it numbers the dofs
+/// ([`crate::study::problem::setup_system`]).
+pub struct CoarseLevels {
+    /// The finest kept level: its number, its mesh and its vertices (none on a mesh of one
+    /// level).
+    top: Option<(u8, Mesh, Vertices)>,
+    /// The prolongations between the kept levels, coarsest first, up to `top`.
+    transfers: Vec<Transfer>,
+}
+
+impl CoarseLevels {
+    /// The kept levels of `mesh` (those with at most [`MIN_COARSENING`] of the cells of the
+    /// next finer kept one, and level 0).
+    pub fn of(mesh: &Mesh) -> CoarseLevels {
+        let cells = cells_per_truncation(mesh);
+        let mut transfers = Vec::new();
+        let mut fine: Option<(u8, Mesh, Vertices)> = None;
+        let mut top = None;
+        let mut fine_cells = mesh.n_active();
+        for level in (0..mesh.max_level()).rev() {
+            let coarse_cells = cells[level as usize];
+            if (coarse_cells as f64) > MIN_COARSENING * fine_cells as f64 && level > 0 {
+                continue;
+            }
+            let coarse_mesh = mesh.truncated(level);
+            let coarse = Vertices::numbering_only(&coarse_mesh);
+            match fine.take() {
+                None => {}
+                Some((fine_level, fine_mesh, fine_vertices)) => {
+                    transfers.push(prolongation(
+                        mesh,
+                        level,
+                        &coarse_mesh,
+                        &coarse,
+                        &fine_vertices,
+                    ));
+                    if top.is_none() {
+                        top = Some((fine_level, fine_mesh, fine_vertices));
+                    }
+                }
+            }
+            fine = Some((level, coarse_mesh, coarse));
+            fine_cells = coarse_cells;
         }
-        let fine_vertices = fine.as_ref().unwrap_or(finest);
-        let coarse_mesh = mesh.truncated(level);
-        let coarse = Vertices::numbering_only(&coarse_mesh);
-        transfers.push(prolongation(
-            mesh,
-            level,
-            &coarse_mesh,
-            &coarse,
-            fine_vertices,
-        ));
-        fine = Some(coarse);
-        fine_cells = coarse_cells;
+        // A single kept level is the top one.
+        if top.is_none() {
+            top = fine;
+        }
+        transfers.reverse();
+        CoarseLevels { top, transfers }
     }
-    transfers.reverse();
-    VertexHierarchy { transfers }
+
+    /// The hierarchy of `mesh` (whose levels these are) with `finest`, the vertices of `mesh`
+    /// itself: the prolongation from the top kept level to them, after the others.
+    pub fn with_finest(self, mesh: &Mesh, finest: &Vertices) -> VertexHierarchy {
+        let mut transfers = self.transfers;
+        if let Some((level, coarse_mesh, coarse)) = &self.top {
+            transfers.push(prolongation(mesh, *level, coarse_mesh, coarse, finest));
+        }
+        VertexHierarchy { transfers }
+    }
 }
 
 /// The number of cells of each truncation [`Mesh::truncated`] of `mesh`, by level: the active

@@ -6,7 +6,7 @@ use std::collections::BTreeSet;
 
 use crate::estimators::FaceIndicators;
 use crate::experiment::Scene;
-use crate::fe::hierarchy::vertex_hierarchy;
+use crate::fe::hierarchy::CoarseLevels;
 use crate::fe::{Constraints, DofMap, SparsityPattern, System};
 use crate::linalg::multigrid::VertexHierarchy;
 use crate::linalg::{DirectSolver, LinearSolver};
@@ -95,9 +95,10 @@ impl Discretisation {
 
 /// The setup of a Q₁ problem with `n_components` per vertex: the system on the current mesh,
 /// the problem's constraints (`constrain`), and `solver` made ready for it. The multigrid level
-/// hierarchy needs only the mesh and the numbering, so it is built alongside the hanging-node
-/// constraints and the sparsity pattern (both have long sequential stretches; on two cores the
-/// two run side by side).
+/// hierarchy needs only the mesh and the numbering: its coarse levels are built alongside the
+/// numbering of the dofs, its top prolongation alongside the hanging-node constraints and the
+/// sparsity pattern (each of these has sequential stretches; on two cores they run side by
+/// side).
 pub fn setup_system(
     disc: &Discretisation,
     n_components: usize,
@@ -105,15 +106,18 @@ pub fn setup_system(
     constrain: impl FnOnce(&mut System),
 ) -> System {
     let mesh = &disc.mesh;
-    let dofs = DofMap::new(mesh, n_components);
     let needs_levels = solver.needs_levels();
+    let (dofs, coarse_levels) = rayon::join(
+        || DofMap::new(mesh, n_components),
+        || needs_levels.then(|| CoarseLevels::of(mesh)),
+    );
     let ((constraints, pattern), levels) = rayon::join(
         || {
             let constraints = Constraints::new(&dofs);
             let pattern = SparsityPattern::new(&dofs, &constraints);
             (constraints, pattern)
         },
-        || needs_levels.then(|| vertex_hierarchy(mesh, &dofs.vertices)),
+        || coarse_levels.map(|levels| levels.with_finest(mesh, &dofs.vertices)),
     );
     let mut system = System::from_parts(dofs, constraints, pattern);
     constrain(&mut system);
