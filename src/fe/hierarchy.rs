@@ -40,66 +40,50 @@ pub fn vertex_hierarchy(mesh: &Mesh, finest: &Vertices) -> VertexHierarchy {
     CoarseLevels::of(mesh).with_finest(mesh, finest)
 }
 
-/// The part of a mesh's hierarchy below the mesh itself: the kept level meshes, their
-/// numberings and the prolongations between them, which need the mesh only, not the numbering
-/// of its dofs — so a setup can build them while it numbers the dofs
+/// The part of a mesh's hierarchy below the mesh itself: the kept levels, their numberings and
+/// the prolongations between them, which need the mesh only, not the numbering of its dofs —
+/// so a setup can build them while it numbers the dofs
 /// ([`crate::study::problem::setup_system`]).
 pub struct CoarseLevels {
-    /// The finest kept level: its number, its mesh and its vertices (none on a mesh of one
-    /// level).
-    top: Option<(u8, Mesh, Vertices)>,
+    /// The finest kept level and its vertices (none on a mesh of one level).
+    top: Option<(u8, Vertices)>,
     /// The prolongations between the kept levels, coarsest first, up to `top`.
     transfers: Vec<Transfer>,
 }
 
 impl CoarseLevels {
     /// The kept levels of `mesh` (those with at most [`MIN_COARSENING`] of the cells of the
-    /// next finer kept one, and level 0).
+    /// next finer kept one, and level 0), numbered; a level mesh is needed only for that.
     pub fn of(mesh: &Mesh) -> CoarseLevels {
         let cells = cells_per_truncation(mesh);
-        let mut transfers = Vec::new();
-        let mut fine: Option<(u8, Mesh, Vertices)> = None;
-        let mut top = None;
+        let mut kept = Vec::new();
         let mut fine_cells = mesh.n_active();
         for level in (0..mesh.max_level()).rev() {
             let coarse_cells = cells[level as usize];
             if (coarse_cells as f64) > MIN_COARSENING * fine_cells as f64 && level > 0 {
                 continue;
             }
-            let coarse_mesh = mesh.truncated(level);
-            let coarse = Vertices::numbering_only(&coarse_mesh);
-            match fine.take() {
-                None => {}
-                Some((fine_level, fine_mesh, fine_vertices)) => {
-                    transfers.push(prolongation(
-                        mesh,
-                        level,
-                        &coarse_mesh,
-                        &coarse,
-                        &fine_vertices,
-                    ));
-                    if top.is_none() {
-                        top = Some((fine_level, fine_mesh, fine_vertices));
-                    }
-                }
-            }
-            fine = Some((level, coarse_mesh, coarse));
+            kept.push((level, Vertices::numbering_only(&mesh.truncated(level))));
             fine_cells = coarse_cells;
         }
-        // A single kept level is the top one.
-        if top.is_none() {
-            top = fine;
-        }
+        // Finest first: each level's prolongation goes to the one before it.
+        let mut transfers: Vec<Transfer> = kept
+            .windows(2)
+            .map(|w| prolongation(mesh, w[1].0, &w[1].1, &w[0].1))
+            .collect();
         transfers.reverse();
-        CoarseLevels { top, transfers }
+        CoarseLevels {
+            top: kept.into_iter().next(),
+            transfers,
+        }
     }
 
     /// The hierarchy of `mesh` (whose levels these are) with `finest`, the vertices of `mesh`
     /// itself: the prolongation from the top kept level to them, after the others.
     pub fn with_finest(self, mesh: &Mesh, finest: &Vertices) -> VertexHierarchy {
         let mut transfers = self.transfers;
-        if let Some((level, coarse_mesh, coarse)) = &self.top {
-            transfers.push(prolongation(mesh, *level, coarse_mesh, coarse, finest));
+        if let Some((level, coarse)) = &self.top {
+            transfers.push(prolongation(mesh, *level, coarse, finest));
         }
         VertexHierarchy { transfers }
     }
@@ -128,28 +112,20 @@ fn cells_per_truncation(mesh: &Mesh) -> Vec<usize> {
         .collect()
 }
 
-/// The prolongation from the Q₁ space of `coarse_mesh`, the truncation of `mesh` at `level`
-/// (vertices `coarse`), to the vertices `fine` of a finer truncation of `mesh` (or of `mesh`).
+/// The prolongation from the Q₁ space of the truncation of `mesh` at `level` (vertices
+/// `coarse`) to the vertices `fine` of a finer truncation of `mesh` (or of `mesh`).
 ///
 /// The coarse cell that holds a fine vertex is the ancestor at `level` of the fine cell that
-/// holds it ([`Vertices::owner`]; the truncations share the cells of `mesh`): a step or two up
-/// the tree instead of a descent from the root per vertex.
-fn prolongation(
-    mesh: &Mesh,
-    level: u8,
-    coarse_mesh: &Mesh,
-    coarse: &Vertices,
-    fine: &Vertices,
-) -> Transfer {
+/// holds it ([`Vertices::owner`]; the truncations share the cells of `mesh`, and with them
+/// their corners): a step or two up the tree instead of a descent from the root per vertex.
+fn prolongation(mesh: &Mesh, level: u8, coarse: &Vertices, fine: &Vertices) -> Transfer {
     let row = |v: usize, out: &mut Vec<(u32, f64)>| {
         if fine.is_hanging[v] {
             // Hanging dofs are eliminated at every level: no row.
             return;
         }
         let key = fine.keys[v];
-        let c = mesh.ancestor_at(fine.owner[v], level);
-        debug_assert_eq!(c, coarse_mesh.cell_at_vertex(key));
-        let corners = coarse_mesh.corner_keys(c);
+        let corners = mesh.corner_keys(mesh.ancestor_at(fine.owner[v], level));
         let width = (corners[1].0 - corners[0].0) as f64;
         let s = (key.0 - corners[0].0) as f64 / width;
         let t = (key.1 - corners[0].1) as f64 / width;

@@ -759,6 +759,7 @@ impl VCycle {
             frames = coarse_frames;
         }
         let a = coarse_a.as_ref().unwrap_or(fine);
+        let coarsest = Level::new(a, None);
         // On a mesh of one level the coarsest level is the block itself, which keeps the dofs
         // the solve eliminates on top of the constraints: the factor is of the solve's own
         // matrix, those dofs decoupled (their rows and columns cut to the diagonal).
@@ -769,11 +770,12 @@ impl VCycle {
                 .filter(|(&r, _)| r)
                 .map(|(_, &f)| f)
                 .collect();
-            factor(&a.decoupled(&kept))?
+            let decoupled = a.decoupled(&kept);
+            factor(&decoupled, &decoupled.diagonal_positions())?
         } else {
-            factor(a)?
+            factor(a, &coarsest.diag)?
         };
-        levels_fine_first.push(Level::new(a, None));
+        levels_fine_first.push(coarsest);
         levels_fine_first.reverse();
         let top = levels_fine_first.len() - 1;
         let work = levels_fine_first
@@ -916,16 +918,16 @@ fn numbering(free: &[bool]) -> Vec<usize> {
         .collect()
 }
 
-/// The Cholesky factor of the coarsest matrix (none for an empty level), in double precision.
-fn factor(a: &Sparse) -> Result<Option<CholeskyFactor>, SolveError> {
+/// The Cholesky factor of the coarsest matrix `a` with the diagonal positions `diag` (none for
+/// an empty level), in double precision.
+fn factor(a: &Sparse, diag: &[usize]) -> Result<Option<CholeskyFactor>, SolveError> {
     if a.n_rows() == 0 {
         return Ok(None);
     }
-    let diag = a.diagonal_positions();
     let csc = Csc {
         col_ptr: &a.row_ptr,
         row_idx: &a.cols,
-        diag: &diag,
+        diag,
         values: &a.vals,
     };
     CholeskyFactor::new(csc, None).map(Some)
