@@ -230,62 +230,120 @@ fn sorted(mut keys: Vec<(VertexKey, CellId)>) -> Vec<(VertexKey, CellId)> {
 const RADIX_BITS: u32 = 11;
 const RADIX_MASK: u64 = (1 << RADIX_BITS) - 1;
 
-/// A hash table from integer positions to vertex numbers (open addressing, linear probing, at
-/// most half full): one or two cache lines per lookup where a binary search of the sorted keys
-/// touches about log₂ n — the lookups of every corner of every cell dominated the setup of a mesh
-/// (the numbering, the hanging vertices, the multigrid prolongations).
+/// Vertex numbers by integer position: the lookups of every corner of every cell, of the
+/// multigrid prolongations and of the warm start dominated the setup of a mesh.
+///
+/// * **Grid** — a table over the lattice of the finest vertex spacing of the keys, column by
+///   column like the numbering, wherever that lattice has at most [`GRID_FILL`] times as many
+///   points as there are vertices (uniform and gently graded meshes, the level meshes of
+///   multigrid): one load per lookup, and keys that lie close together, as the corners of
+///   neighbouring cells do, are close together in the table, so most lookups hit the cache.
+/// * **Hashed** — otherwise (deep local refinement): open addressing with linear probing, at
+///   most half full, one or two cache lines per lookup where a binary search of the sorted keys
+///   touches about log₂ n.
 #[derive(Clone, Debug)]
-struct KeyIndex {
-    /// Vertex number per slot, [`KeyIndex::EMPTY`] where none; the length is a power of two.
-    slots: Vec<u32>,
-    /// 64 − log₂(slots.len()): the hash keeps the top bits of the product.
-    shift: u32,
+enum KeyIndex {
+    Grid {
+        /// Vertex number per lattice point ([`KeyIndex::EMPTY`] where none), column-major.
+        slots: Vec<u32>,
+        /// log₂ of the lattice spacing in integer units.
+        shift: u32,
+        /// Lattice points per column.
+        height: u64,
+        /// Columns.
+        width: u64,
+    },
+    Hashed {
+        /// Vertex number per slot, [`KeyIndex::EMPTY`] where none; the length is a power of
+        /// two.
+        slots: Vec<u32>,
+        /// 64 − log₂(slots.len()): the hash keeps the top bits of the product.
+        shift: u32,
+    },
 }
+
+/// The most lattice points per vertex for which [`KeyIndex`] keeps a grid (4 bytes each).
+const GRID_FILL: u64 = 4;
 
 impl KeyIndex {
     const EMPTY: u32 = u32::MAX;
 
+    /// The index of `keys` (sorted by column, then row).
     fn new(keys: &[VertexKey]) -> KeyIndex {
+        let bits = keys.iter().fold(0, |b, &(x, y)| b | x | y);
+        let shift = bits.trailing_zeros().min(63);
+        let (width, height) = keys.iter().fold((0, 0), |(w, h), &(x, y)| {
+            (w.max((x >> shift) + 1), h.max((y >> shift) + 1))
+        });
+        let points = width.checked_mul(height);
+        if points.is_some_and(|p| p <= GRID_FILL * keys.len().max(1) as u64) {
+            let mut slots = vec![KeyIndex::EMPTY; (width * height) as usize];
+            for (v, &(x, y)) in keys.iter().enumerate() {
+                slots[((x >> shift) * height + (y >> shift)) as usize] = v as u32;
+            }
+            return KeyIndex::Grid {
+                slots,
+                shift,
+                height,
+                width,
+            };
+        }
         let len = (2 * keys.len()).max(2).next_power_of_two();
-        let mut index = KeyIndex {
-            slots: vec![KeyIndex::EMPTY; len],
-            shift: 64 - len.trailing_zeros(),
-        };
+        let mut slots = vec![KeyIndex::EMPTY; len];
+        let shift = 64 - len.trailing_zeros();
         let mask = len - 1;
         for (v, &key) in keys.iter().enumerate() {
-            let mut slot = index.slot(key);
-            while index.slots[slot] != KeyIndex::EMPTY {
+            let mut slot = KeyIndex::home(shift, key);
+            while slots[slot] != KeyIndex::EMPTY {
                 slot = (slot + 1) & mask;
             }
-            index.slots[slot] = v as u32;
+            slots[slot] = v as u32;
         }
-        index
+        KeyIndex::Hashed { slots, shift }
     }
 
-    /// The home slot of `key` (multiplicative hashing of both coordinates).
+    /// The home slot of `key` in a hashed index (multiplicative hashing of both coordinates).
     #[inline]
-    fn slot(&self, key: VertexKey) -> usize {
+    fn home(shift: u32, key: VertexKey) -> usize {
         let h = key
             .0
             .wrapping_mul(0x9E37_79B9_7F4A_7C15)
             .wrapping_add(key.1.wrapping_mul(0xC2B2_AE3D_27D4_EB4F));
-        (h >> self.shift) as usize
+        (h >> shift) as usize
     }
 
     /// The number of the vertex at `key` among `keys` (those the index was built from).
     #[inline]
     fn find(&self, keys: &[VertexKey], key: VertexKey) -> Option<u32> {
-        let mask = self.slots.len() - 1;
-        let mut slot = self.slot(key);
-        loop {
-            let v = self.slots[slot];
-            if v == KeyIndex::EMPTY {
-                return None;
+        match self {
+            KeyIndex::Grid {
+                slots,
+                shift,
+                height,
+                width,
+            } => {
+                let (x, y) = (key.0 >> shift, key.1 >> shift);
+                let on_lattice = (x << shift, y << shift) == key;
+                if !on_lattice || x >= *width || y >= *height {
+                    return None;
+                }
+                let v = slots[(x * height + y) as usize];
+                (v != KeyIndex::EMPTY).then_some(v)
             }
-            if keys[v as usize] == key {
-                return Some(v);
+            KeyIndex::Hashed { slots, shift } => {
+                let mask = slots.len() - 1;
+                let mut slot = KeyIndex::home(*shift, key);
+                loop {
+                    let v = slots[slot];
+                    if v == KeyIndex::EMPTY {
+                        return None;
+                    }
+                    if keys[v as usize] == key {
+                        return Some(v);
+                    }
+                    slot = (slot + 1) & mask;
+                }
             }
-            slot = (slot + 1) & mask;
         }
     }
 }
@@ -420,5 +478,37 @@ mod tests {
             shuffled.rotate_left(third);
             assert_eq!(sorted(shuffled), items);
         }
+    }
+
+    /// Both kinds of [`KeyIndex`] find every key at its number, and nothing at a position that
+    /// is not a key: off the lattice of the keys, past its extent, or a lattice point without a
+    /// vertex.
+    #[test]
+    fn key_index_finds_the_keys_and_only_them() {
+        // A uniform lattice of spacing 4 (a grid), the same with one far-away key (hashed), and
+        // a lattice with every other point missing (a grid with holes).
+        let uniform: Vec<VertexKey> = (0..9u64)
+            .flat_map(|x| (0..5u64).map(move |y| (4 * x, 4 * y)))
+            .collect();
+        let mut sparse = uniform.clone();
+        sparse.push((1 << 40, 0));
+        let holes: Vec<VertexKey> = uniform
+            .iter()
+            .copied()
+            .filter(|&(x, y)| (x + y) % 8 == 0)
+            .collect();
+        for (keys, grid) in [(&uniform, true), (&sparse, false), (&holes, true)] {
+            let index = KeyIndex::new(keys);
+            assert_eq!(matches!(index, KeyIndex::Grid { .. }), grid, "{keys:?}");
+            for (v, &k) in keys.iter().enumerate() {
+                assert_eq!(index.find(keys, k), Some(v as u32), "{k:?}");
+            }
+            for k in [(2, 0), (0, 2), (36, 0), (0, 20), (4, 4 << 20), (1 << 41, 0)] {
+                assert_eq!(index.find(keys, k), None, "{k:?}");
+            }
+        }
+        let index = KeyIndex::new(&holes);
+        assert_eq!(index.find(&holes, (4, 0)), None);
+        assert_eq!(KeyIndex::new(&[]).find(&[], (0, 0)), None);
     }
 }
