@@ -37,6 +37,9 @@ pub struct SparsityPattern {
     rhs_entries: Vec<Expanded>,
 }
 
+/// The most expanded dofs of a cell: two parents for each hanging one.
+const MAX_EXPANDED: usize = 64;
+
 impl SparsityPattern {
     /// Pattern of a Q₁ problem on `dofs`: every pair of dofs that share a cell (after
     /// expanding hanging dofs into their parents) plus every diagonal entry.
@@ -48,6 +51,8 @@ impl SparsityPattern {
         );
         let nc = dofs.n_components;
         let n_local = 4 * nc;
+        // A cell's dofs after expanding the hanging ones ([`SparsityPattern::cell_positions`]).
+        assert!(2 * n_local <= MAX_EXPANDED, "too many components");
         let v = &dofs.vertices;
         let hang = |vert: u32| -> Option<[u32; 2]> {
             if v.is_hanging[vert as usize] {
@@ -253,12 +258,7 @@ impl SparsityPattern {
                 .enumerate()
                 .for_each(|(i, ((m, f), pos))| {
                     cell(first + i, m, f);
-                    let e = self.expanded(first + i);
-                    for (a, out) in e.iter().zip(pos.chunks_mut(e.len())) {
-                        for (b, out) in e.iter().zip(out) {
-                            *out = self.find(a.global as usize, b.global as usize) as u32;
-                        }
-                    }
+                    self.cell_positions(self.expanded(first + i), pos);
                 });
             // Summed on both cores, each owning the columns on one side of the middle dof of
             // the block: each still adds in cell order, so the sums are those of one pass.
@@ -284,6 +284,34 @@ impl SparsityPattern {
             );
         }
         (values, rhs)
+    }
+
+    /// The positions of the entries (a, b) of the expanded dofs `e` of a cell, row-major by a,
+    /// into `out` (e.len()² of them). Column b holds every a of the cell: one walk down the
+    /// column per b with the dofs in increasing order finds them all, where a binary search
+    /// per entry branched unpredictably.
+    fn cell_positions(&self, e: &[Expanded], out: &mut [u32]) {
+        let m = e.len();
+        // The cell's dofs in increasing order.
+        let mut order = [0u8; MAX_EXPANDED];
+        let order = &mut order[..m];
+        for (i, o) in order.iter_mut().enumerate() {
+            *o = i as u8;
+        }
+        order.sort_unstable_by_key(|&i| e[i as usize].global);
+        for (bi, b) in e.iter().enumerate() {
+            let start = self.col_ptr[b.global as usize];
+            let column = &self.row_idx[start..self.col_ptr[b.global as usize + 1]];
+            let mut p = 0;
+            for &ai in order.iter() {
+                let row = e[ai as usize].global;
+                while column[p] < row {
+                    p += 1;
+                }
+                debug_assert_eq!(column[p], row, "entry in pattern");
+                out[ai as usize * m + bi] = (start + p) as u32;
+            }
+        }
     }
 
     /// The expanded local dofs of active cell `k`.
