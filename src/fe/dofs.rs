@@ -5,9 +5,9 @@
 //! `vertex · n_components + component`. Hanging vertices keep their dofs (the thesis counts them,
 //! as deal.II's `n_dofs()` does); their values follow from the two end points of the coarse edge.
 
-use rayon::iter::Either;
 use rayon::prelude::*;
 
+use crate::linalg::split_by_offsets;
 use crate::mesh::{CellId, Face, Mesh, Neighbor, Side, VertexKey, FACES};
 
 /// A vertex in the middle of a coarse cell's edge: value = ½(parent₀ + parent₁).
@@ -154,36 +154,58 @@ fn vertex_keys(mesh: &Mesh) -> (Vec<(VertexKey, CellId)>, Vec<[VertexKey; 3]>) {
     let (right, top) = mesh.extent();
     let midpoint = |a: VertexKey, b: VertexKey| ((a.0 + b.0) / 2, (a.1 + b.1) / 2);
     let neighbors = mesh.face_neighbors();
-    mesh.active()
-        .par_iter()
-        .flat_map_iter(|&c| {
-            let corners = mesh.corner_keys(c);
-            let [ll, lr, ul, ur] = corners;
-            let finer =
-                FACES.map(|f| matches!(mesh.neighbor_in(&neighbors, c, f), Neighbor::Finer(_)));
-            let (at_right, at_top) = (lr.0 == right, ul.1 == top);
-            let keys = [
-                Some(ll),
-                finer[Face::Left as usize].then(|| midpoint(ll, ul)),
-                finer[Face::Bottom as usize].then(|| midpoint(ll, lr)),
-                at_right.then_some(lr),
-                at_top.then_some(ul),
-                (at_right && at_top).then_some(ur),
-            ];
-            let hanging = FACES
-                .into_iter()
-                .zip(finer)
-                .filter(|&(_, finer)| finer)
-                .map(move |(f, _)| {
+    // Listed by blocks of cells in parallel, then joined: the order of the lists does not
+    // matter, the vertices are sorted and the hanging ones too.
+    let blocks: Vec<(Vec<(VertexKey, CellId)>, Vec<[VertexKey; 3]>)> = mesh
+        .active()
+        .par_chunks(CELLS_PER_TASK)
+        .map(|cells| {
+            let mut listed = Vec::with_capacity(cells.len() + cells.len() / 2);
+            let mut hanging = Vec::new();
+            for &c in cells {
+                let corners = mesh.corner_keys(c);
+                let [ll, lr, ul, ur] = corners;
+                let finer =
+                    FACES.map(|f| matches!(mesh.neighbor_in(&neighbors, c, f), Neighbor::Finer(_)));
+                let (at_right, at_top) = (lr.0 == right, ul.1 == top);
+                let keys = [
+                    Some(ll),
+                    finer[Face::Left as usize].then(|| midpoint(ll, ul)),
+                    finer[Face::Bottom as usize].then(|| midpoint(ll, lr)),
+                    at_right.then_some(lr),
+                    at_top.then_some(ul),
+                    (at_right && at_top).then_some(ur),
+                ];
+                listed.extend(keys.into_iter().flatten().map(|k| (k, c)));
+                for (f, _) in FACES.into_iter().zip(finer).filter(|&(_, finer)| finer) {
                     let [a, b] = f.vertices().map(|i| corners[i]);
-                    Either::Right([midpoint(a, b), a, b])
-                });
-            keys.into_iter()
-                .flatten()
-                .map(move |k| Either::Left((k, c)))
-                .chain(hanging)
+                    hanging.push([midpoint(a, b), a, b]);
+                }
+            }
+            (listed, hanging)
         })
-        .partition_map(|e| e)
+        .collect();
+    let listed = joined(blocks.iter().map(|b| &b.0[..]).collect());
+    let hanging = joined(blocks.iter().map(|b| &b.1[..]).collect());
+    (listed, hanging)
+}
+
+/// Active cells per parallel task of [`vertex_keys`].
+const CELLS_PER_TASK: usize = 4096;
+
+/// The concatenation of `parts`, copied in parallel.
+fn joined<T: Copy + Default + Send + Sync>(parts: Vec<&[T]>) -> Vec<T> {
+    let mut offsets = Vec::with_capacity(parts.len() + 1);
+    offsets.push(0);
+    for p in &parts {
+        offsets.push(offsets[offsets.len() - 1] + p.len());
+    }
+    let mut all = vec![T::default(); offsets[parts.len()]];
+    split_by_offsets(&mut all, &offsets)
+        .into_par_iter()
+        .zip(parts)
+        .for_each(|(out, part)| out.copy_from_slice(part));
+    all
 }
 
 /// Vertices (with their cells) sorted by their distinct keys (x first, then y): a

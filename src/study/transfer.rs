@@ -60,23 +60,24 @@ impl PreviousSolution {
         let old = &self.dofs.vertices;
         let new = &dofs.vertices;
         let unmoved = !mesh.is_moved() && !self.mesh.is_moved();
-        (0..new.len())
-            .into_par_iter()
-            .flat_map_iter(|v| {
-                let found = old.find(new.keys[v]);
-                let (key, p) = (new.keys[v], new.coords[v]);
-                let cell = match found {
-                    None if unmoved => mesh.cell_at_vertex_in(&self.mesh, new.owner[v], key),
-                    _ => None,
-                };
-                debug_assert!(cell.is_none() || cell == self.mesh.locate(p));
-                (0..nc).map(move |c| match (found, cell) {
+        let mut values = vec![0.0; new.len() * nc];
+        values.par_chunks_mut(nc).enumerate().for_each(|(v, out)| {
+            let found = old.find(new.keys[v]);
+            let (key, p) = (new.keys[v], new.coords[v]);
+            let cell = match found {
+                None if unmoved => mesh.cell_at_vertex_in(&self.mesh, new.owner[v], key),
+                _ => None,
+            };
+            debug_assert!(cell.is_none() || cell == self.mesh.locate(p));
+            for (c, out) in out.iter_mut().enumerate() {
+                *out = match (found, cell) {
                     (Some(w), _) => self.u[self.dofs.dof(w, c)],
                     (None, Some(cell)) => self.value_in(cell, c, p),
                     (None, None) => self.value(c, p).unwrap_or(0.0),
-                })
-            })
-            .collect()
+                };
+            }
+        });
+        values
     }
 
     /// Component `comp` of the previous solution at the point `p` of its cell `cell`.
