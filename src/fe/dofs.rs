@@ -150,13 +150,13 @@ impl Vertices {
 /// cell's bottom or left edge would make that face's neighbour finer, and is then its midpoint
 /// (2:1 rule). Each vertex therefore appears exactly once. The hanging vertices are the
 /// midpoints of every face, of the four, whose neighbour is finer.
-fn vertex_keys(mesh: &Mesh) -> (Vec<(VertexKey, CellId)>, Vec<[VertexKey; 3]>) {
+fn vertex_keys(mesh: &Mesh) -> VertexLists {
     let (right, top) = mesh.extent();
     let midpoint = |a: VertexKey, b: VertexKey| ((a.0 + b.0) / 2, (a.1 + b.1) / 2);
     let neighbors = mesh.face_neighbors();
     // Listed by blocks of cells in parallel, then joined: the order of the lists does not
     // matter, the vertices are sorted and the hanging ones too.
-    let blocks: Vec<(Vec<(VertexKey, CellId)>, Vec<[VertexKey; 3]>)> = mesh
+    let blocks: Vec<VertexLists> = mesh
         .active()
         .par_chunks(CELLS_PER_TASK)
         .map(|cells| {
@@ -189,6 +189,10 @@ fn vertex_keys(mesh: &Mesh) -> (Vec<(VertexKey, CellId)>, Vec<[VertexKey; 3]>) {
     let hanging = joined(blocks.iter().map(|b| &b.1[..]).collect());
     (listed, hanging)
 }
+
+/// The vertices with the cells that list them, and the hanging vertices with the end points of
+/// their coarse edges ([`vertex_keys`]).
+type VertexLists = (Vec<(VertexKey, CellId)>, Vec<[VertexKey; 3]>);
 
 /// Active cells per parallel task of [`vertex_keys`].
 const CELLS_PER_TASK: usize = 4096;
