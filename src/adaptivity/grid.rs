@@ -2,6 +2,8 @@
 //! (spec/estimators.md §1.4; deal.II `refine_and_coarsen_fixed_number(tria, η, 0.3, 0.03)`),
 //! with the tie band of DESIGN.md.
 
+use rayon::prelude::*;
+
 use crate::fe::quadrature;
 use crate::mesh::{CellId, Mesh, MAX_LEVEL};
 
@@ -68,7 +70,8 @@ pub fn mark_fixed_number(
         return Marking { refine, coarsen };
     }
     let mut sorted: Vec<f64> = indicators.to_vec();
-    sorted.sort_by(|a, b| b.total_cmp(a)); // descending
+    // Descending; equal values under total_cmp are the same bits, so any sort gives this order.
+    sorted.par_sort_unstable_by(|a, b| b.total_cmp(a));
     let n_ref = (refine_fraction * n as f64).floor() as usize;
     let n_coa = (coarsen_fraction * n as f64).floor() as usize;
     if n_ref > 0 {
@@ -142,7 +145,7 @@ pub fn mark_fixed_number_split(
     let tied = |a: f64, b: f64| (a - b).abs() <= TIE_BAND * a.abs().max(b.abs());
     // Cells by indicator, largest first; within the tie band by the split order.
     let mut ranked: Vec<usize> = (0..n).collect();
-    ranked.sort_by(|&a, &b| indicators[b].total_cmp(&indicators[a]));
+    ranked.par_sort_by(|&a, &b| indicators[b].total_cmp(&indicators[a]));
     let by_key = |group: &mut [usize]| group.sort_by_key(|&i| keys[i]);
     let take =
         |ranked: &[usize], count: usize, flags: &mut [bool], skip: &dyn Fn(usize) -> bool| {
