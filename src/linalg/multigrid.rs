@@ -169,7 +169,9 @@ struct Sparse<T = f64> {
 /// The rows of one parallel task: where each row ends in the entries, and the entries.
 type RowBlock = (Vec<usize>, Vec<(u32, f64)>);
 
-/// Rows per parallel task when building a [`Sparse`] row by row.
+/// Rows per parallel task when building a [`Sparse`] row by row, and the fewest per task of a
+/// product (a coarse level's product runs on the calling thread instead of waking another for
+/// microseconds of work).
 const ROWS_PER_TASK: usize = 4096;
 
 /// Rows per block of the hybrid Gauss–Seidel smoother (module docs): a fixed size, so that the
@@ -230,25 +232,31 @@ impl<T: Copy + Into<f64> + Send + Sync> Sparse<T> {
     /// y = A x with the masked rows of y set to zero.
     fn multiply_masked(&self, x: &[f64], y: &mut [f64], mask: Mask) {
         let a = self.rows();
-        y.par_iter_mut().enumerate().for_each(|(i, y)| {
-            *y = if is_masked(mask, i) {
-                0.0
-            } else {
-                let (c, v) = a.row(i);
-                Self::dot(c, v, x)
-            };
-        });
+        y.par_iter_mut()
+            .with_min_len(ROWS_PER_TASK)
+            .enumerate()
+            .for_each(|(i, y)| {
+                *y = if is_masked(mask, i) {
+                    0.0
+                } else {
+                    let (c, v) = a.row(i);
+                    Self::dot(c, v, x)
+                };
+            });
     }
 
     /// y += A x on the rows that are not masked.
     fn add_product_masked(&self, x: &[f64], y: &mut [f64], mask: Mask) {
         let a = self.rows();
-        y.par_iter_mut().enumerate().for_each(|(i, y)| {
-            if !is_masked(mask, i) {
-                let (c, v) = a.row(i);
-                *y += Self::dot(c, v, x);
-            }
-        });
+        y.par_iter_mut()
+            .with_min_len(ROWS_PER_TASK)
+            .enumerate()
+            .for_each(|(i, y)| {
+                if !is_masked(mask, i) {
+                    let (c, v) = a.row(i);
+                    *y += Self::dot(c, v, x);
+                }
+            });
     }
 
     /// Position of the diagonal entry of each row (every row has one).
