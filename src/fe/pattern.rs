@@ -389,3 +389,53 @@ fn weight(wexp: u8) -> f64 {
 fn zeros(len: usize) -> Vec<f64> {
     (0..len).into_par_iter().map(|_| 0.0).collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fe::DofMap;
+    use crate::mesh::Mesh;
+
+    /// The walk of [`SparsityPattern::cell_positions`] finds, for every cell of a graded mesh
+    /// (hanging vertices expanded into their parents, some of them shared within a cell), the
+    /// position a binary search finds, for one and for three components.
+    #[test]
+    fn cell_positions_are_those_of_a_search() {
+        let mut mesh = Mesh::new([0.0, 1.0], [0.0, 1.0], 2, 2);
+        for _ in 0..4 {
+            let refine: Vec<bool> = mesh
+                .active()
+                .iter()
+                .map(|&c| {
+                    let [x0, y0, ..] = mesh.cell_box(c);
+                    x0 + y0 < 0.5
+                })
+                .collect();
+            let none = vec![false; refine.len()];
+            mesh.refine_and_coarsen(&refine, &none).unwrap();
+        }
+        for components in [1, 3] {
+            let dofs = DofMap::new(&mesh, components);
+            let constraints = Constraints::new(&dofs);
+            assert!(
+                !dofs.vertices.hanging.is_empty(),
+                "the mesh has hanging vertices"
+            );
+            let pattern = SparsityPattern::new(&dofs, &constraints);
+            let mut expanded_cells = 0;
+            for k in 0..mesh.n_active() {
+                let e = pattern.expanded(k);
+                expanded_cells += usize::from(e.len() > pattern.n_local);
+                let mut walked = vec![0; e.len() * e.len()];
+                pattern.cell_positions(e, &mut walked);
+                for (ai, a) in e.iter().enumerate() {
+                    for (bi, b) in e.iter().enumerate() {
+                        let searched = pattern.find(a.global as usize, b.global as usize);
+                        assert_eq!(walked[ai * e.len() + bi] as usize, searched, "cell {k}");
+                    }
+                }
+            }
+            assert!(expanded_cells > 0, "some cells have hanging dofs");
+        }
+    }
+}
