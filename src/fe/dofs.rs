@@ -7,7 +7,7 @@
 
 use rayon::prelude::*;
 
-use crate::linalg::split_by_offsets;
+use crate::linalg::joined;
 use crate::mesh::{CellId, Face, Mesh, Neighbor, Side, VertexKey, FACES};
 
 /// A vertex in the middle of a coarse cell's edge: value = ½(parent₀ + parent₁).
@@ -196,21 +196,6 @@ type VertexLists = (Vec<(VertexKey, CellId)>, Vec<[VertexKey; 3]>);
 
 /// Active cells per parallel task of [`vertex_keys`].
 const CELLS_PER_TASK: usize = 4096;
-
-/// The concatenation of `parts`, copied in parallel.
-fn joined<T: Copy + Default + Send + Sync>(parts: Vec<&[T]>) -> Vec<T> {
-    let mut offsets = Vec::with_capacity(parts.len() + 1);
-    offsets.push(0);
-    for p in &parts {
-        offsets.push(offsets[offsets.len() - 1] + p.len());
-    }
-    let mut all = vec![T::default(); offsets[parts.len()]];
-    split_by_offsets(&mut all, &offsets)
-        .into_par_iter()
-        .zip(parts)
-        .for_each(|(out, part)| out.copy_from_slice(part));
-    all
-}
 
 /// Vertices (with their cells) sorted by their distinct keys (x first, then y): a
 /// least-significant-digit radix sort, by y and then, stably, by x, over the bits in which the

@@ -13,7 +13,7 @@ use rayon::prelude::*;
 
 use super::constraints::Constraints;
 use super::dofs::DofMap;
-use crate::linalg::{split_by_offsets, transpose, Csc};
+use crate::linalg::{joined, split_by_offsets, transpose, Csc};
 
 /// One local dof of a cell expanded to a global dof with weight 2^(−wexp)
 /// (hanging dofs expand to their two parents with weight ½).
@@ -161,14 +161,7 @@ impl SparsityPattern {
         }
         let nnz = col_ptr[n];
         // Stitched in parallel: each block's rows go to their place in the whole.
-        let mut row_idx = vec![0u32; nnz];
-        let block_starts: Vec<usize> = (0..=blocks.len())
-            .map(|b| col_ptr[(b * BLOCK).min(n)])
-            .collect();
-        split_by_offsets(&mut row_idx, &block_starts)
-            .into_par_iter()
-            .zip(&blocks)
-            .for_each(|(out, (_, rows))| out.copy_from_slice(rows));
+        let row_idx = joined(blocks.iter().map(|(_, rows)| &rows[..]).collect());
         assert!(
             nnz < u32::MAX as usize,
             "matrix too large for 32-bit positions"

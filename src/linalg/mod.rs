@@ -34,6 +34,21 @@ pub(crate) fn split_by_offsets<'a, T>(
     out
 }
 
+/// The concatenation of `parts`, copied in parallel.
+pub(crate) fn joined<T: Copy + Default + Send + Sync>(parts: Vec<&[T]>) -> Vec<T> {
+    let mut offsets = Vec::with_capacity(parts.len() + 1);
+    offsets.push(0);
+    for p in &parts {
+        offsets.push(offsets[offsets.len() - 1] + p.len());
+    }
+    let mut all = vec![T::default(); offsets[parts.len()]];
+    split_by_offsets(&mut all, &offsets)
+        .into_par_iter()
+        .zip(parts)
+        .for_each(|(out, part)| out.copy_from_slice(part));
+    all
+}
+
 /// The transpose of a sparse structure in compressed rows (`row_ptr`; entry p in column
 /// `column(p)` of `n_cols`): for each column the rows with an entry there, in increasing order,
 /// in compressed form (`col_ptr`, `rows`), and each entry's `value(p)` beside it.

@@ -231,32 +231,32 @@ impl<T: Copy + Into<f64> + Send + Sync> Sparse<T> {
 
     /// y = A x with the masked rows of y set to zero.
     fn multiply_masked(&self, x: &[f64], y: &mut [f64], mask: Mask) {
-        let a = self.rows();
-        y.par_iter_mut()
-            .with_min_len(ROWS_PER_TASK)
-            .enumerate()
-            .for_each(|(i, y)| {
-                *y = if is_masked(mask, i) {
-                    0.0
-                } else {
-                    let (c, v) = a.row(i);
-                    Self::dot(c, v, x)
-                };
-            });
+        self.each_row(y, |i, y, (c, v)| {
+            *y = if is_masked(mask, i) {
+                0.0
+            } else {
+                Self::dot(c, v, x)
+            };
+        });
     }
 
     /// y += A x on the rows that are not masked.
     fn add_product_masked(&self, x: &[f64], y: &mut [f64], mask: Mask) {
+        self.each_row(y, |i, y, (c, v)| {
+            if !is_masked(mask, i) {
+                *y += Self::dot(c, v, x);
+            }
+        });
+    }
+
+    /// `update(i, y_i, row i)` for every row in parallel, at least [`ROWS_PER_TASK`] rows per
+    /// task (the products of the coarse levels stay on the calling thread).
+    fn each_row(&self, y: &mut [f64], update: impl Fn(usize, &mut f64, (&[u32], &[T])) + Sync) {
         let a = self.rows();
         y.par_iter_mut()
             .with_min_len(ROWS_PER_TASK)
             .enumerate()
-            .for_each(|(i, y)| {
-                if !is_masked(mask, i) {
-                    let (c, v) = a.row(i);
-                    *y += Self::dot(c, v, x);
-                }
-            });
+            .for_each(|(i, y)| update(i, y, a.row(i)));
     }
 
     /// Position of the diagonal entry of each row (every row has one).
