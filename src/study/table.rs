@@ -4,9 +4,10 @@
 //! how its progress is shown — is the caller's, through a [`TableHost`]; the order of the runs,
 //! which of them run and what the page is told about those that do not are decided here, once.
 
-use super::cost;
-use super::{alternative_readings, run_within, AlternativeReading, Budget, Progress, RunError};
-use super::{solves, Tier};
+use super::{
+    alternative_readings, cost, run_within, solves, AlternativeReading, Budget, Progress, RunError,
+    Tier,
+};
 use crate::experiment::Experiment;
 use crate::results::RunResult;
 
