@@ -25,5 +25,6 @@ mod report_failures;
 mod reynolds;
 mod solvers;
 mod substokes;
+mod table;
 mod uzawa;
 mod warnings;

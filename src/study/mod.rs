@@ -21,6 +21,7 @@ pub mod record;
 pub mod reynolds;
 pub mod solver_iterations;
 pub mod substokes;
+pub mod table;
 pub mod thin_film;
 pub mod transfer;
 pub mod warnings;
@@ -30,6 +31,7 @@ pub use budget::{Budget, Ledger};
 pub use clock::{Phase, PhaseClock};
 pub use problem::{Discretisation, Estimate, Pictures, Problem, Solution};
 pub use readings::{alternative_readings, AlternativeReading};
+pub use table::{run_table, TableHost, TableOptions, TableOutcome, TableRun};
 
 use crate::experiment::{self, Experiment, StudyKind};
 use crate::fe;

@@ -1,0 +1,220 @@
+//! `cargo run --release --bin report` — run every experiment file and render the report.
+//!
+//! Writes `report/index.html`, `report/figures/*.svg`, `report/data/<table>.csv` and
+//! `report/data/<table>.probes.csv` (each also as `.parquet`), `<table>.joined.*` (the rows
+//! beside the printed table) and `<table>.vtu` (the last mesh). Each table runs on its own: a file that does not load, a run
+//! that fails and a run that panics each become a failed entry of the page (in the summary with
+//! its status, and in a section with the table, the cycle and the message); the other tables are
+//! still reported, and the exit status is 1. Usage errors, an experiment folder that cannot be
+//! listed and an output folder that cannot be written end the program before anything is solved,
+//! with exit status 2.
+//!
+//! Every run also writes `report/shard/<table>.json`, the record of each entry
+//! ([`tribo::report::record`]). `report merge DIR… --out DIR` builds one page, its figures and
+//! its data files from the records of several output folders, as a single run of all their
+//! tables would (timings and the header aside): the tables can run as separate processes, on
+//! one machine or a cluster, and be merged afterwards. Its exit status is 1 when a merged entry
+//! failed, 2 when the shards cannot be merged (a folder without records, a table in two folders,
+//! a record that cannot be read).
+
+mod isolate;
+mod merge;
+mod outputs;
+mod progress;
+mod schedule;
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Instant;
+
+use clap::{Parser, Subcommand};
+
+use tribo::experiment;
+use tribo::report::{self, record, Entry, ReportMeta};
+use tribo::study::{self, TableOptions, Tier};
+
+use merge::merge;
+use outputs::Outcome;
+
+/// Regenerate the Chapter IV tables of Gimbel (2012) and render them beside the thesis tables.
+#[derive(Parser, Debug)]
+#[command(
+    name = "report",
+    version,
+    about,
+    args_conflicts_with_subcommands = true
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+
+    /// Only these tables, comma-separated (e.g. `--only IV.1,IV.3`).
+    #[arg(long, value_delimiter = ',', value_name = "TABLES")]
+    only: Option<Vec<String>>,
+
+    /// Run the quick (test) tier instead of the full thesis sizes.
+    #[arg(long)]
+    quick: bool,
+
+    /// Directory of experiment files.
+    #[arg(long, value_name = "DIR", default_value = "experiments")]
+    experiments: PathBuf,
+
+    /// Output directory.
+    #[arg(long, value_name = "DIR", default_value = "report")]
+    out: PathBuf,
+
+    /// Do not show progress. By default a terminal shows a bar with the time left, and
+    /// anything else (a log file, CI) gets one line per finished cycle.
+    #[arg(long)]
+    no_progress: bool,
+
+    /// Do not run the alternative readings beside the experiments (the cavitation tables are
+    /// otherwise run three times: printed, self-consistent and `reynolds` source R₃c).
+    #[arg(long)]
+    no_alternatives: bool,
+
+    /// Also write the shard records (`<out>/shard/<table>.json`, everything the page needs,
+    /// mesh pictures included) that `report merge` builds one page from. Off by default: the
+    /// records of a full report take gigabytes.
+    #[arg(long)]
+    shard: bool,
+
+    /// Tables run at once (default: one per core, fewer where the memory budget does not hold
+    /// the largest predicted tables side by side). Whatever the number, a table starts only
+    /// when its predicted memory fits beside the tables running. The results do not depend on
+    /// it.
+    #[arg(long, value_name = "N")]
+    jobs: Option<usize>,
+
+    /// Linear solver of the SPD problems of the Reynolds (with and without cavitation) and
+    /// elasticity tables, overriding the experiments' `[study] solver`: `direct` (sparse
+    /// Cholesky) or `multigrid` (CG with a geometric multigrid V-cycle); the contact tables
+    /// always use the direct solver. The solver changes the run time, not the results.
+    #[arg(long, value_enum, value_name = "SOLVER")]
+    solver: Option<tribo::linalg::SolverKind>,
+
+    /// Memory a table may use, e.g. `4G` or `1500M` (default: the machine's memory). A table
+    /// predicted to need more is refused before its first solve, naming the cycle.
+    #[arg(long, value_name = "SIZE", value_parser = study::Budget::parse)]
+    memory_budget: Option<study::Budget>,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Build one page from the output folders of separate runs (shards): the page, figures and
+    /// data of all their tables, as one run of them all would write them.
+    Merge {
+        /// Output folders of earlier runs, each with its records in `shard/`.
+        #[arg(required = true, value_name = "SHARD")]
+        shards: Vec<PathBuf>,
+
+        /// Output directory of the merged page.
+        #[arg(long, value_name = "DIR", default_value = "report")]
+        out: PathBuf,
+    },
+}
+
+fn main() -> ExitCode {
+    // Freed memory stays for the next cycle (tribo::heap): fewer page faults, same numbers.
+    tribo::heap::keep_freed_memory();
+    let cli = Cli::parse();
+    isolate::install_panic_hook();
+    let done = match &cli.command {
+        Some(Command::Merge { shards, out }) => merge(shards, out),
+        None => run(&cli),
+    };
+    match done {
+        Ok(true) => ExitCode::SUCCESS,
+        Ok(false) => ExitCode::FAILURE,
+        Err(message) => {
+            eprintln!("error: {message}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+/// Returns Ok(false) when some table failed (the others are still reported).
+fn run(cli: &Cli) -> Result<bool, String> {
+    let started = Instant::now();
+    let provenance = report::provenance::Provenance::collect(
+        std::env::args(),
+        Path::new(env!("CARGO_MANIFEST_DIR")),
+    );
+    let only: Option<Vec<String>> = cli.only.as_ref().map(|v| {
+        v.iter()
+            .map(|s| s.trim().to_string())
+            .filter(|s| !s.is_empty())
+            .collect()
+    });
+    if matches!(&only, Some(v) if v.is_empty()) {
+        return Err("--only needs at least one table id, e.g. --only IV.1,IV.3".into());
+    }
+    let loaded =
+        experiment::load_each(&cli.experiments, only.as_deref()).map_err(|e| e.to_string())?;
+    if loaded.is_empty() {
+        return Err(format!(
+            "no experiment files (*.toml) in {}",
+            cli.experiments.display()
+        ));
+    }
+    report::prepare_output(&cli.out)
+        .and_then(|()| record::clear(&cli.out))
+        .map_err(|e| format!("cannot write the report into {}: {e}", cli.out.display()))?;
+
+    let tier = if cli.quick { Tier::Quick } else { Tier::Full };
+    let settings = schedule::Settings {
+        out: &cli.out,
+        options: TableOptions {
+            tier,
+            budget: cli.memory_budget.unwrap_or_else(study::Budget::machine),
+            alternatives: !cli.no_alternatives,
+        },
+        solver: cli.solver,
+        jobs: cli.jobs,
+        no_progress: cli.no_progress,
+        started,
+    };
+    let stems: Vec<String> = loaded.iter().map(|(stem, _)| stem.clone()).collect();
+    let outcomes = schedule::run_tables(loaded, &settings);
+    let failed: usize = outcomes.iter().map(Outcome::failures).sum();
+
+    let entries: Vec<Entry> = outcomes.iter().map(Outcome::entry).collect();
+    let meta = ReportMeta {
+        tier: tier.name().into(),
+        generated_by: format!("tribo {}", env!("CARGO_PKG_VERSION")),
+        total_seconds: started.elapsed().as_secs_f64(),
+        threads: rayon::current_num_threads(),
+        provenance,
+    };
+    let written = report::write_report(&cli.out, &entries, &meta)
+        .map_err(|e| format!("cannot write the report into {}: {e}", cli.out.display()))?;
+    for message in &written.figure_failures {
+        eprintln!("error (figures): {message}");
+    }
+    let record_failures = if cli.shard {
+        outputs::write_records(&cli.out, &stems, &outcomes, &meta)
+    } else {
+        0
+    };
+    let failures = failed + written.figure_failures.len() + record_failures;
+    let warned = outcomes.iter().filter(|o| o.warned()).count();
+    eprintln!(
+        "wrote {} ({} tables, {} tier, {:.1} s){}{}",
+        cli.out.join("index.html").display(),
+        entries.len(),
+        tier.name(),
+        started.elapsed().as_secs_f64(),
+        if failures == 0 {
+            String::new()
+        } else {
+            format!("; {failures} failed")
+        },
+        if warned == 0 {
+            String::new()
+        } else {
+            format!("; {warned} with warnings (see their sections)")
+        }
+    );
+    Ok(failures == 0)
+}
