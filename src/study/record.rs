@@ -45,9 +45,11 @@ impl<'a> Recorder<'a> {
         }
     }
 
-    /// Record a solve: its row if it is printed (active cells, dofs, the estimate's columns with
-    /// the ratio after `estimate`, the solver's counters), the mesh of the last four printed
-    /// cycles, and probes and figures of the last one.
+    /// Record a solve: its row if it is printed (active cells, the problem's dofs, the
+    /// estimate's columns with the ratio after `estimate`, the solver's counters), the mesh of
+    /// the last four printed cycles (of every printed cycle, its accurate cells shaded, where
+    /// the models of cells are marked), the partition of the contact faces where their models
+    /// are marked, and probes and figures of the last one.
     pub fn cycle(
         &mut self,
         solve: &Solve,
