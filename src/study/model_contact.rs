@@ -497,6 +497,10 @@ impl Problem for ModelAdaptiveContact {
         displacement_component(name)
     }
 
+    fn rows_are_load_steps(&self) -> bool {
+        self.forming.is_some()
+    }
+
     fn point_sets(&self, dofs: &DofMap) -> Vec<MeshField> {
         contact_set_field(&self.state, dofs)
     }

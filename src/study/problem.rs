@@ -363,6 +363,13 @@ pub trait Problem {
         dofs.n_dofs()
     }
 
+    /// Whether each printed row is a load step of its own body (the forming of §IV.2.4.7):
+    /// then every row gets its figures (the frames of the animation) and no ratio to the row
+    /// before, whose body differs.
+    fn rows_are_load_steps(&self) -> bool {
+        false
+    }
+
     /// Whether [`Solution::u`] is the problem's whole field at the vertices of the mesh: then
     /// the last printed one is probed and written as `data/<table>.vtu`.
     fn vertex_field(&self) -> bool {

@@ -6,7 +6,7 @@ use super::problem::{Discretisation, Estimate, Problem, Solution};
 use super::transfer::evaluate;
 use super::{Solve, Tier};
 use crate::adaptivity::model::ModelUnit;
-use crate::experiment::{Experiment, StudyKind};
+use crate::experiment::Experiment;
 use crate::fe::DofMap;
 use crate::mesh::{CellId, Mesh, Side};
 use crate::results::{
@@ -77,7 +77,8 @@ impl<'a> Recorder<'a> {
                 Some(last_mesh(disc, dofs, solution, estimate, &*problem, cycle));
         }
         // A load-step study draws the body after every step (the frames of its animation).
-        if last || self.experiment.study.kind == StudyKind::LoadSteps {
+        let load_steps = problem.rows_are_load_steps();
+        if last || load_steps {
             let pictures = problem.pictures(disc, dofs, solution, cycle);
             self.result.deformed.extend(pictures.deformed);
             self.result.fields.extend(pictures.fields);
@@ -96,7 +97,7 @@ impl<'a> Recorder<'a> {
         for (name, value) in &estimate.columns {
             row.columns.push((name.clone(), value.defined()));
             // The ratio of successive estimates: not between load steps, whose bodies differ.
-            if name == columns::ESTIMATE && self.experiment.study.kind != StudyKind::LoadSteps {
+            if name == columns::ESTIMATE && !load_steps {
                 let before = self.result.rows.last().and_then(|r| r.estimate());
                 let ratio = match (value, before) {
                     (Value::Real(Some(now)), Some(before)) => Some(now / before),
