@@ -319,6 +319,26 @@ mod tests {
     const P_C: f64 = 0.01;
     const EPS0: f64 = 1e-7;
 
+    /// The parent of a cell unit is the cell the mesh refined it from, on a graded mesh of a
+    /// 3×2 coarse grid; coarse cells have none.
+    #[test]
+    fn a_cell_unit_names_its_parent_cell() {
+        let mut mesh = crate::mesh::Mesh::new([0.0, 3.0], [0.0, 2.0], 3, 2);
+        mesh.refine_global().unwrap();
+        let refine: Vec<bool> = (0..mesh.n_active()).map(|k| k % 5 == 0).collect();
+        let none = vec![false; refine.len()];
+        mesh.refine_and_coarsen(&refine, &none).unwrap();
+        let mut children = 0;
+        for &c in mesh.active() {
+            let unit = ModelUnit::Cell(mesh.cell_key(c));
+            let parent = mesh.parent(c).map(|p| ModelUnit::Cell(mesh.cell_key(p)));
+            assert_eq!(unit.parent(), parent);
+            children += usize::from(mesh.level(c) == 2);
+        }
+        assert!(children > 0);
+        assert_eq!(ModelUnit::Cell(mesh.cell_key(0)).parent(), None);
+    }
+
     /// The coarse counts of cycles 0–9 when every cycle sees the indicators `eps(cycle)` and
     /// marks with `step`.
     fn coarse_counts(

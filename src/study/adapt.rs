@@ -159,8 +159,8 @@ pub enum GridIndicator {
 /// * a unit compares its ε^m with η of its cell (a contact face f: its cell K(f); a cell: itself);
 /// * a cell K compares η_K with ε^m(K) = (Σ ε^m(u)²)^{1/2} over its **coarse** units (z-faces):
 ///   the thesis says the model error "of course only appears on the z-faces" (§IV.2.4), so a
-///   cell whose contact face is already Signorini has no model error to balance (spec/estimators.md §7
-///   sums over all its contact faces; that reading differs only on cells with an S-face).
+///   cell whose contact face is already Signorini has no model error to balance (summing over
+///   all its contact faces differs only on cells with an S-face).
 ///
 /// After refinement a unit's children inherit its model; a unit made by coarsening is accurate
 /// if any of the units it replaces was ([`inherit_models`]).

@@ -53,11 +53,11 @@
 //! included; `estimate_substokes` = (Σ_{Q∈𝕋_a} η_Q²)^½ (Theorem III.23), `estimate_reynolds` =
 //! (Σ_{Q∈𝕋_c} η_Q²)^½ (Theorem III.16, thesis-code terms), `model_error` = (Σ_{Q∈𝕋_c}
 //! ε^m(Q)²)^½ (the ε^m of Algorithm III.3, computed on the partition that was solved, i.e.
-//! before this cycle's model marking), `estimate_total` = (estimate_substokes² +
+//! before this cycle's model marking), `estimate` = (estimate_substokes² +
 //! estimate_reynolds² + model_error²)^½ — the root of the sum of the three squares, the total
 //! of Fig. IV.117 (discretisation and model error); and the wall seconds of the phases of the
-//! cycle (`seconds_refine` covers both markings, the refinement and the transfer of the models;
-//! 0 in the last cycle).
+//! cycle (the refinement phase covers both markings, the refinement and the inheritance of the
+//! models; 0 in the last cycle).
 //!
 //! **Measured** (8 cycles, `full_run`): the SubStokes cells are 0, 5, 11, 50, 188, 958,
 //! 2875, 4798 of 64 … 7252 cells. Until cycle 3 they lie where the gap is wide (mean gap over
