@@ -348,6 +348,40 @@ pub struct CostRow {
     pub model_tolerance: f64,
 }
 
+/// The variants of cost rows in the order they first appear (the order of the study, hence of
+/// the file and the page).
+pub fn cost_variants(costs: &[CostRow]) -> Vec<&str> {
+    let mut variants: Vec<&str> = Vec::new();
+    for c in costs {
+        if !variants.contains(&c.variant.as_str()) {
+            variants.push(&c.variant);
+        }
+    }
+    variants
+}
+
+/// The claim closing §IV.2.3 on the cost rows of one scene: over the cycles after the first,
+/// (cycles where III.3's model error ≤ III.2's — or both are at most ε₀, where III.3 stops by
+/// design —, cycles where III.3 has no more Signorini faces than III.2, cycles compared).
+pub fn claim_of_section_iv_2_3(costs: &[CostRow]) -> (usize, usize, usize) {
+    let of = |variant: &str| -> Vec<&CostRow> {
+        costs
+            .iter()
+            .filter(|c| c.variant == variant && c.cycle > 0)
+            .collect()
+    };
+    let pairs: Vec<_> = of("III.2").into_iter().zip(of("III.3")).collect();
+    let lower_error = pairs
+        .iter()
+        .filter(|(f, s)| s.model_error <= f.model_error.max(s.model_tolerance))
+        .count();
+    let fewer_faces = pairs
+        .iter()
+        .filter(|(f, s)| s.accurate_faces <= f.accurate_faces)
+        .count();
+    (lower_error, fewer_faces, pairs.len())
+}
+
 /// Two thin-film models along a horizontal cut (§IV.3.3, §IV.3.7): the columns of
 /// `report/data/<table>.cuts.csv` (`crate::models::film_comparison`).
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]

@@ -11,7 +11,7 @@ use tribo::experiment::Problem as ProblemSpec;
 use tribo::models::contact::ContactModel;
 use tribo::results::RunResult;
 use tribo::study::model_contact::ModelAdaptiveContact;
-use tribo::study::{Discretisation, PhaseClock, Problem};
+use tribo::study::{Discretisation, Models, PhaseClock, Problem};
 use tribo::thesis::ThesisTable;
 
 /// The six scenes, each as (III.2 table, III.3 table).
@@ -121,13 +121,13 @@ fn flat_obstacle_gives_zero_for_any_partition() {
     let faces = model.face_errors(&dofs, &u).unwrap();
     assert!(faces.iter().all(|&(_, e)| e == 0.0), "all-z partition");
     // Every third face Signorini.
-    disc.accurate_faces = faces.iter().step_by(3).map(|(f, _)| *f).collect();
+    disc.models = Models::of_faces(faces.iter().step_by(3).map(|(f, _)| *f));
     let (dofs, u) = solve(&mut model, &disc);
     let errors = model.face_errors(&dofs, &u).unwrap();
     assert_eq!(errors.len(), 512);
     let signorini_vertices: BTreeSet<u64> = disc
-        .accurate_faces
-        .iter()
+        .models
+        .accurate_faces()
         .flat_map(|f| [f.start, f.end()])
         .collect();
     for (f, e) in errors {
@@ -163,11 +163,12 @@ fn mixed_solves_hold_both_constraints() {
         let faces = model.face_errors(&dofs, &u).unwrap();
         let units = 1u64 << tribo::mesh::MAX_LEVEL;
         let (lo, hi) = (16 * units, 48 * units);
-        disc.accurate_faces = faces
-            .iter()
-            .map(|(f, _)| *f)
-            .filter(|f| lo <= f.start && f.end() <= hi)
-            .collect();
+        disc.models = Models::of_faces(
+            faces
+                .iter()
+                .map(|(f, _)| *f)
+                .filter(|f| lo <= f.start && f.end() <= hi),
+        );
         let (dofs, u) = solve(&mut model, &disc);
         let state = model.state.as_ref().unwrap();
         crate::contact::check_state(t, &dofs, &u, state);
@@ -308,7 +309,8 @@ fn jump_scenes_stay_finite_and_converge() {
 /// the III.2/III.3 variants run the partitions of Tables IV.28 and IV.29.
 #[test]
 fn cost_of_accuracy_on_the_saw() {
-    use tribo::study::cost::{accuracy_costs, applies, claim_of_section_iv_2_3};
+    use tribo::results::claim_of_section_iv_2_3;
+    use tribo::study::cost::{accuracy_costs, applies};
     assert!(applies(&spec("IV.29")));
     assert!(
         !applies(&spec("IV.28")),

@@ -4,11 +4,15 @@
 use std::collections::BTreeSet;
 
 use crate::common::{quick, rel, spec};
+use tribo::adaptivity::model::ModelUnit;
 use tribo::estimators::FaceIndicators;
 use tribo::mesh::{BoundaryFace, Face, Mesh, Side, MAX_LEVEL};
 use tribo::results::RunResult;
-use tribo::study::adapt::{boundary_faces, inherit_models};
-use tribo::study::{Adaptation, Balanced, Discretisation, Estimate, FixedNumber, ModelMarking};
+use tribo::study::adapt::{boundary_faces, inherit_face_models as inherit_models};
+use tribo::study::{
+    Adaptation, Balanced, Discretisation, Estimate, FixedNumber, GridIndicator, ModelMarking,
+    Models,
+};
 use tribo::thesis::ThesisTable;
 
 pub const TABLES: [&str; 6] = ["IV.30", "IV.31", "IV.32", "IV.33", "IV.34", "IV.35"];
@@ -166,7 +170,10 @@ fn balance_separates_model_and_grid_refinement() {
             .collect();
         let estimate = Estimate {
             cells: cells.iter().map(|e| e * e).collect(),
-            faces: faces.clone(),
+            models: faces
+                .iter()
+                .map(|&(f, e)| (ModelUnit::Face(f), e))
+                .collect(),
             columns: Vec::new(),
             noise_floor: None,
             body_motion: None,
@@ -184,6 +191,7 @@ fn balance_separates_model_and_grid_refinement() {
                 ties: tribo::experiment::Ties::Band,
             },
             alpha,
+            grid_indicator: GridIndicator::Eta,
         };
         balanced.adapt(&mut disc, &estimate).unwrap();
         let bottom = boundary_faces(&disc.mesh, &[Side::Bottom].into());
@@ -199,10 +207,10 @@ fn balance_separates_model_and_grid_refinement() {
     );
     // III.3 swaps the largest ε̃_m (the left faces: 13 first) to Signorini; the refined right
     // faces are z and their children stay z.
-    assert!(!disc.accurate_faces.is_empty());
+    assert!(disc.models.accurate_faces().next().is_some());
     let bottom = boundary_faces(&disc.mesh, &[Side::Bottom].into());
-    for f in &disc.accurate_faces {
-        assert!(bottom.contains(f));
+    for f in disc.models.accurate_faces() {
+        assert!(bottom.contains(&f));
         assert!(
             f.start < 4 << MAX_LEVEL,
             "Signorini face {f:?} on the left half"
@@ -215,7 +223,7 @@ fn balance_separates_model_and_grid_refinement() {
         "α = 0.01: the three largest η, on the left, are refined"
     );
     // The Signorini faces were refined: their children inherited the model.
-    assert!(disc.accurate_faces.iter().any(|f| f.level == 1));
+    assert!(disc.models.accurate_faces().any(|f| f.level == 1));
 }
 
 /// Full-tier rules (ignored by default, run by `full_tier`): every row's dofs within 10 % of
@@ -309,10 +317,8 @@ fn a_raised_body_with_raised_obstacles_is_the_same_problem() {
             let mut problem = ModelAdaptiveContact::with_grid(elasticity, data);
             // Every third contact face Signorini.
             let sides: BTreeSet<Side> = data.obstacles.iter().map(|o| o.side).collect();
-            disc.accurate_faces = boundary_faces(&disc.mesh, &sides)
-                .into_iter()
-                .step_by(3)
-                .collect();
+            disc.models =
+                Models::of_faces(boundary_faces(&disc.mesh, &sides).into_iter().step_by(3));
             let mut system = problem.setup(disc);
             problem.assemble(disc, &mut system).unwrap();
             let solution = problem
@@ -352,7 +358,7 @@ fn a_raised_body_with_raised_obstacles_is_the_same_problem() {
                 );
             }
         }
-        for ((f, a), (g, b)) in est0.faces.iter().zip(&est1.faces) {
+        for ((f, a), (g, b)) in est0.models.iter().zip(&est1.models) {
             assert_eq!(f, g);
             assert!(
                 (a - b).abs() <= 1e-8 * a.abs().max(1e-10),

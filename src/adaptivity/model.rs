@@ -11,6 +11,68 @@
 //! index moves first, in both directions (spec §2.2: with ε^m ≡ 0 the faces are taken in face
 //! iteration order, l. 6103).
 
+use std::collections::BTreeSet;
+
+use crate::mesh::{BoundaryFace, CellKey, MAX_LEVEL};
+
+/// A unit of model adaptivity as the mesh names it from cycle to cycle: a contact face
+/// (𝕋 = the faces of Γ_C in the contact tables) or a cell (𝕋 = the cells of Ω₂ in the fluid
+/// film). Ordered faces before cells, each in its stable geometric order.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum ModelUnit {
+    Face(BoundaryFace),
+    Cell(CellKey),
+}
+
+/// The model-error indicators ε^m of one cycle, one per unit, in the order the model marking
+/// takes them (its ties go to the earlier unit).
+pub type ModelIndicators = Vec<(ModelUnit, f64)>;
+
+impl ModelUnit {
+    /// The unit refinement made this one from (`None` on the coarse grid): the parent face, or
+    /// the parent cell (one level up, the lower-left corner rounded down to its width).
+    pub fn parent(&self) -> Option<ModelUnit> {
+        match *self {
+            ModelUnit::Face(f) => f.parent().map(ModelUnit::Face),
+            ModelUnit::Cell(c) => {
+                let level = c.level.checked_sub(1)?;
+                let width = 1u64 << (MAX_LEVEL - level);
+                Some(ModelUnit::Cell(CellKey {
+                    level,
+                    x: c.x - c.x % width,
+                    y: c.y - c.y % width,
+                }))
+            }
+        }
+    }
+
+    /// The contact face, if the unit is one.
+    pub fn face(&self) -> Option<BoundaryFace> {
+        match *self {
+            ModelUnit::Face(f) => Some(f),
+            ModelUnit::Cell(_) => None,
+        }
+    }
+}
+
+/// The accurate units among `units` (those of a new mesh) when `accurate` were the accurate
+/// units of the old one, by the lineage of the mesh: a unit that was there keeps its model, a
+/// refined unit's children inherit it, and a unit made by coarsening is accurate if any unit it
+/// replaces was.
+pub fn inherit_models(accurate: &BTreeSet<ModelUnit>, units: &[ModelUnit]) -> BTreeSet<ModelUnit> {
+    let ancestors = |u: &ModelUnit| std::iter::successors(u.parent(), ModelUnit::parent);
+    let ancestors_of_accurate: BTreeSet<ModelUnit> = accurate.iter().flat_map(ancestors).collect();
+    units
+        .iter()
+        .copied()
+        .filter(|u| {
+            accurate.contains(u)
+                || ancestors_of_accurate.contains(u)
+                || ancestors(u).any(|a| accurate.contains(&a))
+        })
+        .collect()
+}
+
 /// Which units use the accurate model (𝕋_a); the others use the coarse one (𝕋_c).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Partition {
@@ -256,6 +318,26 @@ mod tests {
     const P_R: f64 = 0.02;
     const P_C: f64 = 0.01;
     const EPS0: f64 = 1e-7;
+
+    /// The parent of a cell unit is the cell the mesh refined it from, on a graded mesh of a
+    /// 3×2 coarse grid; coarse cells have none.
+    #[test]
+    fn a_cell_unit_names_its_parent_cell() {
+        let mut mesh = crate::mesh::Mesh::new([0.0, 3.0], [0.0, 2.0], 3, 2);
+        mesh.refine_global().unwrap();
+        let refine: Vec<bool> = (0..mesh.n_active()).map(|k| k % 5 == 0).collect();
+        let none = vec![false; refine.len()];
+        mesh.refine_and_coarsen(&refine, &none).unwrap();
+        let mut children = 0;
+        for &c in mesh.active() {
+            let unit = ModelUnit::Cell(mesh.cell_key(c));
+            let parent = mesh.parent(c).map(|p| ModelUnit::Cell(mesh.cell_key(p)));
+            assert_eq!(unit.parent(), parent);
+            children += usize::from(mesh.level(c) == 2);
+        }
+        assert!(children > 0);
+        assert_eq!(ModelUnit::Cell(mesh.cell_key(0)).parent(), None);
+    }
 
     /// The coarse counts of cycles 0–9 when every cycle sees the indicators `eps(cycle)` and
     /// marks with `step`.

@@ -1263,7 +1263,7 @@ fn cost_table(h: &mut String, costs: &[crate::results::CostRow]) {
          <th class=\"text\">variant</th><th>median solve s</th><th>iterations</th>\
          <th>Signorini faces</th><th>penetration</th><th>energy distance</th></tr></thead><tbody>\n",
     );
-    let variants = crate::study::cost::VARIANTS;
+    let variants = crate::results::cost_variants(costs);
     for v in variants {
         if let Some(s) = summary(v) {
             let _ = writeln!(
@@ -1315,7 +1315,7 @@ const PENETRATION_NOISE: f64 = 1e-8;
 
 /// The claim closing §IV.2.3 on the III.2 and III.3 runs of the cost study.
 fn claim_paragraph(h: &mut String, costs: &[crate::results::CostRow]) {
-    let (lower_error, fewer_faces, n) = crate::study::cost::claim_of_section_iv_2_3(costs);
+    let (lower_error, fewer_faces, n) = crate::results::claim_of_section_iv_2_3(costs);
     if n == 0 {
         return;
     }

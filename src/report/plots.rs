@@ -476,15 +476,15 @@ pub fn accuracy(path: &Path, run: &RunResult) -> io::Result<()> {
         RGBColor(214, 39, 40),
     ];
     let panel = |measure: fn(&crate::results::CostRow) -> f64| -> Vec<Curve> {
-        crate::study::cost::VARIANTS
-            .iter()
+        crate::results::cost_variants(&run.costs)
+            .into_iter()
             .zip(COLORS)
             .map(|(variant, color)| {
                 let mut seconds = 0.0;
                 let points = run
                     .costs
                     .iter()
-                    .filter(|c| c.variant == *variant)
+                    .filter(|c| c.variant == variant)
                     .map(|c| {
                         seconds += c.seconds_solve;
                         (seconds, measure(c))
@@ -492,7 +492,7 @@ pub fn accuracy(path: &Path, run: &RunResult) -> io::Result<()> {
                     .filter(loggable)
                     .collect();
                 Curve {
-                    label: (*variant).to_string(),
+                    label: variant.to_string(),
                     color,
                     dashed: false,
                     points,

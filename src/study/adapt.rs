@@ -1,11 +1,14 @@
 //! The adaptation strategies: what changes between two cycles. Fixed-number grid marking, the
-//! model strategies (Algorithms III.2, III.3: faces move between z and Signorini) and model and
-//! grid together (Algorithm III.25); each changes the [`Discretisation`] its way.
+//! model strategies (Algorithms III.2, III.3: units — contact faces or cells — move between the
+//! coarse and the accurate model) and model and grid together (Algorithm III.25); each changes
+//! the [`Discretisation`] its way.
 
 use std::collections::{BTreeSet, HashMap};
 
-use super::problem::{Discretisation, Estimate};
-use crate::adaptivity::model::{fixed_fraction, sorted_error, Partition};
+use super::problem::{Discretisation, Estimate, Models};
+use crate::adaptivity::model::{
+    fixed_fraction, inherit_models, sorted_error, ModelIndicators, ModelUnit, Partition,
+};
 use crate::adaptivity::{mark_fixed_number, mark_fixed_number_split, rounded_measure, split_order};
 use crate::estimators::FaceIndicators;
 use crate::experiment::{ModelAlgorithm, Scene, Ties};
@@ -68,10 +71,21 @@ pub fn face_partition(faces: &FaceIndicators, accurate: &BTreeSet<BoundaryFace>)
     Partition::from_accurate(faces.iter().map(|(f, _)| accurate.contains(f)).collect())
 }
 
-/// Model marking of the model-adaptive contact tables (§IV.2.3): the contact faces with their
-/// indicators ε^m(f) ([`Estimate::faces`], in the stable geometric order) move between the
-/// z-model (𝕋_c) and the Signorini model (𝕋_a, [`Discretisation::accurate_faces`]) by
-/// Algorithm III.2 ([`fixed_fraction`]) or III.3 ([`sorted_error`]); the mesh stays.
+/// The adaptation of a study on fixed models and a fixed mesh: nothing changes between the
+/// cycles (the all-z and all-Signorini variants of the cost study).
+pub struct KeepModels;
+
+impl Adaptation for KeepModels {
+    fn adapt(&mut self, _disc: &mut Discretisation, _estimate: &Estimate) -> Result<(), String> {
+        Ok(())
+    }
+}
+
+/// Model marking of the model-adaptive tables (§IV.2.3, §IV.3.4): the units with their
+/// indicators ε^m ([`Estimate::models`]: contact faces in the stable geometric order, or cells)
+/// move between the coarse model 𝕋_c (z-faces, Reynolds cells) and the accurate one 𝕋_a
+/// (Signorini faces, SubStokes cells; [`Discretisation::models`]) by Algorithm III.2
+/// ([`fixed_fraction`]) or III.3 ([`sorted_error`]); the mesh stays.
 pub struct ModelMarking {
     pub algorithm: ModelAlgorithm,
     /// p_r.
@@ -84,21 +98,22 @@ pub struct ModelMarking {
 
 impl Adaptation for ModelMarking {
     fn adapt(&mut self, disc: &mut Discretisation, estimate: &Estimate) -> Result<(), String> {
-        disc.accurate_faces = self.mark(&estimate.faces, &disc.accurate_faces)?;
+        disc.models = Models::of_units(self.mark(&estimate.models, &disc.models)?);
         Ok(())
     }
 }
 
 impl ModelMarking {
-    /// The Signorini faces after marking `faces` (with their indicators) whose Signorini faces
-    /// were `accurate`.
+    /// The accurate units after marking `units` (with their indicators, in their order) whose
+    /// models were `models`.
     fn mark(
         &self,
-        faces: &FaceIndicators,
-        accurate: &BTreeSet<BoundaryFace>,
-    ) -> Result<BTreeSet<BoundaryFace>, String> {
-        let eps: Vec<f64> = faces.iter().map(|&(_, e)| e).collect();
-        let mut partition = face_partition(faces, accurate);
+        units: &ModelIndicators,
+        models: &Models,
+    ) -> Result<BTreeSet<ModelUnit>, String> {
+        let eps: Vec<f64> = units.iter().map(|&(_, e)| e).collect();
+        let mut partition =
+            Partition::from_accurate(units.iter().map(|&(u, _)| models.is_accurate(u)).collect());
         match self.algorithm {
             ModelAlgorithm::FixedFraction => {
                 fixed_fraction(&mut partition, &eps, self.refine, self.coarsen);
@@ -114,31 +129,41 @@ impl ModelMarking {
                 .map_err(|e| format!("model marking: {e}"))?;
             }
         }
-        Ok(faces
+        Ok(units
             .iter()
             .zip(partition.accurate())
             .filter(|(_, &accurate)| accurate)
-            .map(|((f, _), _)| *f)
+            .map(|((u, _), _)| *u)
             .collect())
     }
 }
 
+/// What the grid marking of [`Balanced`] ranks: η_Q (the contact tables) or η_Q² (the
+/// model-adaptive fluid film, whose split marking reads its tie band on the squares).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GridIndicator {
+    Eta,
+    EtaSquared,
+}
+
 /// Algorithm III.25 (balance of model and grid refinement, §IV.2.4): the indicators of both
-/// errors are balanced by (III.93) with α ∈ (0, 1),
+/// errors are balanced by (III.93) with α ∈ [0, 1),
 ///
 /// ε̃_m = ε_m where ε_m ≥ α ε_d, else 0;   ε̃_d = ε_d where ε_d ≥ α ε_m, else 0;
 ///
 /// then the model is marked with ε̃_m ([`ModelMarking`], Algorithm III.3 in the thesis) and the
 /// grid with ε̃_d ([`FixedNumber`], 30 %/3 %), in this order (the algorithm's two `refine`
-/// lines). Model indicators live on contact faces and grid indicators on cells:
-/// * a face f compares ε^m(f) with η of its cell K(f);
-/// * a cell K compares η_K with ε^m(K) = (Σ ε^m(f)²)^{1/2} over its **z-faces**: the thesis
-///   says the model error "of course only appears on the z-faces" (§IV.2.4), so a cell whose
-///   contact face is already Signorini has no model error to balance (spec/estimators.md §7
-///   sums over all its contact faces; that reading differs only on cells with an S-face).
+/// lines). α = 0 keeps every indicator: the model-adaptive fluid film marks both from the
+/// same cycle's indicators without a balance. Model indicators live on units, grid indicators
+/// on cells:
+/// * a unit compares its ε^m with η of its cell (a contact face f: its cell K(f); a cell: itself);
+/// * a cell K compares η_K with ε^m(K) = (Σ ε^m(u)²)^{1/2} over its **coarse** units (z-faces):
+///   the thesis says the model error "of course only appears on the z-faces" (§IV.2.4), so a
+///   cell whose contact face is already Signorini has no model error to balance (summing over
+///   all its contact faces differs only on cells with an S-face).
 ///
-/// After refinement a face's children inherit its model; a face made by coarsening is
-/// Signorini if any of the faces it replaces was ([`inherit_models`]).
+/// After refinement a unit's children inherit its model; a unit made by coarsening is accurate
+/// if any of the units it replaces was ([`inherit_models`]).
 ///
 /// Readings of the printed algorithm: α is not stated (default 0.5, `study.balance`);
 /// "(ε^d)² ← (ε^d)² + ε^d(Q)" misses a square and is indented under "if Q ∈ 𝕋_c" (read: the
@@ -150,6 +175,8 @@ pub struct Balanced {
     pub grid: FixedNumber,
     /// α of (III.93).
     pub alpha: f64,
+    /// What the grid marking ranks.
+    pub grid_indicator: GridIndicator,
 }
 
 impl Adaptation for Balanced {
@@ -164,52 +191,105 @@ impl Adaptation for Balanced {
                 mesh.n_active()
             ));
         }
-        let cell_of = contact_cells(mesh, &estimate.faces)?;
+        let cell_of = unit_cells(mesh, &estimate.models)?;
         let mut model_of_cell = vec![0.0; eta.len()];
-        for (&k, (f, e)) in cell_of.iter().zip(&estimate.faces) {
-            if !disc.accurate_faces.contains(f) {
+        for (&k, (u, e)) in cell_of.iter().zip(&estimate.models) {
+            if !disc.models.is_accurate(*u) {
                 model_of_cell[k] += e * e;
             }
         }
         let alpha = self.alpha;
-        let model_tilde: FaceIndicators = estimate
-            .faces
+        let model_tilde: ModelIndicators = estimate
+            .models
             .iter()
             .zip(&cell_of)
-            .map(|(&(f, e), &k)| (f, if e >= alpha * eta[k] { e } else { 0.0 }))
+            .map(|(&(u, e), &k)| (u, if e >= alpha * eta[k] { e } else { 0.0 }))
             .collect();
+        let ranked = match self.grid_indicator {
+            GridIndicator::Eta => &eta,
+            GridIndicator::EtaSquared => &estimate.cells,
+        };
         let grid_tilde: Vec<f64> = eta
             .iter()
             .zip(&model_of_cell)
-            .map(|(&d, &m2)| if d >= alpha * m2.sqrt() { d } else { 0.0 })
+            .zip(ranked)
+            .map(|((&d, &m2), &r)| if d >= alpha * m2.sqrt() { r } else { 0.0 })
             .collect();
-        let accurate = self.model.mark(&model_tilde, &disc.accurate_faces)?;
+        let accurate = self.model.mark(&model_tilde, &disc.models)?;
         self.grid.refine(&mut disc.mesh, &grid_tilde)?;
-        let sides: BTreeSet<Side> = estimate.faces.iter().map(|(f, _)| f.side).collect();
-        disc.accurate_faces = inherit_models(&accurate, &boundary_faces(&disc.mesh, &sides));
+        let units = units_of(&disc.mesh, &estimate.models);
+        disc.models = Models::of_units(inherit_models(&accurate, &units));
         Ok(())
     }
 }
 
-/// The active cell (index into `mesh.active()`) of each face of `faces`, in their order, or the
-/// first face that is not a boundary face of the mesh.
-fn contact_cells(mesh: &Mesh, faces: &FaceIndicators) -> Result<Vec<usize>, String> {
-    let cell_of: HashMap<BoundaryFace, usize> = mesh
+/// The active cell (index into `mesh.active()`) of each unit of `units`, in their order: a
+/// face's cell, a cell's own index; or the first unit that is not on the current mesh.
+fn unit_cells(mesh: &Mesh, units: &ModelIndicators) -> Result<Vec<usize>, String> {
+    let cell_of_face: HashMap<BoundaryFace, usize> = mesh
         .active()
         .iter()
         .enumerate()
         .flat_map(|(k, &c)| mesh.boundary_faces_of(c).map(move |f| (f, k)))
         .collect();
-    faces
+    let cell_of_key: HashMap<_, usize> = if units.iter().any(|(u, _)| u.face().is_none()) {
+        mesh.active()
+            .iter()
+            .enumerate()
+            .map(|(k, &c)| (mesh.cell_key(c), k))
+            .collect()
+    } else {
+        HashMap::new()
+    };
+    units
         .iter()
-        .map(|(f, _)| {
-            cell_of.get(f).copied().ok_or_else(|| {
+        .map(|(u, _)| match u {
+            ModelUnit::Face(f) => cell_of_face.get(f).copied().ok_or_else(|| {
                 format!(
                     "the balance (III.93): the contact face {f:?} is not a boundary face of the \
                      current mesh"
                 )
-            })
+            }),
+            ModelUnit::Cell(c) => cell_of_key.get(c).copied().ok_or_else(|| {
+                format!("the balance (III.93): the cell {c:?} is not an active cell of the mesh")
+            }),
         })
+        .collect()
+}
+
+/// The units of `mesh` of the kinds `units` has: the boundary faces on the sides of its faces
+/// (sorted), then, if it has cells, every active cell (in the order of `mesh.active()`).
+fn units_of(mesh: &Mesh, units: &ModelIndicators) -> Vec<ModelUnit> {
+    let sides: BTreeSet<Side> = units
+        .iter()
+        .filter_map(|(u, _)| u.face())
+        .map(|f| f.side)
+        .collect();
+    let mut out: Vec<ModelUnit> = boundary_faces(mesh, &sides)
+        .into_iter()
+        .map(ModelUnit::Face)
+        .collect();
+    if units.iter().any(|(u, _)| u.face().is_none()) {
+        out.extend(
+            mesh.active()
+                .iter()
+                .map(|&c| ModelUnit::Cell(mesh.cell_key(c))),
+        );
+    }
+    out
+}
+
+/// [`inherit_models`] of the contact faces: the Signorini faces among `faces` (a new mesh's
+/// contact faces) when `accurate` were the Signorini faces of the old one.
+pub fn inherit_face_models(
+    accurate: &BTreeSet<BoundaryFace>,
+    faces: &[BoundaryFace],
+) -> BTreeSet<BoundaryFace> {
+    let units: Vec<ModelUnit> = faces.iter().copied().map(ModelUnit::Face).collect();
+    let accurate = accurate.iter().copied().map(ModelUnit::Face).collect();
+    inherit_models(&accurate, &units)
+        .iter()
+        .filter_map(ModelUnit::face)
         .collect()
 }
 
@@ -223,29 +303,6 @@ pub fn boundary_faces(mesh: &Mesh, sides: &BTreeSet<Side>) -> Vec<BoundaryFace> 
         .collect();
     faces.sort();
     faces
-}
-
-/// The Signorini faces among `faces` (a new mesh's contact faces) when `accurate` were the
-/// Signorini faces of the old one: a face that was there keeps its model, a refined face's
-/// children inherit it, and a face made by coarsening is Signorini if any face it replaces was.
-pub fn inherit_models(
-    accurate: &BTreeSet<BoundaryFace>,
-    faces: &[BoundaryFace],
-) -> BTreeSet<BoundaryFace> {
-    let ancestors_of_accurate: BTreeSet<BoundaryFace> = accurate
-        .iter()
-        .flat_map(|f| std::iter::successors(f.parent(), BoundaryFace::parent))
-        .collect();
-    faces
-        .iter()
-        .copied()
-        .filter(|f| {
-            accurate.contains(f)
-                || ancestors_of_accurate.contains(f)
-                || std::iter::successors(f.parent(), BoundaryFace::parent)
-                    .any(|a| accurate.contains(&a))
-        })
-        .collect()
 }
 
 /// The load steps of the U-O forming (§IV.2.4.7): "for each step we perform 4 (model- and

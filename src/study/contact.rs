@@ -295,7 +295,6 @@ impl Problem for ContactProblem {
         let u = &solution.u;
         let e = self.contact_estimate(&disc.mesh, dofs, u);
         let mut estimate = Estimate::of_cells(e.eta2);
-        estimate.faces = e.faces;
         if self.estimator == ContactEstimator::SignoriniCode {
             // Undefined in the first row and after a part that was 0 (no contact yet).
             let ratio = |now: f64, before: Option<f64>| {

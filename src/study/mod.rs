@@ -26,10 +26,10 @@ pub mod thin_film;
 pub mod transfer;
 pub mod warnings;
 
-pub use adapt::{Adaptation, Balanced, FixedNumber, LoadSteps, ModelMarking};
+pub use adapt::{Adaptation, Balanced, FixedNumber, GridIndicator, LoadSteps, ModelMarking};
 pub use budget::{Budget, Ledger};
 pub use clock::{Phase, PhaseClock};
-pub use problem::{Discretisation, Estimate, Pictures, Problem, Solution};
+pub use problem::{Discretisation, Estimate, Models, Pictures, Problem, Solution};
 pub use readings::{alternative_readings, AlternativeReading};
 pub use table::{run_table, TableHost, TableOptions, TableOutcome, TableRun};
 
@@ -206,8 +206,7 @@ pub fn run_within(
     })
 }
 
-/// [`run_within`] by the study's kind: a solver study, the model-adaptive film, or the
-/// adaptive loop of a single problem.
+/// [`run_within`] by the study's kind: a solver study, or the adaptive loop of a problem.
 fn run_study_of_kind(
     experiment: &Experiment,
     tier: Tier,
@@ -217,14 +216,11 @@ fn run_study_of_kind(
     if experiment.study.kind == StudyKind::SolverIterations {
         return solver_iterations::run(experiment, tier, progress);
     }
-    if let experiment::Problem::FilmModels { substokes, .. } = &experiment.problem {
-        return model_fluid::run_experiment(experiment, substokes, tier, progress);
-    }
     feasible(experiment)?;
     budget.admit_run(experiment, Schedule::of(experiment, tier))?;
     let mut problem =
         build_problem(experiment).map_err(|e| RunError::at_cycle(&experiment.table, 0, e))?;
-    let mut adaptation = build_adaptation(&experiment.study, &experiment.scene);
+    let mut adaptation = adaptation_of(experiment);
     run_study(
         experiment,
         tier,
@@ -320,10 +316,19 @@ pub fn build_problem(experiment: &Experiment) -> Result<Box<dyn Problem>, String
         experiment::Problem::StokesChannel(_) => {
             return Err("the Uzawa test problem runs as a solver-iterations study only".into())
         }
-        experiment::Problem::FilmModels { .. } => {
-            return Err("the model-adaptive film runs its own loop (study::model_fluid)".into())
+        experiment::Problem::FilmModels { substokes, .. } => {
+            Box::new(model_fluid::ModelAdaptiveFilm::new(substokes, domain))
         }
     })
+}
+
+/// The adaptation of an experiment: the model-adaptive film's marking ([`model_fluid::marking`]),
+/// else the strategy of its `[study] kind` ([`build_adaptation`]).
+pub fn adaptation_of(experiment: &Experiment) -> Box<dyn Adaptation> {
+    match experiment.problem {
+        experiment::Problem::FilmModels { .. } => Box::new(model_fluid::marking(&experiment.study)),
+        _ => build_adaptation(&experiment.study, &experiment.scene),
+    }
 }
 
 /// The adaptation strategy of a study: one match arm per `[study] kind`.
@@ -351,6 +356,7 @@ pub fn build_adaptation(
         model,
         grid,
         alpha: study.balance(),
+        grid_indicator: GridIndicator::Eta,
     };
     match study.kind {
         StudyKind::GridAdaptive | StudyKind::SolverIterations => Box::new(balanced.grid),

@@ -1,6 +1,6 @@
 //! Tables IV.18–IV.29: model-adaptive contact on a fixed mesh (§IV.2.3). Every contact face
 //! f ⊂ Γ_C uses the z-model (I.20) or the Signorini model (I.21); the partition
-//! ([`Discretisation::accurate_faces`]) is what the model marking
+//! ([`Discretisation::models`]) is what the model marking
 //! ([`super::adapt::ModelMarking`], Algorithms III.2/III.3) changes between cycles.
 //!
 //! **Per cycle** — the two `calculate` lines of Algorithms III.2/III.3:
@@ -39,7 +39,7 @@ use super::clock::PhaseClock;
 use super::elasticity::displacement_component;
 use super::problem::{setup_system, Discretisation, Estimate, Pictures, Problem, Solution};
 use super::transfer::PreviousSolution;
-use crate::adaptivity::model::model_error;
+use crate::adaptivity::model::{model_error, ModelUnit};
 use crate::estimators::contact::{self as contact_estimator, ContactEstimator};
 use crate::estimators::contact_model::{face_indicators, vertex_differences};
 use crate::estimators::FaceIndicators;
@@ -334,7 +334,7 @@ impl Problem for ModelAdaptiveContact {
             }
             _ => None,
         };
-        self.accurate = disc.accurate_faces.clone();
+        self.accurate = disc.models.accurate_faces().collect();
         Ok(())
     }
 
@@ -429,7 +429,10 @@ impl Problem for ModelAdaptiveContact {
         }
         Ok(Estimate {
             cells,
-            faces,
+            models: faces
+                .iter()
+                .map(|&(f, e)| (ModelUnit::Face(f), e))
+                .collect(),
             columns,
             noise_floor: None,
             body_motion,
@@ -462,7 +465,7 @@ impl Problem for ModelAdaptiveContact {
         );
         let mut label = format!(
             "mixed contact, {} of {} faces Signorini (thick)",
-            disc.accurate_faces.len(),
+            disc.models.accurate_faces().count(),
             faces.len()
         );
         if self.forming.is_some() {
@@ -471,9 +474,9 @@ impl Problem for ModelAdaptiveContact {
         let mut picture = contact_picture(&self.boundaries, &disc.mesh, dofs, state, cycle, &label);
         let u = &state.solution.u;
         picture.accurate_faces = disc
-            .accurate_faces
-            .iter()
-            .map(|&f| {
+            .models
+            .accurate_faces()
+            .map(|f| {
                 disc.mesh.face_vertex_keys(f).map(|k| {
                     let v = dofs
                         .vertices
@@ -492,6 +495,10 @@ impl Problem for ModelAdaptiveContact {
 
     fn component(&self, name: &str) -> Option<usize> {
         displacement_component(name)
+    }
+
+    fn rows_are_load_steps(&self) -> bool {
+        self.forming.is_some()
     }
 
     fn point_sets(&self, dofs: &DofMap) -> Vec<MeshField> {

@@ -4,7 +4,7 @@
 
 use std::collections::BTreeSet;
 
-use crate::estimators::FaceIndicators;
+use crate::adaptivity::model::{ModelIndicators, ModelUnit};
 use crate::experiment::Scene;
 use crate::fe::hierarchy::CoarseLevels;
 use crate::fe::{Constraints, DofMap, SparsityPattern, System};
@@ -15,14 +15,67 @@ use crate::results::{columns, Cuts, DeformedPicture, FieldPicture, MeshField, Va
 
 use super::clock::PhaseClock;
 
+/// Which model each unit of a model-adaptive study uses: the units on the accurate model, 𝕋_a
+/// of Algorithms III.1–III.3 — the Signorini faces of the contact tables (the other contact
+/// faces use the z-model) or the SubStokes cells of the fluid film (the other cells use
+/// Reynolds). Every other unit is on the coarse model (𝕋_c); empty at the start. Through
+/// refinement a unit's children inherit its model ([`crate::adaptivity::model::inherit_models`]).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Models {
+    accurate: BTreeSet<ModelUnit>,
+}
+
+impl Models {
+    /// The map with the accurate units `accurate`.
+    pub fn of_units(accurate: impl IntoIterator<Item = ModelUnit>) -> Models {
+        Models {
+            accurate: accurate.into_iter().collect(),
+        }
+    }
+
+    /// The map with the Signorini faces `faces`.
+    pub fn of_faces(faces: impl IntoIterator<Item = BoundaryFace>) -> Models {
+        Models::of_units(faces.into_iter().map(ModelUnit::Face))
+    }
+
+    /// Whether `unit` uses the accurate model.
+    pub fn is_accurate(&self, unit: ModelUnit) -> bool {
+        self.accurate.contains(&unit)
+    }
+
+    /// Whether the contact face `face` uses the Signorini model.
+    pub fn is_accurate_face(&self, face: BoundaryFace) -> bool {
+        self.is_accurate(ModelUnit::Face(face))
+    }
+
+    /// The accurate units, in their order.
+    pub fn accurate(&self) -> &BTreeSet<ModelUnit> {
+        &self.accurate
+    }
+
+    /// The Signorini faces, in their stable geometric order.
+    pub fn accurate_faces(&self) -> impl Iterator<Item = BoundaryFace> + '_ {
+        self.accurate.iter().filter_map(ModelUnit::face)
+    }
+
+    /// |𝕋_a|.
+    pub fn n_accurate(&self) -> usize {
+        self.accurate.len()
+    }
+
+    /// Put the faces `faces` on the Signorini model (in addition to the accurate units).
+    pub fn set_accurate_faces(&mut self, faces: impl IntoIterator<Item = BoundaryFace>) {
+        self.accurate.extend(faces.into_iter().map(ModelUnit::Face));
+    }
+}
+
 /// What changes from cycle to cycle: the mesh, in the model-adaptive families the model of
-/// each contact face, and in a load-step study the step (the body and the tools).
+/// each unit, and in a load-step study the step (the body and the tools).
 #[derive(Clone, Debug)]
 pub struct Discretisation {
     pub mesh: Mesh,
-    /// The contact faces that use the accurate (Signorini) model, 𝕋_a of Algorithms
-    /// III.1–III.3; every other contact face uses the z-model (𝕋_c). Empty at the start.
-    pub accurate_faces: BTreeSet<BoundaryFace>,
+    /// The model of each contact face or cell ([`Models`]); every unit coarse at the start.
+    pub models: Models,
     /// The load step j of a load-step study (0 in every other study): the body is the one
     /// moved by the steps before, the rising tools have risen j times.
     pub load_step: usize,
@@ -33,7 +86,7 @@ impl Discretisation {
     pub fn of_mesh(mesh: Mesh) -> Discretisation {
         Discretisation {
             mesh,
-            accurate_faces: BTreeSet::new(),
+            models: Models::default(),
             load_step: 0,
         }
     }
@@ -187,8 +240,9 @@ impl Solution {
 pub struct Estimate {
     /// η_Q² per active cell (in the order of `mesh.active()`): the grid marking's indicators.
     pub cells: Vec<f64>,
-    /// Indicators on boundary faces by stable id, where the model has them (contact faces).
-    pub faces: FaceIndicators,
+    /// The model-error indicators ε^m per unit, where the study marks models: the contact
+    /// faces in their stable order, or the cells in the order of `mesh.active()`.
+    pub models: ModelIndicators,
     /// The row's columns from the estimate, in order.
     pub columns: Vec<(String, Value)>,
     /// Indicators η_Q² at or below this are rounding noise for the marking (kept in the
@@ -206,7 +260,7 @@ impl Estimate {
         let total = crate::estimators::total(&cells);
         Estimate {
             cells,
-            faces: FaceIndicators::new(),
+            models: ModelIndicators::new(),
             columns: vec![(columns::ESTIMATE.to_string(), Value::real(Some(total)))],
             noise_floor: None,
             body_motion: None,
@@ -302,6 +356,25 @@ pub trait Problem {
 
     /// The field component of a probe (`s1`, `s2`, `psi`).
     fn component(&self, name: &str) -> Option<usize>;
+
+    /// The row's column `dofs`: the unknowns of the cycle's solves (those of `dofs`, the
+    /// system the loop set up, in every problem of one system).
+    fn n_dofs(&self, dofs: &DofMap) -> usize {
+        dofs.n_dofs()
+    }
+
+    /// Whether each printed row is a load step of its own body (the forming of §IV.2.4.7):
+    /// then every row gets its figures (the frames of the animation) and no ratio to the row
+    /// before, whose body differs.
+    fn rows_are_load_steps(&self) -> bool {
+        false
+    }
+
+    /// Whether [`Solution::u`] is the problem's whole field at the vertices of the mesh: then
+    /// the last printed one is probed and written as `data/<table>.vtu`.
+    fn vertex_field(&self) -> bool {
+        true
+    }
 
     /// Sets of vertices of the last printed solve, as point fields of `data/<table>.vtu`
     /// (1 in the set, 0 elsewhere), e.g. the contact set of a contact problem. The solution

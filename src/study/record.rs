@@ -5,9 +5,10 @@
 use super::problem::{Discretisation, Estimate, Problem, Solution};
 use super::transfer::evaluate;
 use super::{Solve, Tier};
-use crate::experiment::{Experiment, StudyKind};
+use crate::adaptivity::model::ModelUnit;
+use crate::experiment::Experiment;
 use crate::fe::DofMap;
-use crate::mesh::{Mesh, Side};
+use crate::mesh::{CellId, Mesh, Side};
 use crate::results::{
     columns, CellBox, FaceModel, LastMesh, MeshField, MeshPicture, PartitionPicture, PhaseSeconds,
     Probe, Row, RunResult, Value,
@@ -44,9 +45,11 @@ impl<'a> Recorder<'a> {
         }
     }
 
-    /// Record a solve: its row if it is printed (active cells, dofs, the estimate's columns with
-    /// the ratio after `estimate`, the solver's counters), the mesh of the last four printed
-    /// cycles, and probes and figures of the last one.
+    /// Record a solve: its row if it is printed (active cells, the problem's dofs, the
+    /// estimate's columns with the ratio after `estimate`, the solver's counters), the mesh of
+    /// the last four printed cycles (of every printed cycle, its accurate cells shaded, where
+    /// the models of cells are marked), the partition of the contact faces where their models
+    /// are marked, and probes and figures of the last one.
     pub fn cycle(
         &mut self,
         solve: &Solve,
@@ -59,17 +62,23 @@ impl<'a> Recorder<'a> {
         let Some(cycle) = solve.row else {
             return;
         };
-        if cycle + 4 >= self.printed {
-            self.result.meshes.push(mesh_picture(&disc.mesh, cycle));
+        // A study that marks the models of cells draws its partition on the mesh of every
+        // printed cycle (its accurate cells shaded); the others draw the last four meshes.
+        let marks_cells = estimate.models.iter().any(|(u, _)| u.face().is_none());
+        if marks_cells || cycle + 4 >= self.printed {
+            let mut picture = mesh_picture(&disc.mesh, cycle);
+            picture.shaded = shaded_cells(disc);
+            self.result.meshes.push(picture);
         }
         let last = cycle + 1 == self.printed;
-        if last {
+        if last && problem.vertex_field() {
             self.result.probes = self.probes(disc, dofs, solution, &*problem);
             self.result.last_mesh =
                 Some(last_mesh(disc, dofs, solution, estimate, &*problem, cycle));
         }
         // A load-step study draws the body after every step (the frames of its animation).
-        if last || self.experiment.study.kind == StudyKind::LoadSteps {
+        let load_steps = problem.rows_are_load_steps();
+        if last || load_steps {
             let pictures = problem.pictures(disc, dofs, solution, cycle);
             self.result.deformed.extend(pictures.deformed);
             self.result.fields.extend(pictures.fields);
@@ -77,18 +86,18 @@ impl<'a> Recorder<'a> {
                 self.result.cuts = pictures.cuts;
             }
         }
-        if self.experiment.study.kind.adapts_model() {
+        if self.experiment.study.kind.adapts_model() && !marks_cells {
             self.result
                 .partitions
                 .push(partition_picture(disc, estimate, cycle));
         }
         let mut row = Row::new(cycle)
             .count(columns::ACTIVE_CELLS, disc.mesh.n_active())
-            .count(columns::DOFS, dofs.n_dofs());
+            .count(columns::DOFS, problem.n_dofs(dofs));
         for (name, value) in &estimate.columns {
             row.columns.push((name.clone(), value.defined()));
             // The ratio of successive estimates: not between load steps, whose bodies differ.
-            if name == columns::ESTIMATE && self.experiment.study.kind != StudyKind::LoadSteps {
+            if name == columns::ESTIMATE && !load_steps {
                 let before = self.result.rows.last().and_then(|r| r.estimate());
                 let ratio = match (value, before) {
                     (Value::Real(Some(now)), Some(before)) => Some(now / before),
@@ -169,21 +178,34 @@ impl<'a> Recorder<'a> {
 pub fn mesh_picture(mesh: &Mesh, cycle: usize) -> MeshPicture {
     MeshPicture {
         cycle,
-        cells: mesh
-            .active()
-            .iter()
-            .map(|&c| {
-                let b = mesh.cell_box(c);
-                CellBox {
-                    x0: b[0],
-                    y0: b[1],
-                    x1: b[2],
-                    y1: b[3],
-                }
-            })
-            .collect(),
+        cells: mesh.active().iter().map(|&c| cell_box(mesh, c)).collect(),
         levels: mesh.active().iter().map(|&c| mesh.level(c)).collect(),
         shaded: Vec::new(),
+    }
+}
+
+/// The active cells of `disc` on the accurate model (in the order of `mesh.active()`), as
+/// boxes.
+fn shaded_cells(disc: &Discretisation) -> Vec<CellBox> {
+    let mesh = &disc.mesh;
+    if !disc.models.accurate().iter().any(|u| u.face().is_none()) {
+        return Vec::new();
+    }
+    mesh.active()
+        .iter()
+        .filter(|&&c| disc.models.is_accurate(ModelUnit::Cell(mesh.cell_key(c))))
+        .map(|&c| cell_box(mesh, c))
+        .collect()
+}
+
+/// The box of cell `c`.
+fn cell_box(mesh: &Mesh, c: CellId) -> CellBox {
+    let b = mesh.cell_box(c);
+    CellBox {
+        x0: b[0],
+        y0: b[1],
+        x1: b[2],
+        y1: b[3],
     }
 }
 
@@ -294,15 +316,16 @@ fn partition_picture(disc: &Discretisation, estimate: &Estimate, cycle: usize) -
     let mesh = &disc.mesh;
     let (_, top) = mesh.extent();
     let faces = estimate
-        .faces
+        .models
         .iter()
-        .map(|&(f, error)| {
+        .filter_map(|&(u, error)| Some((u.face()?, error)))
+        .map(|(f, error)| {
             let y = if f.side == Side::Top { top } else { 0 };
             FaceModel {
                 side: f.side.name().to_string(),
                 x0: mesh.point((f.start, y))[0],
                 x1: mesh.point((f.end(), y))[0],
-                accurate: disc.accurate_faces.contains(&f),
+                accurate: disc.models.is_accurate_face(f),
                 error,
             }
         })
