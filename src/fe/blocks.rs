@@ -32,7 +32,8 @@
 //! of A).
 
 use super::System;
-use crate::linalg::uzawa::{CsrMatrix, SaddlePoint};
+use crate::linalg::csr::CsrMatrix;
+use crate::linalg::saddle_point::SaddlePoint;
 use crate::linalg::Ordering;
 
 /// The blocks of (III.86) of an assembled [`System`] with the maps back to its dofs.

@@ -53,11 +53,11 @@ use crate::fe::blocks::SaddleBlocks;
 use crate::fe::cell_values::CellValues;
 use crate::fe::quadrature::square_rule;
 use crate::fe::{LocalDofs, System};
-use crate::linalg::uzawa::{
-    uzawa, DirectSolution, SaddlePoint, UzawaError, UzawaOptions, UzawaRow, Variant,
-};
+use crate::linalg::saddle_point::{DirectSolution, SaddlePoint};
+use crate::linalg::uzawa::{uzawa, UzawaError, UzawaOptions, Variant};
 use crate::linalg::Ordering;
 use crate::mesh::Mesh;
+use crate::results::UzawaRow;
 
 /// Components per vertex: v₁, v₂, p.
 pub const N_COMPONENTS: usize = 3;
