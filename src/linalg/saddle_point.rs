@@ -3,6 +3,8 @@
 //! the reference the Uzawa iterations of [`super::uzawa`] are measured against.
 
 use super::csr::CsrMatrix;
+#[cfg(doc)]
+use super::uzawa::InnerSolver;
 use super::{Csc, DirectSolver, Ordering};
 
 /// The block system (III.86), A v − B p = f, Bᵀv + C p = g, with Bᵀ kept as its own compressed
@@ -14,7 +16,7 @@ pub struct SaddlePoint {
     pub c: CsrMatrix,
     pub f: Vec<f64>,
     pub g: Vec<f64>,
-    /// Fill-reducing ordering of the n velocity unknowns for [`InnerSolver::Cholesky`](super::uzawa::InnerSolver::Cholesky)
+    /// Fill-reducing ordering of the n velocity unknowns for [`InnerSolver::Cholesky`]
     /// (natural order if `None`).
     pub velocity_ordering: Option<Ordering>,
     bt: CsrMatrix,

@@ -1,12 +1,14 @@
 //! The CG step of CG-SSOR (III.92): the minimisation of ½pᵀSp − b_Sᵀp over the plane through
 //! p^k spanned by the SSOR correction q and the previous direction d, as printed
-//! ([`CgRule::AsPrinted`](super::CgRule::AsPrinted), [`CgStep::run`]) or safeguarded with the
-//! face method of projected runs ([`CgRule::Safeguarded`](super::CgRule::Safeguarded),
+//! ([`CgRule::AsPrinted`], [`CgStep::run`]) or safeguarded with the
+//! face method of projected runs ([`CgRule::Safeguarded`],
 //! [`CgStep::release`], [`CgStep::run_on_face`]; module docs of [`super`]).
 
 use super::inner::{schur_product, Inner};
 use super::pressure::project;
 use super::UzawaError;
+#[cfg(doc)]
+use super::{CgRule, DirectionProduct};
 use crate::linalg::saddle_point::{dot, SaddlePoint};
 
 /// Trial points t = 1, ½, … of the projected path P(p + t w) in a blocked step of projected

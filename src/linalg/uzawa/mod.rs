@@ -6,7 +6,7 @@
 //! ```
 //!
 //! with A ∈ ℝ^{n×n} SPD, B ∈ ℝ^{n×m}, C ∈ ℝ^{m×m} symmetric positive semidefinite and the Schur
-//! complement S = BᵀA⁻¹B + C positive definite (spec/estimators.md §6, spec/models.md §13.2).
+//! complement S = BᵀA⁻¹B + C positive definite.
 //! The variants differ in the preconditioner A_p of the pressure update (Fig. III.6):
 //!
 //! * [`Variant::Identity`]: Richardson (III.87) with A_p = I and step ω = [`UzawaOptions::damping`]
@@ -91,8 +91,8 @@
 //! λ = Bᵀv + Cp − g (zero exactly at the solution; the plain residual keeps λ ≠ 0 on the active
 //! set and never vanishes). The update: p_j ← max(p_j, 0) after each pressure update — per
 //! unknown inside the Gauss–Seidel and SSOR sweeps, after the vector update for identity, Jacobi
-//! and the CG step of [`CgRule::AsPrinted`] (the "projected cg-method" of the Outlook read as
-//! spec §6 does). That reading stalls for CG-SSOR on the SubStokes cavitation systems (at about
+//! and the CG step of [`CgRule::AsPrinted`] (the "projected cg-method" of the Outlook read
+//! literally). That reading stalls for CG-SSOR on the SubStokes cavitation systems (at about
 //! 3e-3 relative for (IV.8) on 32×32: the clipped two-term step is neither a minimiser nor a
 //! descent step). [`CgRule::Safeguarded`] then solves the bound-constrained problem by a
 //! face method in the manner of Dostál's MPRGP and Moré–Toraldo's GPCG, with the SSOR step as
@@ -120,8 +120,12 @@ mod tests;
 
 use std::time::Instant;
 
+#[cfg(doc)]
+use super::krylov::conjugate_gradient;
 use super::krylov::CgError;
 use super::saddle_point::{norm, SaddlePoint};
+#[cfg(doc)]
+use super::CholeskyFactor;
 use crate::results::UzawaRow;
 use inner::Inner;
 use iterate::Iterate;
@@ -184,8 +188,8 @@ pub fn uzawa(
 /// velocity starts from 0 either way; v⁰ = A⁻¹(f + Bp⁰) is solved in row 0.
 ///
 /// The outer iteration of (III.87)–(III.92): for k = 0, 1, …, solve v^k = A⁻¹(f + Bp^k) and
-/// record row k ([`Iterate::measure`]); stop at the relative tolerance or after
-/// `max_iterations` updates; else update the pressure by the variant ([`Update::apply`]).
+/// record row k; stop at the relative tolerance or after `max_iterations` updates; else
+/// update the pressure by the variant.
 pub fn uzawa_from(
     system: &SaddlePoint,
     options: &UzawaOptions,

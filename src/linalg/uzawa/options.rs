@@ -3,6 +3,9 @@
 
 use serde::Serialize;
 
+#[cfg(doc)]
+use crate::linalg::{saddle_point::SaddlePoint, CholeskyFactor};
+
 /// The pressure preconditioners of Fig. III.6.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
 pub enum Variant {
@@ -80,7 +83,8 @@ pub struct UzawaOptions {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum CgRule {
     /// (III.92) as printed: p¹ = p^{½}, then always the two-term minimiser over span{q, d};
-    /// projected runs clip, p_j ← max(p_j, 0), after every update (the reading of spec §6).
+    /// projected runs clip, p_j ← max(p_j, 0), after every update (the Outlook's "projected
+    /// cg-method" read literally).
     #[default]
     AsPrinted,
     /// Safeguarded: the SSOR correction q is replaced by D⁻¹s when it is no descent direction
