@@ -170,14 +170,8 @@ impl Update<'_> {
             cg.direction = None;
         }
         let old = x.p.clone();
-        sweep(
-            system,
-            d,
-            &x.btv,
-            &mut x.p,
-            (0..m).filter(|&j| free[j]),
-            false,
-        );
+        let forward = (0..m).filter(|&j| free[j]);
+        sweep(system, d, &x.btv, &mut x.p, forward, false);
         inner_iterations += x.half_step(system, self.inner, self.last_residual, self.iteration)?;
         let backward = (0..m).rev().filter(|&j| free[j]);
         sweep(system, d, &x.btv, &mut x.p, backward, false);
