@@ -414,6 +414,25 @@ impl Cuts {
     }
 }
 
+/// One outer iteration of a Uzawa run of a solver study (Fig. III.6; the module docs of
+/// [`crate::linalg::uzawa`], "Residual and rows").
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct UzawaRow {
+    /// [`Variant::name`](crate::linalg::uzawa::Variant::name).
+    pub variant: String,
+    pub iteration: usize,
+    /// √(‖Av − Bp − f‖² + ‖Bᵀv + Cp − g‖²).
+    pub residual: f64,
+    /// residual / residual of row 0.
+    pub relative_residual: f64,
+    /// ‖p − p_direct‖₂ / ‖p_direct‖₂, when a reference pressure was given.
+    pub pressure_error: Option<f64>,
+    /// Inner CG iterations since the previous row.
+    pub inner_iterations: usize,
+    /// Wall seconds since the run started.
+    pub seconds: f64,
+}
+
 /// One parameter of the scene or the study, as the experiment file writes it
 /// ([`crate::experiment::parameters`]): `group` is the file's table (`scene`,
 /// `scene.substokes`, `study`).
@@ -474,7 +493,7 @@ pub struct RunResult {
     /// A SubStokes run: the Reynolds model on its last mesh and both along a cut.
     pub cuts: Option<Cuts>,
     /// A solver study (Fig. III.6): every iteration of every Uzawa variant (empty otherwise).
-    pub uzawa: Vec<crate::linalg::uzawa::UzawaRow>,
+    pub uzawa: Vec<UzawaRow>,
     /// Bounding box of the domain `[x0, x1, y0, y1]`.
     pub domain: [f64; 4],
     /// Readings of the thesis and known differences that apply to this table (shown in the report).

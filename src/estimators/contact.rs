@@ -6,8 +6,8 @@
 //! η_{C,Q}² = ‖∇(n·s_h)‖² and η_{−C,Q}² = ‖n·(I_h(b n − x) − (b n − x))‖², where Σ_ph ≈ Σ_p1
 //! (the contact vertices in contact, thesis l. 4045).
 //!
-//! The thesis's two codes evidently used different term sets (spec/estimators.md §5.2,
-//! calibrated on the cycle-0 rows of Tables IV.6 and IV.12); both are provided
+//! The thesis's two codes evidently used different term sets (calibrated on the cycle-0 rows
+//! of Tables IV.6 and IV.12); both are provided
 //! ([`ContactEstimator`]):
 //!
 //! * **z-code** (Tables IV.6–IV.11): cell residual + ½ interior jumps + the full Neumann residual
@@ -38,7 +38,7 @@
 //!   full Neumann residual on the free faces, for the constraints of either model (n and b of
 //!   each vertex's constraint). Reproduces the cycle-0 "interior" 0.6213 of Table IV.30 (the
 //!   cells without a contact face), and the contact-boundary 0.5941 to 0.3 % (cells with a
-//!   z-face; spec/estimators.md §10).
+//!   z-face).
 //!
 //! Γ_C faces use the 4-point Gauss rule (the obstacle terms are not polynomial).
 
@@ -198,35 +198,9 @@ pub fn indicators(
                                 }
                             }
                         };
-                        let (na, ba) = nodal(va, xa);
-                        let (nb, bb) = nodal(vb, xb);
-                        // I_h(b n − x) at the two nodes.
-                        let ia = [ba * na[0] - xa[0], ba * na[1] - xa[1]];
-                        let ib = [bb * nb[0] - xb[0], bb * nb[1] - xb[1]];
-                        let (mut ec, mut eg) = (0.0, 0.0);
-                        for (t, w) in gp.iter().zip(gw) {
-                            let p = [xa[0] + t * edge[0], xa[1] + t * edge[1]];
-                            let lerp = |a: f64, b: f64| a + t * (b - a);
-                            let n = [lerp(na[0], nb[0]), lerp(na[1], nb[1])];
-                            let b = lerp(ba, bb);
-                            let g = Elasticity::gradient_at(mesh, dofs, u, k, p);
-                            // n is frozen: ∇(n·s_h) = (∇s_h)ᵀ n. The product-rule part
-                            // (∂_t n · s_h) t would multiply the whole displacement by the
-                            // kinks of the nodal normal field and never decay under refinement.
-                            let d = [
-                                n[0] * g[0][0] + n[1] * g[1][0],
-                                n[0] * g[0][1] + n[1] * g[1][1],
-                            ];
-                            ec += (d[0] * d[0] + d[1] * d[1]) * w * len;
-                            let ih = [lerp(ia[0], ib[0]), lerp(ia[1], ib[1])];
-                            let exact = [b * n[0] - p[0], b * n[1] - p[1]];
-                            let mut m = n[0] * (ih[0] - exact[0]) + n[1] * (ih[1] - exact[1]);
-                            // Rounding noise of an exactly interpolated (affine) b n − x.
-                            if m.abs() <= 1e-12 * (1.0 + b.abs() + p[0].abs()) {
-                                m = 0.0;
-                            }
-                            eg += m * m * w * len;
-                        }
+                        let ends = [nodal(va, xa), nodal(vb, xb)];
+                        let (ec, eg) =
+                            signorini_face_terms(mesh, dofs, u, k, [xa, xb], ends, (edge, len));
                         contact += h * ec;
                         gap += eg / h;
                     }
@@ -258,4 +232,49 @@ pub fn indicators(
         obstacle,
         faces,
     }
+}
+
+/// The integrals of the Signorini- and MGA-code terms over one Γ_C face of active cell `k`,
+/// from `xa` to `xb` (`edge` = xb − xa of length `len`), by the 4-point Gauss rule:
+/// (‖∇(n·s_h)‖², ‖n·(I_h(b n − x) − (b n − x))‖²), without the powers of h_Q. The nodal
+/// (n, b) of the two vertices, `ends`, are interpolated linearly along the face, and n is
+/// frozen in the gradient.
+fn signorini_face_terms(
+    mesh: &Mesh,
+    dofs: &DofMap,
+    u: &[f64],
+    k: usize,
+    [xa, xb]: [[f64; 2]; 2],
+    [(na, ba), (nb, bb)]: [([f64; 2], f64); 2],
+    (edge, len): ([f64; 2], f64),
+) -> (f64, f64) {
+    let (gp, gw) = quadrature::gauss(4);
+    // I_h(b n − x) at the two nodes.
+    let ia = [ba * na[0] - xa[0], ba * na[1] - xa[1]];
+    let ib = [bb * nb[0] - xb[0], bb * nb[1] - xb[1]];
+    let (mut ec, mut eg) = (0.0, 0.0);
+    for (t, w) in gp.iter().zip(gw) {
+        let p = [xa[0] + t * edge[0], xa[1] + t * edge[1]];
+        let lerp = |a: f64, b: f64| a + t * (b - a);
+        let n = [lerp(na[0], nb[0]), lerp(na[1], nb[1])];
+        let b = lerp(ba, bb);
+        let g = Elasticity::gradient_at(mesh, dofs, u, k, p);
+        // n is frozen: ∇(n·s_h) = (∇s_h)ᵀ n. The product-rule part (∂_t n · s_h) t would
+        // multiply the whole displacement by the kinks of the nodal normal field and never
+        // decay under refinement.
+        let d = [
+            n[0] * g[0][0] + n[1] * g[1][0],
+            n[0] * g[0][1] + n[1] * g[1][1],
+        ];
+        ec += (d[0] * d[0] + d[1] * d[1]) * w * len;
+        let ih = [lerp(ia[0], ib[0]), lerp(ia[1], ib[1])];
+        let exact = [b * n[0] - p[0], b * n[1] - p[1]];
+        let mut m = n[0] * (ih[0] - exact[0]) + n[1] * (ih[1] - exact[1]);
+        // Rounding noise of an exactly interpolated (affine) b n − x.
+        if m.abs() <= 1e-12 * (1.0 + b.abs() + p[0].abs()) {
+            m = 0.0;
+        }
+        eg += m * m * w * len;
+    }
+    (ec, eg)
 }

@@ -4,7 +4,7 @@
 //! A v − B p = f,    Bᵀv + C p = g,
 //! ```
 //!
-//! for the Uzawa solvers of [`crate::linalg::uzawa`] (spec/estimators.md §6).
+//! for the Uzawa solvers of [`crate::linalg::uzawa`].
 //!
 //! **What is split.** A system with several components per vertex, one of which is the pressure
 //! (the others the velocity), assembled as the symmetric quasi-definite matrix
@@ -32,7 +32,8 @@
 //! of A).
 
 use super::System;
-use crate::linalg::uzawa::{CsrMatrix, SaddlePoint};
+use crate::linalg::csr::CsrMatrix;
+use crate::linalg::saddle_point::SaddlePoint;
 use crate::linalg::Ordering;
 
 /// The blocks of (III.86) of an assembled [`System`] with the maps back to its dofs.

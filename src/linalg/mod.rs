@@ -6,10 +6,12 @@
 //! the Uzawa variants (III.87)–(III.92) for stabilised saddle points ([`uzawa`]).
 
 pub mod active_set;
+pub mod csr;
 pub mod direct;
 pub mod krylov;
 pub mod multigrid;
 pub mod ordering;
+pub mod saddle_point;
 pub mod solver;
 pub mod uzawa;
 

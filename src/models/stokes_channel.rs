@@ -6,9 +6,9 @@
 //! A v − B p = f,    Bᵀv + C p = g,
 //! ```
 //!
-//! for [`crate::linalg::uzawa`] (spec/estimators.md §6, spec/models.md §13.2).
+//! for [`crate::linalg::uzawa`].
 //!
-//! **Weak form** (III.88), with the typos of the print corrected (spec §6): for all w ∈ V_h,
+//! **Weak form** (III.88), with the typos of the print corrected: for all w ∈ V_h,
 //! ψ ∈ P_h vanishing at the Dirichlet vertices,
 //! ⟨∂_i v_j, ∂_i w_j⟩ − ⟨∂_j w_j, p⟩ = 0 and ⟨∂_j v_j, ψ⟩ + Σ_Q δ_ε h_Q² ⟨∇p, ∇ψ⟩_Q = 0, so
 //! A_{(a,μ),(b,μ)} = ∫ ∇φ_a·∇φ_b, B_{(a,μ),q} = ∫ ψ_q ∂_μ φ_a, C_{q,r} = Σ_Q δ_ε h_Q² ∫_Q ∇ψ_q·∇ψ_r
@@ -53,11 +53,11 @@ use crate::fe::blocks::SaddleBlocks;
 use crate::fe::cell_values::CellValues;
 use crate::fe::quadrature::square_rule;
 use crate::fe::{LocalDofs, System};
-use crate::linalg::uzawa::{
-    uzawa, DirectSolution, SaddlePoint, UzawaError, UzawaOptions, UzawaRow, Variant,
-};
+use crate::linalg::saddle_point::{DirectSolution, SaddlePoint};
+use crate::linalg::uzawa::{uzawa, UzawaError, UzawaOptions, Variant};
 use crate::linalg::Ordering;
 use crate::mesh::Mesh;
+use crate::results::UzawaRow;
 
 /// Components per vertex: v₁, v₂, p.
 pub const N_COMPONENTS: usize = 3;

@@ -1,7 +1,7 @@
 //! The SubStokes systems of [`crate::models::substokes`] solved by the CG-accelerated SSOR Uzawa
 //! method (III.92) instead of the direct LDLᵀ of [`solve_system`](crate::models::substokes::solve_system) / [`solve_cavitation`](crate::models::substokes::solve_cavitation)
-//! (spec/estimators.md §6: "a direct sparse solve of the coupled stabilised system is an
-//! acceptable substitute"; this module is the thesis's own solver family as the alternative).
+//! (the direct sparse solve of the coupled stabilised system substitutes for the thesis's
+//! solver; this module is the thesis's own solver family as the alternative).
 //!
 //! **Blocks.** The assembled system [A −B; −Bᵀ −C] [χ; ψ] = [F; −G] of
 //! [`SubStokesProblem::assemble`](crate::models::substokes::SubStokesProblem::assemble) (or [`SubStokesProblem::assemble_cavitation`](crate::models::substokes::SubStokesProblem::assemble_cavitation)) is split into
@@ -525,7 +525,7 @@ mod tests {
         assert!(err.contains("complementarity"), "{err}");
     }
 
-    /// The reading of spec §6 taken literally — (III.92) as printed with p ← max(p, 0) after
+    /// The Outlook's "projected cg-method" taken literally — (III.92) as printed with p ← max(p, 0) after
     /// every update ([`CgRule::AsPrinted`]) — does not converge on (IV.8) with cavitation on
     /// 32×32 (it stalls near 3e-3 relative), where the safeguarded face method converges.
     #[test]

@@ -12,7 +12,7 @@ use std::path::Path;
 
 use polars::prelude::*;
 
-use crate::linalg::uzawa::UzawaRow;
+use crate::results::UzawaRow;
 use crate::results::{CostRow, PhaseSeconds, RunResult, Value};
 use crate::thesis::ThesisTable;
 

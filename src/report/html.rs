@@ -665,7 +665,7 @@ fn failure_box(h: &mut String, what: &str, f: &Failure) {
 /// A solver study (Fig. III.6): per Uzawa variant the iterations run, the first iteration with a
 /// relative residual ≤ 1e-6, the relative residual at iteration 50 and at the last, the pressure
 /// error against the direct solve, the inner CG iterations and the seconds.
-fn uzawa_table(h: &mut String, rows: &[crate::linalg::uzawa::UzawaRow]) {
+fn uzawa_table(h: &mut String, rows: &[crate::results::UzawaRow]) {
     h.push_str(
         "<p class=\"legend\">Relative residual r_k/r_0 with r_k = √(‖Av − Bp − f‖² + ‖Bᵀv + Cp − \
          g‖²); pressure error ‖p_k − p‖₂/‖p‖₂ against the direct LDLᵀ solve of the coupled \

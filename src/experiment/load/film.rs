@@ -1,0 +1,186 @@
+//! The thin films of §IV.3: the Reynolds and SubStokes sections, alone or as the two models of
+//! one model-adaptive film (§IV.3.4).
+
+use super::check::{Check, Checked};
+use crate::experiment::spec::*;
+
+impl Check<'_> {
+    /// The film data shared by the Reynolds and SubStokes sections `F` of §IV.3, (IV.7)–(IV.20):
+    /// the gap must stay open (g > 0) on the domain.
+    fn film(&self, section: &str, data: Film<'_>, domain: &Rectangle) -> Checked {
+        self.ensure(
+            !data.equation.trim().is_empty(),
+            &format!("{section}.equation"),
+            "the thesis equation of the example, e.g. `IV.7`",
+            "an empty string",
+        )?;
+        self.printable(&format!("{section}.equation"), data.equation, false)?;
+        let gap = format!("{section}.gap");
+        let g = |name: &str| format!("{gap}.{name}");
+        match data.gap {
+            GapShape::Plain { g0 } => self.positive(&g("g0"), g0)?,
+            GapShape::Linear { g0, slope } => {
+                self.finite(&g("g0"), g0)?;
+                self.finite(&g("slope"), slope)?;
+                for x in domain.x {
+                    let width = g0 + slope * x;
+                    self.ensure(
+                        width > 0.0,
+                        &gap,
+                        "a positive gap g0 + slope·x₁ at both ends of scene.domain.x",
+                        format!("g = {width:?} at x₁ = {x:?}"),
+                    )?;
+                }
+            }
+            GapShape::WaveHorizontal {
+                g0,
+                amplitude,
+                frequency,
+            }
+            | GapShape::Hill {
+                g0,
+                amplitude,
+                frequency,
+            } => {
+                self.finite(&g("g0"), g0)?;
+                self.finite(&g("amplitude"), amplitude)?;
+                self.finite(&g("frequency"), frequency)?;
+                let min = g0 - amplitude.abs();
+                self.ensure(
+                    min > 0.0,
+                    &gap,
+                    "a positive gap everywhere, g0 − |amplitude| > 0",
+                    format!("g0 − |amplitude| = {min:?}"),
+                )?;
+            }
+        }
+        self.finite_all(
+            &format!("{section}.upper_wall_velocity"),
+            data.upper_wall_velocity,
+        )?;
+        self.finite(
+            &format!("{section}.boundary_pressure"),
+            data.boundary_pressure,
+        )?;
+        self.ensure(
+            data.cavitation == Cavitation::Off || data.boundary_pressure >= 0.0,
+            &format!("{section}.boundary_pressure"),
+            "a pressure ≥ 0 when cavitation is `on` or `auto` (the cavitation problem asks \
+             ψ ≥ 0, which a negative boundary value contradicts)",
+            data.boundary_pressure,
+        )?;
+        self.ensure(
+            data.cavitation != Cavitation::Off
+                || data.cavitation_source == CavitationSource::default(),
+            &format!("{section}.cavitation_source"),
+            "no cavitation_source when cavitation = \"off\" (it chooses the source term of \
+             the cavitation problem only)",
+            format!("{:?} with cavitation = \"off\"", data.cavitation_source),
+        )?;
+        Ok(())
+    }
+
+    /// Reynolds data of §IV.3, (IV.7)–(IV.20) ([`Check::film`]).
+    pub(super) fn reynolds(&self, data: &ReynoldsData, domain: &Rectangle) -> Checked {
+        const F: &str = "scene.reynolds";
+        self.film(
+            F,
+            Film {
+                equation: &data.equation,
+                gap: data.gap,
+                upper_wall_velocity: &data.upper_wall_velocity,
+                boundary_pressure: data.boundary_pressure,
+                cavitation: data.cavitation,
+                cavitation_source: data.cavitation_source,
+            },
+            domain,
+        )?;
+        self.ensure(
+            data.zone_residual == ZoneResidual::Full || data.cavitation != Cavitation::Off,
+            &format!("{F}.zone_residual"),
+            "`full` (or left out) when cavitation = \"off\": there is no cavitation zone",
+            format!("{} with cavitation = \"off\"", data.zone_residual.name()),
+        )
+    }
+
+    /// SubStokes data of §IV.3.2 and §IV.3.6, (IV.7)–(IV.20) ([`Check::film`]), and the
+    /// stabilisation constant δ_ε > 0.
+    pub(super) fn substokes(&self, data: &SubStokesData, domain: &Rectangle) -> Checked {
+        const F: &str = "scene.substokes";
+        self.film(
+            F,
+            Film {
+                equation: &data.equation,
+                gap: data.gap,
+                upper_wall_velocity: &data.upper_wall_velocity,
+                boundary_pressure: data.boundary_pressure,
+                cavitation: data.cavitation,
+                cavitation_source: data.cavitation_source,
+            },
+            domain,
+        )?;
+        self.positive(&format!("{F}.delta_eps"), data.delta_eps)
+    }
+
+    /// The two sections of a model-adaptive film describe one film, without cavitation (the
+    /// coupling of §IV.3.4 has none).
+    pub(super) fn same_film(&self, r: &ReynoldsData, s: &SubStokesData) -> Checked {
+        let pairs = [
+            (
+                "equation",
+                r.equation == s.equation,
+                format!("`{}` and `{}`", r.equation, s.equation),
+            ),
+            (
+                "gap",
+                r.gap == s.gap,
+                format!("{:?} and {:?}", r.gap, s.gap),
+            ),
+            (
+                "upper_wall_velocity",
+                r.upper_wall_velocity == s.upper_wall_velocity,
+                format!(
+                    "{:?} and {:?}",
+                    r.upper_wall_velocity, s.upper_wall_velocity
+                ),
+            ),
+            (
+                "boundary_pressure",
+                r.boundary_pressure == s.boundary_pressure,
+                format!("{:?} and {:?}", r.boundary_pressure, s.boundary_pressure),
+            ),
+        ];
+        for (field, same, found) in pairs {
+            self.ensure(
+                same,
+                &format!("scene.substokes.{field}"),
+                &format!("the same {field} as scene.reynolds (both models solve one film)"),
+                found,
+            )?;
+        }
+        for (section, cavitation) in [("reynolds", r.cavitation), ("substokes", s.cavitation)] {
+            self.ensure(
+                cavitation == Cavitation::Off,
+                &format!("scene.{section}.cavitation"),
+                "\"off\" in a model-adaptive film (the coupling of §IV.3.4 has no cavitation)",
+                format!("{cavitation:?}"),
+            )?;
+        }
+        Ok(())
+    }
+}
+
+/// Whether the scene is the model-adaptive film: `reynolds` and `substokes` together.
+pub(super) fn is_film_models(scene: &SceneFile) -> bool {
+    scene.effects.contains(&Effect::Reynolds) && scene.effects.contains(&Effect::SubStokes)
+}
+
+/// The film data of a thin-film section, the same for Reynolds and SubStokes.
+struct Film<'a> {
+    equation: &'a str,
+    gap: GapShape,
+    upper_wall_velocity: &'a [f64; 3],
+    boundary_pressure: f64,
+    cavitation: Cavitation,
+    cavitation_source: CavitationSource,
+}

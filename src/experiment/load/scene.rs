@@ -1,0 +1,419 @@
+//! The scene: its domain and coarse grid, the effects and their data sections, the typed
+//! [`Problem`] they make, and the elastic body with its loads and obstacles (§IV.2.1).
+
+use std::collections::BTreeSet;
+
+use super::check::{effect_name, names, side_name, Check, Checked};
+use crate::experiment::spec::*;
+use crate::experiment::{ExperimentError, Problem};
+
+/// Most global refinements of the coarse grid (the size of the run is bounded by the memory
+/// budget of the study as well).
+const MAX_GLOBAL_REFINEMENTS: usize = 12;
+/// Range of the length of a side of the domain.
+const MIN_LENGTH: f64 = 1e-30;
+const MAX_LENGTH: f64 = 1e30;
+/// Largest ratio of the two sides of a coarse cell.
+const MAX_ASPECT_RATIO: f64 = 1e4;
+/// Range of the Lamé constants μ, λ (λ may also be 0).
+const MIN_MATERIAL: f64 = 1e-30;
+const MAX_MATERIAL: f64 = 1e30;
+/// Largest λ/μ: beyond it (Poisson ratio within 5e-9 of ½) the Q₁ system is singular to
+/// working precision.
+const MAX_LAMBDA_OVER_MU: f64 = 1e8;
+
+impl Check<'_> {
+    /// One side of the domain, `[lo, hi]`: finite, ordered, and neither so small nor so large
+    /// that the cell geometry (Jacobians of order (hi − lo)², distances relative to |lo|, |hi|)
+    /// underflows, overflows or drowns in rounding.
+    fn domain_extent(&self, field: &str, lo: f64, hi: f64) -> Checked {
+        self.finite_all(field, &[lo, hi])?;
+        self.ensure(
+            lo < hi,
+            field,
+            "[lo, hi] with lo < hi",
+            format!("[{lo:?}, {hi:?}]"),
+        )?;
+        let width = hi - lo;
+        let scale = lo.abs().max(hi.abs());
+        self.ensure(
+            (MIN_LENGTH..=MAX_LENGTH).contains(&width) && width >= 1e-9 * scale,
+            field,
+            &format!(
+                "an interval of length between {MIN_LENGTH:e} and {MAX_LENGTH:e}, \
+                 and at least 1e-9 of its largest coordinate"
+            ),
+            format!("[{lo:?}, {hi:?}] of length {width:e}"),
+        )
+    }
+
+    /// A material constant of (I.17): finite, in a range where the stiffness matrix and the
+    /// squared energy norms of the estimators stay representable.
+    fn material(&self, field: &str, value: f64, zero_allowed: bool) -> Checked {
+        let ok = value.is_finite()
+            && (value <= MAX_MATERIAL)
+            && (value >= MIN_MATERIAL || (zero_allowed && value == 0.0));
+        self.ensure(
+            ok,
+            field,
+            &format!(
+                "a finite value between {MIN_MATERIAL:e} and {MAX_MATERIAL:e}{} (outside, the \
+                 stiffness matrix and the squared norms of the estimate overflow or underflow)",
+                if zero_allowed { ", or 0" } else { "" }
+            ),
+            value,
+        )
+    }
+
+    pub(super) fn scene(&self, scene: &SceneFile) -> Checked {
+        self.ensure(
+            !scene.name.trim().is_empty(),
+            "scene.name",
+            "a non-empty descriptive name",
+            "an empty string",
+        )?;
+        self.printable("scene.name", &scene.name, false)?;
+        for (name, [lo, hi]) in [("x", scene.domain.x), ("y", scene.domain.y)] {
+            self.domain_extent(&format!("scene.domain.{name}"), lo, hi)?;
+        }
+        for (i, &n) in scene.coarse_cells.iter().enumerate() {
+            self.ensure(
+                n >= 1,
+                &format!("scene.coarse_cells[{i}]"),
+                "at least 1 cell",
+                n,
+            )?;
+        }
+        let [hx, hy] = scene.domain.cell_sides(scene.coarse_cells);
+        let aspect = scene.domain.cell_aspect_ratio(scene.coarse_cells);
+        self.ensure(
+            aspect <= MAX_ASPECT_RATIO,
+            "scene.coarse_cells",
+            &format!(
+                "coarse cells with sides in a ratio of at most {MAX_ASPECT_RATIO:e} \
+                 (flatter cells make the stiffness matrix numerically singular)"
+            ),
+            format!("{hx:e} × {hy:e} cells, ratio {aspect:e}"),
+        )?;
+        self.ensure(
+            scene.global_refinements <= MAX_GLOBAL_REFINEMENTS,
+            "scene.global_refinements",
+            &format!(
+                "at most {MAX_GLOBAL_REFINEMENTS} global refinements (the mesh supports {} \
+                 refinement levels; the size of a run is bounded separately)",
+                crate::mesh::MAX_LEVEL
+            ),
+            scene.global_refinements,
+        )?;
+        self.ensure(
+            scene.contact_refinements <= MAX_GLOBAL_REFINEMENTS,
+            "scene.contact_refinements",
+            &format!(
+                "between 0 and {MAX_GLOBAL_REFINEMENTS} refinements at the contact sides (the \
+                 thesis uses 3, §IV.2.3)"
+            ),
+            scene.contact_refinements,
+        )?;
+        self.ensure(
+            scene.contact_refinements == 0 || scene.contact.is_some(),
+            "scene.contact_refinements",
+            "0 (or left out) in a scene without contact: the refinements are at the sides \
+             with an obstacle",
+            scene.contact_refinements,
+        )?;
+        self.effects(scene)?;
+        if let Some(elasticity) = &scene.elasticity {
+            self.elasticity(elasticity)?;
+        }
+        if let Some(contact) = &scene.contact {
+            self.contact(contact, scene)?;
+        }
+        if let Some(reynolds) = &scene.reynolds {
+            self.reynolds(reynolds, &scene.domain)?;
+        }
+        if let Some(substokes) = &scene.substokes {
+            self.substokes(substokes, &scene.domain)?;
+        }
+        if let (Some(r), Some(s)) = (&scene.reynolds, &scene.substokes) {
+            self.same_film(r, s)?;
+        }
+
+        Ok(())
+    }
+
+    /// The effect list and the data sections must agree: every effect needs its section, every
+    /// section its effect; contact is a boundary condition of elasticity (§IV.2), Reynolds flow
+    /// is a separate problem on its own domain (§IV.3).
+    fn effects(&self, scene: &SceneFile) -> Checked {
+        self.ensure(
+            !scene.effects.is_empty(),
+            "scene.effects",
+            "at least one of `elasticity`, `contact`, `reynolds`, `substokes`",
+            "an empty list",
+        )?;
+        let mut seen = BTreeSet::new();
+        for (i, effect) in scene.effects.iter().enumerate() {
+            self.ensure(
+                seen.insert(*effect),
+                &format!("scene.effects[{i}]"),
+                "each effect listed once",
+                format!("`{}` twice", effect_name(*effect)),
+            )?;
+        }
+        let has = |e| seen.contains(&e);
+        self.ensure(
+            !has(Effect::Contact) || has(Effect::Elasticity),
+            "scene.effects",
+            "`elasticity` alongside `contact` (contact constrains an elastic body)",
+            "`contact` without `elasticity`",
+        )?;
+        // Reynolds and SubStokes together are the model-adaptive film (§IV.3.4).
+        let film_models = seen.len() == 2 && has(Effect::Reynolds) && has(Effect::SubStokes);
+        for fluid in [Effect::Reynolds, Effect::SubStokes, Effect::StokesChannel] {
+            self.ensure(
+                !has(fluid) || seen.len() == 1 || film_models,
+                "scene.effects",
+                &format!(
+                    "`{}` alone (a thin-film model is a problem of its own; it cannot be \
+                     combined with another effect), or `reynolds` with `substokes` (the \
+                     model-adaptive film of §IV.3.4)",
+                    effect_name(fluid)
+                ),
+                format!("{:?}", names(&scene.effects)),
+            )?;
+        }
+        let sections = [
+            (Effect::Elasticity, scene.elasticity.is_some(), "elasticity"),
+            (Effect::Contact, scene.contact.is_some(), "contact"),
+            (Effect::Reynolds, scene.reynolds.is_some(), "reynolds"),
+            (Effect::SubStokes, scene.substokes.is_some(), "substokes"),
+            (
+                Effect::StokesChannel,
+                scene.stokes_channel.is_some(),
+                "stokes_channel",
+            ),
+        ];
+        for (effect, present, name) in sections {
+            if has(effect) {
+                self.ensure(
+                    present,
+                    &format!("scene.{name}"),
+                    &format!("a [scene.{name}] section because scene.effects lists `{name}`"),
+                    "no such section",
+                )?;
+            } else {
+                self.ensure(
+                    !present,
+                    &format!("scene.{name}"),
+                    &format!("no [scene.{name}] section, or `{name}` in scene.effects"),
+                    format!("a [scene.{name}] section for an effect that is not listed"),
+                )?;
+            }
+        }
+        Ok(())
+    }
+
+    /// The typed problem of a checked scene: the effects and their sections (which
+    /// [`Check::effects`] has matched) as one variant.
+    pub(super) fn problem(&self, scene: &SceneFile) -> Result<Problem, ExperimentError> {
+        let has = |e: Effect| scene.effects.contains(&e);
+        let section = |name: &str| {
+            self.fail(
+                &format!("scene.{name}"),
+                &format!("a [scene.{name}] section"),
+                "none",
+            )
+        };
+        if has(Effect::Reynolds) && has(Effect::SubStokes) {
+            let reynolds = scene.reynolds.clone().ok_or_else(|| section("reynolds"))?;
+            let substokes = scene
+                .substokes
+                .clone()
+                .ok_or_else(|| section("substokes"))?;
+            return Ok(Problem::FilmModels {
+                reynolds,
+                substokes,
+            });
+        }
+        if has(Effect::Reynolds) {
+            let reynolds = scene.reynolds.clone().ok_or_else(|| section("reynolds"))?;
+            return Ok(Problem::Reynolds(reynolds));
+        }
+        if has(Effect::StokesChannel) {
+            let channel = scene
+                .stokes_channel
+                .clone()
+                .ok_or_else(|| section("stokes_channel"))?;
+            return Ok(Problem::StokesChannel(channel));
+        }
+        if has(Effect::SubStokes) {
+            let substokes = scene
+                .substokes
+                .clone()
+                .ok_or_else(|| section("substokes"))?;
+            return Ok(Problem::SubStokes(substokes));
+        }
+        let elasticity = scene
+            .elasticity
+            .clone()
+            .ok_or_else(|| section("elasticity"))?;
+        if has(Effect::Contact) {
+            let contact = scene.contact.clone().ok_or_else(|| section("contact"))?;
+            return Ok(Problem::Contact {
+                elasticity,
+                contact,
+            });
+        }
+        Ok(Problem::Elasticity(elasticity))
+    }
+
+    /// Material and loads of (I.17) / (IV.1).
+    fn elasticity(&self, data: &ElasticityData) -> Checked {
+        const F: &str = "scene.elasticity";
+        self.material(&format!("{F}.mu"), data.mu, false)?;
+        self.material(&format!("{F}.lambda"), data.lambda, true)?;
+        self.ensure(
+            data.lambda <= MAX_LAMBDA_OVER_MU * data.mu,
+            &format!("{F}.lambda"),
+            &format!(
+                "λ ≤ {MAX_LAMBDA_OVER_MU:e}·μ (a nearly incompressible material locks the Q₁ \
+                 elements and makes the stiffness matrix numerically singular)"
+            ),
+            format!("λ/μ = {:e}", data.lambda / data.mu),
+        )?;
+        self.unique_sides(&format!("{F}.dirichlet"), data.dirichlet.iter().copied())?;
+        if let Some(load) = &data.volume_load {
+            self.finite_all(&format!("{F}.volume_load.direction"), &load.direction)?;
+            self.profile(&format!("{F}.volume_load.profile"), &load.profile)?;
+        }
+        self.unique_sides(
+            &format!("{F}.tractions"),
+            data.tractions.iter().map(|t| t.side),
+        )?;
+        for (i, traction) in data.tractions.iter().enumerate() {
+            let field = format!("{F}.tractions[{i}]");
+            self.ensure(
+                !data.dirichlet.contains(&traction.side),
+                &format!("{field}.side"),
+                "a side that is not in scene.elasticity.dirichlet (Γ_τ and Γ₀ are disjoint)",
+                format!("`{}`", side_name(traction.side)),
+            )?;
+            self.finite_all(&format!("{field}.value"), &traction.value)?;
+        }
+        Ok(())
+    }
+
+    fn profile(&self, field: &str, profile: &Profile) -> Checked {
+        match *profile {
+            Profile::Constant { amplitude } => {
+                self.finite(&format!("{field}.amplitude"), amplitude)
+            }
+            Profile::Quadratic { amplitude, scale } => {
+                self.finite(&format!("{field}.amplitude"), amplitude)?;
+                self.positive(&format!("{field}.scale"), scale)
+            }
+            Profile::Step { amplitude, at } => {
+                self.finite(&format!("{field}.amplitude"), amplitude)?;
+                self.finite(&format!("{field}.at"), at)
+            }
+            Profile::Sine {
+                amplitude,
+                half_period,
+            } => {
+                self.finite(&format!("{field}.amplitude"), amplitude)?;
+                self.positive(&format!("{field}.half_period"), half_period)
+            }
+        }
+    }
+
+    /// Obstacles of §IV.2.1: on the bottom or top face only, one per face, disjoint from Γ₀ and
+    /// Γ_τ.
+    fn contact(&self, data: &ContactData, scene: &SceneFile) -> Checked {
+        const F: &str = "scene.contact.obstacles";
+        self.ensure(
+            !data.obstacles.is_empty(),
+            F,
+            "at least one obstacle",
+            "an empty list",
+        )?;
+        self.unique_sides(F, data.obstacles.iter().map(|o| o.side))?;
+        let (dirichlet, tractions) = match &scene.elasticity {
+            Some(e) => (e.dirichlet.as_slice(), e.tractions.as_slice()),
+            None => (&[][..], &[][..]),
+        };
+        for (i, obstacle) in data.obstacles.iter().enumerate() {
+            let field = format!("{F}[{i}]");
+            let side = obstacle.side;
+            self.ensure(
+                matches!(side, Side::Bottom | Side::Top),
+                &format!("{field}.side"),
+                "`bottom` or `top` (obstacles bound s₂ on a horizontal face)",
+                format!("`{}`", side_name(side)),
+            )?;
+            self.ensure(
+                !dirichlet.contains(&side),
+                &format!("{field}.side"),
+                "a side that is not in scene.elasticity.dirichlet (Γ_C and Γ₀ are disjoint)",
+                format!("`{}`", side_name(side)),
+            )?;
+            self.ensure(
+                !tractions.iter().any(|t| t.side == side),
+                &format!("{field}.side"),
+                "a side without a traction (Γ_τ = ∂Ω \\ (Γ₀ ∪ Γ_C))",
+                format!("`{}` also in scene.elasticity.tractions", side_name(side)),
+            )?;
+            self.obstacle_shape(&format!("{field}.shape"), &obstacle.shape)?;
+        }
+        if let Some(estimator) = data.estimator {
+            self.ensure(
+                data.model != ContactModel::ModelAdaptive,
+                "scene.contact.estimator",
+                "no estimator with model = \"model-adaptive\": the model-adaptive tables keep \
+                 their mesh fixed and mark faces by the model error (III.16) alone, and the \
+                 model-and-grid-adaptive ones use the term set of the thesis's MGA code",
+                format!("{estimator:?}"),
+            )?;
+        }
+        Ok(())
+    }
+
+    fn obstacle_shape(&self, field: &str, shape: &ObstacleShape) -> Checked {
+        let f = |name: &str| format!("{field}.{name}");
+        match *shape {
+            ObstacleShape::Constant { level } => self.finite(&f("level"), level),
+            ObstacleShape::Periodic {
+                offset,
+                amplitude,
+                periods,
+            } => {
+                self.finite(&f("offset"), offset)?;
+                self.finite(&f("amplitude"), amplitude)?;
+                self.finite(&f("periods"), periods)
+            }
+            ObstacleShape::Jump {
+                base,
+                height,
+                at,
+                s,
+            } => {
+                self.finite(&f("base"), base)?;
+                self.finite(&f("height"), height)?;
+                self.finite(&f("at"), at)?;
+                self.positive(&f("s"), s)
+            }
+            ObstacleShape::Saw { s, .. } => self.positive(&f("s"), s),
+            ObstacleShape::Arc {
+                center,
+                radius,
+                plateau,
+                s,
+            } => {
+                self.finite(&f("center[0]"), center[0])?;
+                self.finite(&f("center[1]"), center[1])?;
+                self.positive(&f("radius"), radius)?;
+                self.finite(&f("plateau"), plateau)?;
+                self.positive(&f("s"), s)
+            }
+        }
+    }
+}
