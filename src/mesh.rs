@@ -20,6 +20,7 @@
 //! refined mesh therefore describes the same body as its coarse grid, and the Q₁ spaces of the
 //! refinements are nested (the hanging-node constraint "mean of the two ends" stays exact).
 
+use nalgebra::{Matrix2, RowVector2, Vector2};
 use rayon::prelude::*;
 use serde::Deserialize;
 
@@ -210,19 +211,17 @@ impl CellShape {
         }
     }
 
-    /// Jacobian ∂x/∂(ξ, η) at (ξ, η): `j[i][a] = ∂xᵢ/∂ξ_a`.
+    /// Jacobian J = ∂x/∂(ξ, η) at (ξ, η): `j[(i, a)] = ∂xᵢ/∂ξ_a`. On a quadrilateral
+    /// J = Σ_a x_a (∇̂φ̂_a)ᵀ, the outer products added vertex by vertex (each entry is the sum
+    /// of its four products in vertex order).
     #[inline]
-    pub fn jacobian(&self, xi: f64, eta: f64) -> [[f64; 2]; 2] {
+    pub fn jacobian(&self, xi: f64, eta: f64) -> Matrix2<f64> {
         match *self {
-            CellShape::Rectangle { x0, y0, x1, y1 } => [[x1 - x0, 0.0], [0.0, y1 - y0]],
+            CellShape::Rectangle { x0, y0, x1, y1 } => Matrix2::new(x1 - x0, 0.0, 0.0, y1 - y0),
             CellShape::Quadrilateral(v) => {
-                let g = bilinear_gradients(xi, eta);
-                let mut j = [[0.0; 2]; 2];
-                for (x, g) in v.iter().zip(g) {
-                    for (row, &xi) in j.iter_mut().zip(x) {
-                        row[0] += xi * g[0];
-                        row[1] += xi * g[1];
-                    }
+                let mut j = Matrix2::zeros();
+                for (x, g) in v.iter().zip(bilinear_gradients(xi, eta)) {
+                    j += Vector2::from(*x) * RowVector2::from(g);
                 }
                 j
             }
@@ -249,9 +248,9 @@ impl CellShape {
             let x = self.point(xi, eta);
             let r = [x[0] - p[0], x[1] - p[1]];
             let j = self.jacobian(xi, eta);
-            let det = j[0][0] * j[1][1] - j[0][1] * j[1][0];
-            let dxi = (j[1][1] * r[0] - j[0][1] * r[1]) / det;
-            let deta = (j[0][0] * r[1] - j[1][0] * r[0]) / det;
+            // J⁻¹ r = cof(J)ᵀ r / det J.
+            let d = cofactor(&j).transpose() * Vector2::from(r) / j.determinant();
+            let (dxi, deta) = (d.x, d.y);
             xi -= dxi;
             eta -= deta;
             if dxi.abs().max(deta.abs()) <= 1e-15 {
@@ -359,6 +358,13 @@ pub fn bilinear_gradients(xi: f64, eta: f64) -> [[f64; 2]; 4] {
         [-eta, 1.0 - xi],
         [eta, xi],
     ]
+}
+
+/// The cofactor matrix cof(J) = det J · J⁻ᵀ of a 2×2 matrix: J⁻ᵀ without the division, which
+/// the callers apply last, to the product (J⁻ᵀ∇̂φ̂ = cof(J) ∇̂φ̂ / det J; J⁻¹ = cof(J)ᵀ / det J).
+#[inline]
+pub fn cofactor(j: &Matrix2<f64>) -> Matrix2<f64> {
+    Matrix2::new(j.m22, -j.m21, -j.m12, j.m11)
 }
 
 /// The four faces of a cell, in the order used everywhere: x⁻, x⁺, y⁻, y⁺.
@@ -583,8 +589,7 @@ impl Mesh {
         for c in 0..(nx * ny) as CellId {
             let shape = mesh.cell_shape(c);
             for (xi, eta) in [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)] {
-                let j = shape.jacobian(xi, eta);
-                let det = j[0][0] * j[1][1] - j[0][1] * j[1][0];
+                let det = shape.jacobian(xi, eta).determinant();
                 if det.is_nan() || det <= 0.0 {
                     let (i, jj) = (c as usize % nx, c as usize / nx);
                     return Err(format!(
