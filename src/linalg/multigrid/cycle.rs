@@ -214,7 +214,7 @@ impl Preconditioner for MaskedCycle<'_> {
 
 /// The frame of a vertex's two dofs: `Some(n)` where they are its normal and tangential
 /// components (n·u, t·u with t = (−n₂, n₁)), as the contact solves rotate them
-/// ([`super::active_set::Rotation`]); `None` for Cartesian components.
+/// ([`crate::linalg::active_set::Rotation`]); `None` for Cartesian components.
 pub type Frame = Option<[f64; 2]>;
 
 /// Entry (c, c′) of R_v R_wᵀ, which takes the components of a vector in the frame of a coarse

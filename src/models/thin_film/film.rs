@@ -47,6 +47,9 @@ impl From<crate::experiment::CavitationSource> for CavitationSource {
 /// computed in loops over μ rather than by `[0, 1].map(..)`, whose closure the compiler called
 /// instead of inlining, with the wall data in memory (`cargo bench --bench load`: 380–530 ns per
 /// point for both loads with the [`Jet`] operations alone inlined, 110–210 with this).
+///
+/// [`ThinFilm`]: super::ThinFilm
+/// [`ThinFilm::film_jets`]: super::ThinFilm::film_jets
 #[derive(Debug, Clone, Copy)]
 pub struct FilmJets {
     /// Lower wall z₀.

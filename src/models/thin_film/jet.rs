@@ -29,6 +29,8 @@ const NAN3: [[[f64; 2]; 2]; 2] = [[[f64::NAN; 2]; 2]; 2];
 /// operands through memory (`cargo bench --bench load`: 850–1000 ns per point for both loads of
 /// an example, 380–530 with the operations inlined, 110–210 with the formulas of [`FilmJets`]
 /// inlined as well).
+///
+/// [`FilmJets`]: super::FilmJets
 #[derive(Debug, Clone, Copy)]
 pub struct Jet {
     /// Value f.
