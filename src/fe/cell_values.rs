@@ -8,9 +8,12 @@
 //! everything is computed with the rectangle's own closed formulas — the same arithmetic as the
 //! assemblers and estimators have always used there, so results on rectangles do not depend on
 //! which branch a quadrilateral needs. On a general quadrilateral gradients are J⁻ᵀ∇̂φ̂ and
-//! J×W = w·det J.
+//! J×W = w·det J. The 2×2 algebra of the map (J, det J, its cofactor matrix) is on nalgebra's
+//! fixed-size types, every entry computed by the same expression as the closed formulas.
 
-use crate::mesh::{bilinear, bilinear_gradients, CellShape};
+use nalgebra::Vector2;
+
+use crate::mesh::{bilinear, bilinear_gradients, cofactor, CellShape};
 
 /// Q₁ on one cell at the `N` points of a quadrature rule. Each quantity is computed when asked
 /// for, so a caller pays only for what it uses (an estimator that needs values and weights does
@@ -112,10 +115,7 @@ impl<'a, const N: usize> CellValues<'a, N> {
 fn det_j(shape: &CellShape, xi: f64, eta: f64) -> f64 {
     match *shape {
         CellShape::Rectangle { x0, y0, x1, y1 } => (x1 - x0) * (y1 - y0),
-        CellShape::Quadrilateral(_) => {
-            let j = shape.jacobian(xi, eta);
-            j[0][0] * j[1][1] - j[0][1] * j[1][0]
-        }
+        CellShape::Quadrilateral(_) => shape.jacobian(xi, eta).determinant(),
     }
 }
 
@@ -134,13 +134,8 @@ pub fn gradients(shape: &CellShape, xi: f64, eta: f64) -> [[f64; 2]; 4] {
         }
         CellShape::Quadrilateral(_) => {
             let j = shape.jacobian(xi, eta);
-            let det = j[0][0] * j[1][1] - j[0][1] * j[1][0];
-            bilinear_gradients(xi, eta).map(|g| {
-                [
-                    (j[1][1] * g[0] - j[1][0] * g[1]) / det,
-                    (-j[0][1] * g[0] + j[0][0] * g[1]) / det,
-                ]
-            })
+            let (cof, det) = (cofactor(&j), j.determinant());
+            bilinear_gradients(xi, eta).map(|g| (cof * Vector2::from(g) / det).into())
         }
     }
 }
@@ -187,13 +182,9 @@ pub fn hessian(shape: &CellShape, u: [f64; 4], xi: f64, eta: f64) -> [[f64; 2]; 
             let (_, g) = evaluate(shape, u, xi, eta);
             let m = mixed(u) - g[0] * mixed(x.map(|p| p[0])) - g[1] * mixed(x.map(|p| p[1]));
             let j = shape.jacobian(xi, eta);
-            let det = j[0][0] * j[1][1] - j[0][1] * j[1][0];
-            let k = [
-                [j[1][1] / det, -j[0][1] / det],
-                [-j[1][0] / det, j[0][0] / det],
-            ];
-            // H_ij = Σ_ab K_ai M_ab K_bj with M = [[0, m], [m, 0]].
-            let h = |i: usize, jj: usize| m * (k[0][i] * k[1][jj] + k[1][i] * k[0][jj]);
+            // K = J⁻¹; H_ij = Σ_ab K_ai M_ab K_bj with M = [[0, m], [m, 0]].
+            let k = cofactor(&j).transpose() / j.determinant();
+            let h = |i: usize, jj: usize| m * (k[(0, i)] * k[(1, jj)] + k[(1, i)] * k[(0, jj)]);
             [[h(0, 0), h(0, 1)], [h(1, 0), h(1, 1)]]
         }
     }
