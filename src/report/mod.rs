@@ -30,7 +30,6 @@ use std::io;
 use std::panic::{self, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 
-use crate::models::film_comparison;
 use crate::results::columns::PREVIOUS_ESTIMATE;
 use crate::results::{Row, RunResult};
 use crate::thesis::ThesisTable;
@@ -658,7 +657,7 @@ fn write_figures(
              (thesis Figs IV.112–IV.115, IV.143); max|ψ^S − ψ^R| is {} of max|ψ^R − ψ₀|",
             run.table,
             html::fmt_short(cuts.y),
-            film_comparison::relative_pressure_difference(cuts)
+            cuts.relative_pressure_difference()
                 .map_or("undefined".into(), |d| format!("{:.1} %", 100.0 * d)),
         );
         if let (Some(s), Some(r)) = (cuts.cavitated_substokes, cuts.cavitated_reynolds) {
