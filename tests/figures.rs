@@ -179,7 +179,10 @@ fn a_field_map_has_axes_and_names_its_thesis_figure() {
             [0.0, 2.0, 0.0, 1.0],
         )
     };
-    let dir = report_of("field", &run);
+    // The figure numbers come from the experiment file, as the report's caller passes them.
+    let mut thesis = no_thesis(&run.table, "");
+    thesis.figures = crate::common::spec("IV.36").figures;
+    let dir = crate::common::report_of("figures-field", &[(&run, &thesis)]).0;
     let svg = read(&dir, "figures/IV.36-field-psi.svg");
     assert!(svg.contains("<g class=\"axes\">"));
     for tick in [

@@ -91,6 +91,7 @@ pub fn load(path: &Path) -> Result<Experiment, ExperimentError> {
         notes,
         related,
         thesis,
+        figures,
     } = file;
     Ok(Experiment {
         table,
@@ -115,6 +116,7 @@ pub fn load(path: &Path) -> Result<Experiment, ExperimentError> {
         notes,
         related,
         thesis: thesis.unwrap_or_default(),
+        figures,
         parameters: super::parameters::of_file(&text),
         comparison,
     })

@@ -31,6 +31,7 @@ use std::panic::{self, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 
 use crate::results::columns::PREVIOUS_ESTIMATE;
+use crate::experiment::ThesisFigures;
 use crate::results::{Row, RunResult};
 use crate::thesis::ThesisTable;
 
@@ -310,77 +311,12 @@ pub(crate) fn thesis_figure(table: &str) -> Option<String> {
     table.strip_prefix("fig-").map(|f| format!("Fig. {f}"))
 }
 
-/// The thesis figures that show a table's run, as the text of Chapter IV assigns them: the
-/// adaptively refined grids, the solution on the last grid, and for the model-adaptive tables
-/// the refined model (the contact faces; with grid adaptivity, the grids with those faces).
-/// A part the thesis does not draw is `None`; a figure experiment (`fig-IV.54`) is its own
-/// figure in every part.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub(crate) struct ThesisFigures {
-    pub grids: Option<String>,
-    pub solution: Option<String>,
-    pub model: Option<String>,
-}
-
-/// The [`ThesisFigures`] of table `table` (`IV.7` → grids Fig. IV.12, solution Fig. IV.13).
-///
-/// The elasticity and contact tables IV.1–IV.17 have a figure of the grids and one of the
-/// deformed body each (IV.2 only the latter; before IV.9's comes the sketch of θ_s, Fig.
-/// IV.16); the model-adaptive Tables
-/// IV.18–IV.29 one of the refined model (IV.19 none), the model-and-grid-adaptive Tables
-/// IV.30–IV.35 one of the grids with the model; the Reynolds and SubStokes tables IV.36–IV.63
-/// and the cavitation tables IV.64–IV.75 a grids figure followed by the solution figure.
-pub(crate) fn thesis_figures(table: &str) -> ThesisFigures {
-    if let Some(fig) = thesis_figure(table) {
-        return ThesisFigures {
-            grids: Some(fig.clone()),
-            solution: Some(fig.clone()),
-            model: Some(fig),
-        };
-    }
-    let Some(n) = table
-        .strip_prefix("IV.")
-        .and_then(|n| n.parse::<u32>().ok())
-    else {
-        return ThesisFigures::default();
-    };
-    let fig = |k: u32| Some(format!("Fig. IV.{k}"));
-    let pair = |first: u32| ThesisFigures {
-        grids: fig(first),
-        solution: fig(first + 1),
-        model: None,
-    };
-    let model = |k: Option<u32>| ThesisFigures {
-        model: k.and_then(fig),
-        ..ThesisFigures::default()
-    };
-    match n {
-        1 => pair(1),
-        2 => ThesisFigures {
-            solution: fig(3),
-            ..ThesisFigures::default()
-        },
-        3..=8 => pair(4 + 2 * (n - 3)),
-        9..=17 => pair(17 + 2 * (n - 9)),
-        18 => model(Some(35)),
-        19 => model(None),
-        20..=29 => model(Some(36 + (n - 20))),
-        30..=35 => ThesisFigures {
-            grids: fig(46 + (n - 30)),
-            model: fig(46 + (n - 30)),
-            ..ThesisFigures::default()
-        },
-        36..=63 => pair(56 + 2 * (n - 36)),
-        64..=75 => pair(119 + 2 * (n - 64)),
-        _ => ThesisFigures::default(),
-    }
-}
-
-/// `" (cf. thesis Fig. IV.12)"` for a figure the thesis has, empty otherwise.
+/// `" (cf. thesis Fig. IV.12)"` for a figure the thesis draws (a number of the experiment's
+/// `[figures]`), empty otherwise.
 fn cf(figure: &Option<String>) -> String {
     figure
         .as_ref()
-        .map_or(String::new(), |f| format!(" (cf. thesis {f})"))
+        .map_or(String::new(), |f| format!(" (cf. thesis Fig. {f})"))
 }
 
 /// Which estimate a run's `estimate` column holds: the symbol with the norm it bounds, short
@@ -468,7 +404,7 @@ fn write_figures(
     let run = section.run;
     let stem = file_stem(&run.table);
     let load_steps = run.is_load_steps();
-    let thesis = thesis_figures(&run.table);
+    let thesis = &section.thesis.figures;
     let eta = estimate_name(run);
     let mut figures = Vec::new();
     let mut push = |kind: &str, caption: String| -> PathBuf {
@@ -601,7 +537,7 @@ fn write_figures(
     // The animation of a load-step run and its frames, listed under it once `push` is done.
     let mut animation = None;
     if load_steps && !run.deformed.is_empty() {
-        let path = push("animation", animation_caption(run));
+        let path = push("animation", animation_caption(run, thesis));
         let frames = forming::frames(fig_dir, &stem, run, &path)?;
         animation = Some((path, frames));
     } else {
@@ -754,7 +690,7 @@ fn related_figures(
 }
 
 /// The caption of a load-step run's animation.
-fn animation_caption(run: &RunResult) -> String {
+fn animation_caption(run: &RunResult, thesis: &ThesisFigures) -> String {
     let steps = run.deformed.len();
     let signorini = if run.deformed.iter().any(|p| !p.accurate_faces.is_empty()) {
         ", Signorini faces thick black"
@@ -768,7 +704,7 @@ fn animation_caption(run: &RunResult) -> String {
         run.table,
         if steps == 1 { "" } else { "s" },
         html::fmt_short(forming::FRAME_SECONDS),
-        cf(&thesis_figures(&run.table).solution)
+        cf(&thesis.solution)
     )
 }
 
@@ -1015,6 +951,29 @@ mod tests {
         assert_eq!(rel_diff(1.0, 0.0), None);
         assert_eq!(rel_diff(1.0, f64::INFINITY), None);
         assert!((rel_diff(1.1, 1.0).unwrap() - 0.1).abs() < 1e-12);
+    }
+
+    /// The figure numbers come from the experiment files: a pair of grids and solution, a
+    /// table the thesis draws only once or not at all, and a figure experiment that is its own
+    /// figure in every part.
+    #[test]
+    fn figure_numbers_come_from_the_experiment_files() {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments");
+        let only: Vec<String> = ["IV.2", "IV.7", "IV.19", "IV.30", "fig-IV.54"]
+            .map(String::from)
+            .to_vec();
+        let experiments = crate::experiment::load_dir(&dir, Some(&only)).unwrap();
+        let figures = |id: &str| {
+            let e = experiments.iter().find(|e| e.table == id).unwrap();
+            let f = &e.figures;
+            [&f.grids, &f.solution, &f.model].map(|f| f.as_deref().map(|f| cf(&Some(f.into()))))
+        };
+        let cited = |f: &str| Some(format!(" (cf. thesis Fig. {f})"));
+        assert_eq!(figures("IV.7"), [cited("IV.12"), cited("IV.13"), None]);
+        assert_eq!(figures("IV.2"), [None, cited("IV.3"), None]);
+        assert_eq!(figures("IV.19"), [None, None, None]);
+        assert_eq!(figures("IV.30"), [cited("IV.46"), None, cited("IV.46")]);
+        assert_eq!(figures("fig-IV.54"), [cited("IV.54"), cited("IV.54"), cited("IV.54")]);
     }
 
     fn row(cycle: usize, estimate: f64, previous: Option<f64>) -> Row {

@@ -2135,6 +2135,7 @@ mod tests {
             duplicate_of: None,
             additive_part: None,
             comparison: Default::default(),
+            figures: Default::default(),
         };
         for rows in [
             vec![],
