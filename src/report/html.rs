@@ -236,7 +236,7 @@ pub(crate) fn page(entries: &[Entry], figures: &[SectionFigures], meta: &ReportM
             Entry::Failed(f) => f.table.as_str(),
         };
         if let Some(family) = families::family_of(table) {
-            if boxes_shown.insert(family.id) {
+            if boxes_shown.insert(family.id.as_str()) {
                 family_box(&mut h, family);
             }
         }
@@ -927,7 +927,7 @@ fn readings(h: &mut String, table: &str, notes: &[String]) {
             h,
             "<p class=\"family-link\">{what}: <a href=\"#{}\">{}</a>.</p>",
             f.id,
-            escape(f.name)
+            escape(&f.name)
         );
     }
     if !found.is_empty() {
@@ -937,8 +937,8 @@ fn readings(h: &mut String, table: &str, notes: &[String]) {
                 h,
                 "{}<a href=\"#{}\">{}</a>",
                 if i == 0 { "" } else { " · " },
-                escape(e.id),
-                escape(e.title)
+                escape(&e.id),
+                escape(&e.title)
             );
         }
         h.push_str(".</p>\n");
@@ -953,16 +953,21 @@ fn family_box(h: &mut String, family: &Family) {
         "<section id=\"{}\" class=\"family\">\n<h2>{} — model and conventions</h2>\n\
          <p class=\"meta\">{}</p>\n<dl class=\"model\">\n",
         family.id,
-        escape(family.name),
-        escape(family.sections)
+        escape(&family.name),
+        escape(&family.sections)
     );
-    for (head, text) in family.model {
-        let _ = writeln!(h, "<dt>{}</dt><dd>{}</dd>", escape(head), escape(text));
+    for item in &family.model {
+        let _ = writeln!(
+            h,
+            "<dt>{}</dt><dd>{}</dd>",
+            escape(&item.heading),
+            escape(&item.text)
+        );
     }
     h.push_str("</dl>\n");
     if !family.notes.is_empty() {
         h.push_str("<h3>Notes shared by the family</h3>\n<ul class=\"notes\">\n");
-        for n in family.notes {
+        for n in &family.notes {
             let tables = if n.tables.is_empty() {
                 "All tables".to_string()
             } else {
@@ -972,7 +977,7 @@ fn family_box(h: &mut String, family: &Family) {
                     .collect::<Vec<_>>()
                     .join(", ")
             };
-            let _ = writeln!(h, "<li><b>{}:</b> {}</li>", escape(&tables), escape(n.text));
+            let _ = writeln!(h, "<li><b>{}:</b> {}</li>", escape(&tables), escape(&n.text));
         }
         h.push_str("</ul>\n");
     }
@@ -1071,7 +1076,7 @@ fn errata_section(h: &mut String, entries: &[Entry]) {
          between text and tables, garbled or missing formulas — with the evidence and the reading \
          tribo uses.</p>\n",
     );
-    for e in errata::ERRATA {
+    for e in errata::errata() {
         erratum_entry(h, e, &on_page);
     }
     h.push_str("</section>\n");
@@ -1082,7 +1087,7 @@ fn erratum_entry(h: &mut String, e: &Erratum, on_page: &BTreeSet<&str>) {
         .tables
         .iter()
         .map(|t| {
-            if on_page.contains(t) {
+            if on_page.contains(t.as_str()) {
                 format!("<a href=\"#{}\">{}</a>", anchor(t), escape(&entry_name(t)))
             } else {
                 escape(&entry_name(t))
@@ -1094,12 +1099,12 @@ fn erratum_entry(h: &mut String, e: &Erratum, on_page: &BTreeSet<&str>) {
         h,
         "<div class=\"erratum\" id=\"{}\">\n<h3>{}</h3>\n<p class=\"meta\">{} · affects {}</p>\n\
          <p><b>Evidence.</b> {}</p>\n<p><b>Reading.</b> {}</p>\n</div>",
-        escape(e.id),
-        escape(e.title),
+        escape(&e.id),
+        escape(&e.title),
         e.kind.name(),
         tables,
-        escape(e.evidence),
-        escape(e.reading)
+        escape(&e.evidence),
+        escape(&e.reading)
     );
 }
 

@@ -2025,7 +2025,7 @@ pub fn solve_cost(path: &Path, runs: &[&RunResult]) -> io::Result<()> {
     ];
     let mut points: [Vec<(f64, f64)>; 4] = Default::default();
     for run in runs {
-        let family = super::families::family_of(&run.table).map(|f| f.id);
+        let family = super::families::family_of(&run.table).map(|f| f.id.as_str());
         for row in &run.rows {
             let Some(dofs) = row.dofs() else { continue };
             let multigrid = row
