@@ -128,7 +128,10 @@ pub fn parse(text: &str) -> Result<ErrataFile, String> {
     let mut anchors = std::collections::BTreeSet::new();
     for e in &file.erratum {
         if !e.id.starts_with("erratum-") || !anchors.insert(e.id.as_str()) {
-            return Err(format!("erratum {}: the id must be new and start with erratum-", e.id));
+            return Err(format!(
+                "erratum {}: the id must be new and start with erratum-",
+                e.id
+            ));
         }
         if e.tables.is_empty() {
             return Err(format!("erratum {} affects no table", e.id));
