@@ -220,6 +220,22 @@ pub fn field(path: &Path, table: &str, pic: &FieldPicture, domain: [f64; 4]) -> 
     );
     axes(&mut svg, &f);
 
+    colour_bar(&mut svg, margin, bar_top, bar_w, (lo, hi), pic, undefined);
+    svg.push_str("</svg>\n");
+    fs::write(path, svg)
+}
+
+/// The colour bar of a field picture from `lo` to `hi` (five ticks, the field's name), and below
+/// it the legend of the zone and of the `undefined` cells without a finite value.
+fn colour_bar(
+    svg: &mut String,
+    margin: f64,
+    bar_top: f64,
+    bar_w: f64,
+    (lo, hi): (f64, f64),
+    pic: &FieldPicture,
+    undefined: usize,
+) {
     // Colour bar with five ticks.
     let _ = writeln!(
         svg,
@@ -239,7 +255,7 @@ pub fn field(path: &Path, table: &str, pic: &FieldPicture, domain: [f64; 4]) -> 
             _ => "middle",
         };
         text(
-            &mut svg,
+            svg,
             x,
             bar_top + 35.0,
             12.0,
@@ -248,7 +264,7 @@ pub fn field(path: &Path, table: &str, pic: &FieldPicture, domain: [f64; 4]) -> 
         );
     }
     text(
-        &mut svg,
+        svg,
         margin + bar_w + 14.0,
         bar_top + 13.0,
         14.0,
@@ -263,7 +279,7 @@ pub fn field(path: &Path, table: &str, pic: &FieldPicture, domain: [f64; 4]) -> 
             legend_y - 11.0
         );
         text(
-            &mut svg,
+            svg,
             margin + 30.0,
             legend_y,
             13.0,
@@ -273,7 +289,7 @@ pub fn field(path: &Path, table: &str, pic: &FieldPicture, domain: [f64; 4]) -> 
     }
     if undefined > 0 {
         text(
-            &mut svg,
+            svg,
             margin + 320.0,
             legend_y,
             13.0,
@@ -281,8 +297,6 @@ pub fn field(path: &Path, table: &str, pic: &FieldPicture, domain: [f64; 4]) -> 
             &format!("grey: {undefined} cells without a finite value"),
         );
     }
-    svg.push_str("</svg>\n");
-    fs::write(path, svg)
 }
 
 /// A field (ψ, the cavitation zone, …) on the active cells after its cycle, one per field.

@@ -273,28 +273,7 @@ pub fn meshes(
     partitions: &[PartitionPicture],
 ) -> io::Result<()> {
     let signorini = |body: &mut String, cycle: usize, frame: &Frame| {
-        let Some(p) = partitions.iter().find(|p| p.cycle == cycle) else {
-            return;
-        };
-        for f in p.faces.iter().filter(|f| f.accurate) {
-            let y = if f.side == "top" {
-                domain[3]
-            } else {
-                domain[2]
-            };
-            let (a, b) = (f.x0.max(frame.win[0]), f.x1.min(frame.win[1]));
-            if a < b && (frame.win[2]..=frame.win[3]).contains(&y) {
-                let _ = writeln!(
-                    body,
-                    "<line x1=\"{:.2}\" y1=\"{:.2}\" x2=\"{:.2}\" y2=\"{:.2}\" stroke=\"#000\" \
-                     stroke-width=\"4\"/>",
-                    frame.px(a),
-                    frame.py(y),
-                    frame.px(b),
-                    frame.py(y)
-                );
-            }
-        }
+        signorini_faces(body, partitions, domain, cycle, frame)
     };
     let Some(win) = picture_window(domain, meshes.iter().flat_map(|m| &m.cells)) else {
         return placeholder(path, "mesh", "no cells with a finite extent to draw");
@@ -373,31 +352,7 @@ pub fn meshes(
                     "<rect x=\"{:.1}\" y=\"{:.1}\" width=\"{:.1}\" height=\"{:.1}\" fill=\"none\" stroke=\"#d62728\" stroke-width=\"1.5\"/>",
                     detail.left, detail.top, detail.width(), detail.height()
                 );
-                text(
-                    &mut body,
-                    left + detail_w + 16.0,
-                    y + 18.0,
-                    14.0,
-                    "start",
-                    &format!(
-                        "detail: x₁ ∈ [{}, {}], x₂ ∈ [{}, {}]",
-                        fmt_short(dwin[0]),
-                        fmt_short(dwin[1]),
-                        fmt_short(dwin[2]),
-                        fmt_short(dwin[3])
-                    ),
-                );
-                text(
-                    &mut body,
-                    left + detail_w + 16.0,
-                    y + 38.0,
-                    14.0,
-                    "start",
-                    &format!(
-                        "around the finest cells (level {level}, width {})",
-                        fmt_short(finest)
-                    ),
-                );
+                detail_caption(&mut body, left + detail_w + 16.0, y, dwin, (level, finest));
                 y += detail.height() + AXIS_BELOW;
             }
             y += 14.0;
@@ -436,6 +391,69 @@ pub fn meshes(
     svg.push_str(&body);
     svg.push_str("</svg>\n");
     fs::write(path, svg)
+}
+
+/// The Signorini faces of `partitions` in cycle `cycle` as thick black lines on the side of the
+/// domain they lie on, within `frame`.
+fn signorini_faces(
+    body: &mut String,
+    partitions: &[PartitionPicture],
+    domain: [f64; 4],
+    cycle: usize,
+    frame: &Frame,
+) {
+    let Some(p) = partitions.iter().find(|p| p.cycle == cycle) else {
+        return;
+    };
+    for f in p.faces.iter().filter(|f| f.accurate) {
+        let y = if f.side == "top" {
+            domain[3]
+        } else {
+            domain[2]
+        };
+        let (a, b) = (f.x0.max(frame.win[0]), f.x1.min(frame.win[1]));
+        if a < b && (frame.win[2]..=frame.win[3]).contains(&y) {
+            let _ = writeln!(
+                body,
+                "<line x1=\"{:.2}\" y1=\"{:.2}\" x2=\"{:.2}\" y2=\"{:.2}\" stroke=\"#000\" \
+                 stroke-width=\"4\"/>",
+                frame.px(a),
+                frame.py(y),
+                frame.px(b),
+                frame.py(y)
+            );
+        }
+    }
+}
+
+/// The two lines beside a detail of a strip, at `x` and from `y` down: its window, and the
+/// level and width of the finest cells it is centred on.
+fn detail_caption(body: &mut String, x: f64, y: f64, dwin: [f64; 4], (level, finest): (u8, f64)) {
+    text(
+        body,
+        x,
+        y + 18.0,
+        14.0,
+        "start",
+        &format!(
+            "detail: x₁ ∈ [{}, {}], x₂ ∈ [{}, {}]",
+            fmt_short(dwin[0]),
+            fmt_short(dwin[1]),
+            fmt_short(dwin[2]),
+            fmt_short(dwin[3])
+        ),
+    );
+    text(
+        body,
+        x,
+        y + 38.0,
+        14.0,
+        "start",
+        &format!(
+            "around the finest cells (level {level}, width {})",
+            fmt_short(finest)
+        ),
+    );
 }
 
 /// The active cells after the drawn cycles (not of a load-step run: its cells move).

@@ -665,20 +665,24 @@ pub(super) fn axes(svg: &mut String, f: &Frame) {
 #[cfg(test)]
 pub(super) fn test_run(
     rows: Vec<crate::results::Row>,
-    deformed: Vec<DeformedPicture>,
+    deformed: Vec<crate::results::DeformedPicture>,
     domain: [f64; 4],
-) -> RunResult {
-    RunResult {
+) -> crate::results::RunResult {
+    crate::results::RunResult {
         rows,
         deformed,
-        ..RunResult::new("T", "S", "t", "quick", domain)
+        ..crate::results::RunResult::new("T", "S", "t", "quick", domain)
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::results::Row;
+    use crate::report::convergence::{convergence, cost};
+    use crate::report::deformed::deformed;
+    use crate::report::field::field;
+    use crate::report::meshes::meshes;
+    use crate::results::{DeformedPicture, FieldPicture, MeshPicture, Row};
 
     #[test]
     fn log_axis_labels_a_range_without_a_power_of_ten() {

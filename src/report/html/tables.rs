@@ -236,56 +236,7 @@ pub(super) fn comparison_table(h: &mut String, s: &Section) {
         row_of_cycle.entry(r.cycle).or_insert(i);
     }
 
-    h.push_str(
-        "<p class=\"legend\">Each printed column as tribo | thesis | Δ = tribo/thesis − 1; \
-         <span class=\"swatch\"></span> |Δ| beyond 3 % (cells, dofs) or 5 % (other columns). \
-         — : not computed in this tier or not printed.</p>\n",
-    );
-    let order = super::Summary::of(s);
-    if order.order.is_some() || order.thesis_order.is_some() {
-        let _ = writeln!(
-            h,
-            "<p class=\"legend\">Experimental order of convergence, the least-squares slope of \
-             log estimate against log dofs over the rows: tribo {}, thesis {} (−½ is optimal \
-             for Q₁ elements in two dimensions).</p>",
-            order.order.map_or("—".into(), fmt_order),
-            order.thesis_order.map_or("—".into(), fmt_order),
-        );
-    }
-    if thesis.len() > MAX_SHOWN_THESIS_ROWS {
-        let _ = writeln!(
-            h,
-            "<p class=\"legend\">The thesis table has {} printed rows: the first {} are shown \
-             here and in the figures, {} are left out.</p>",
-            thesis.len(),
-            MAX_SHOWN_THESIS_ROWS,
-            thesis.len() - MAX_SHOWN_THESIS_ROWS
-        );
-    }
-    if shifted {
-        h.push_str(
-            "<p class=\"legend\">The thesis prints each row's mesh after refinement next to the \
-             estimate of the solve before it; its estimate and ratio are compared with tribo's \
-             estimate of the previous solve (column estimate_previous_mesh).</p>\n",
-        );
-    }
-    if extra.iter().any(|(n, _)| n == THEOREM_ESTIMATE) {
-        h.push_str(
-            "<p class=\"legend\">The estimate columns and the marking use the volume residual \
-             that reproduces the thesis's printed estimates (estimator = \"thesis-code\", see \
-             the notes); the column \"estimate of the theorem as stated\" is the estimator of \
-             Theorem III.16/III.17 with every term, on the printed mesh.</p>\n",
-        );
-    }
-    if let Some(p) = part {
-        let _ = writeln!(
-            h,
-            "<p class=\"legend\">{t} prints a mesh-independent part of the thesis's estimate \
-             alone; the column tribo/√(thesis² − {t}²) compares tribo with the printed estimate \
-             without that part.</p>",
-            t = escape(&p.table)
-        );
-    }
+    comparison_legends(h, s, shifted, &extra, part);
     h.push_str("<div class=\"scroll\"><table>\n<thead><tr><th rowspan=\"2\">cycle</th>");
     for c in &compared {
         let label = if shifted && matches!(*c, "estimate" | "ratio") {
@@ -369,46 +320,120 @@ pub(super) fn comparison_table(h: &mut String, s: &Section) {
         if part.is_some() {
             h.push_str(&ratio_cell(ratio_to(thesis.estimate_without_part(cycle))));
         }
-        for (i, (n, integer)) in extra.iter().enumerate() {
-            let class = if i == 0 { "first" } else { "" };
-            let v = row.and_then(|r| match n.as_str() {
-                "ratio" => r.ratio(),
-                PREVIOUS_ESTIMATE if shifted => r.estimate(),
-                _ => r.value(n),
-            });
-            let _ = match v {
-                Some(v) if *integer && v.fract() == 0.0 => {
-                    write!(h, "<td class=\"{class}\">{v:.0}</td>")
-                }
-                Some(v) => write!(h, "<td class=\"{class}\">{}</td>", fmt_sig(v)),
-                None if n == "ratio" && row.is_some() => write!(h, "<td class=\"{class}\">–</td>"),
-                None => write!(h, "<td class=\"{class} na\">—</td>"),
-            };
-        }
-        match row {
-            Some(r) => {
-                let s = r.seconds;
-                for (i, v) in [
-                    s.setup,
-                    s.assemble,
-                    s.solve,
-                    s.estimate,
-                    s.refine,
-                    s.total(),
-                ]
-                .into_iter()
-                .enumerate()
-                {
-                    let class = if i == 0 { " class=\"first\"" } else { "" };
-                    let _ = write!(h, "<td{class}>{v:.3}</td>");
-                }
-            }
-            None => {
-                h.push_str("<td class=\"first na\">—</td>");
-                h.push_str(&"<td class=\"na\">—</td>".repeat(5));
-            }
-        }
+        tribo_only_cells(h, row, &extra, shifted);
+        seconds_cells(h, row);
         h.push_str("</tr>\n");
     }
     h.push_str("</tbody></table></div>\n");
+}
+
+/// The legends above a comparison table: how to read it, the orders of convergence, the printed
+/// rows left out, and what the shifted, theorem and additive-part columns mean.
+fn comparison_legends(
+    h: &mut String,
+    s: &Section,
+    shifted: bool,
+    extra: &[(String, bool)],
+    part: Option<&crate::experiment::AdditivePart>,
+) {
+    let thesis = s.thesis;
+    h.push_str(
+        "<p class=\"legend\">Each printed column as tribo | thesis | Δ = tribo/thesis − 1; \
+         <span class=\"swatch\"></span> |Δ| beyond 3 % (cells, dofs) or 5 % (other columns). \
+         — : not computed in this tier or not printed.</p>\n",
+    );
+    let order = super::Summary::of(s);
+    if order.order.is_some() || order.thesis_order.is_some() {
+        let _ = writeln!(
+            h,
+            "<p class=\"legend\">Experimental order of convergence, the least-squares slope of \
+             log estimate against log dofs over the rows: tribo {}, thesis {} (−½ is optimal \
+             for Q₁ elements in two dimensions).</p>",
+            order.order.map_or("—".into(), fmt_order),
+            order.thesis_order.map_or("—".into(), fmt_order),
+        );
+    }
+    if thesis.len() > MAX_SHOWN_THESIS_ROWS {
+        let _ = writeln!(
+            h,
+            "<p class=\"legend\">The thesis table has {} printed rows: the first {} are shown \
+             here and in the figures, {} are left out.</p>",
+            thesis.len(),
+            MAX_SHOWN_THESIS_ROWS,
+            thesis.len() - MAX_SHOWN_THESIS_ROWS
+        );
+    }
+    if shifted {
+        h.push_str(
+            "<p class=\"legend\">The thesis prints each row's mesh after refinement next to the \
+             estimate of the solve before it; its estimate and ratio are compared with tribo's \
+             estimate of the previous solve (column estimate_previous_mesh).</p>\n",
+        );
+    }
+    if extra.iter().any(|(n, _)| n == THEOREM_ESTIMATE) {
+        h.push_str(
+            "<p class=\"legend\">The estimate columns and the marking use the volume residual \
+             that reproduces the thesis's printed estimates (estimator = \"thesis-code\", see \
+             the notes); the column \"estimate of the theorem as stated\" is the estimator of \
+             Theorem III.16/III.17 with every term, on the printed mesh.</p>\n",
+        );
+    }
+    if let Some(p) = part {
+        let _ = writeln!(
+            h,
+            "<p class=\"legend\">{t} prints a mesh-independent part of the thesis's estimate \
+             alone; the column tribo/√(thesis² − {t}²) compares tribo with the printed estimate \
+             without that part.</p>",
+            t = escape(&p.table)
+        );
+    }
+}
+
+/// The tribo-only cells of a comparison row (`extra`: the column names, and whether each holds
+/// counts); `–` for the first ratio, `—` where the row or value is missing.
+fn tribo_only_cells(h: &mut String, row: Option<&Row>, extra: &[(String, bool)], shifted: bool) {
+    for (i, (n, integer)) in extra.iter().enumerate() {
+        let class = if i == 0 { "first" } else { "" };
+        let v = row.and_then(|r| match n.as_str() {
+            "ratio" => r.ratio(),
+            PREVIOUS_ESTIMATE if shifted => r.estimate(),
+            _ => r.value(n),
+        });
+        let _ = match v {
+            Some(v) if *integer && v.fract() == 0.0 => {
+                write!(h, "<td class=\"{class}\">{v:.0}</td>")
+            }
+            Some(v) => write!(h, "<td class=\"{class}\">{}</td>", fmt_sig(v)),
+            None if n == "ratio" && row.is_some() => write!(h, "<td class=\"{class}\">–</td>"),
+            None => write!(h, "<td class=\"{class} na\">—</td>"),
+        };
+    }
+}
+
+/// The seconds of a comparison row per phase and in total; `—` for a printed cycle tribo did not
+/// compute.
+fn seconds_cells(h: &mut String, row: Option<&Row>) {
+    match row {
+        Some(r) => {
+            let s = r.seconds;
+            for (i, v) in [
+                s.setup,
+                s.assemble,
+                s.solve,
+                s.estimate,
+                s.refine,
+                s.total(),
+            ]
+            .into_iter()
+            .enumerate()
+            {
+                let class = if i == 0 { " class=\"first\"" } else { "" };
+                let _ = write!(h, "<td{class}>{v:.3}</td>");
+            }
+        }
+        None => {
+            h.push_str("<td class=\"first na\">—</td>");
+            h.push_str(&"<td class=\"na\">—</td>".repeat(5));
+        }
+    }
 }
