@@ -7,9 +7,12 @@
 //! [`remove_outputs`] keep the output folder honest: writable before anything is solved, and no
 //! stale files of a table that failed today.
 //!
-//! The module is split by job: this file decides *what* is compared and which figures a section
-//! gets, `plots` draws the figures (`model_plots` those of the model-adaptive tables, `forming`
-//! those of a load-step run, Fig. IV.54), `html` lays out the page.
+//! The module is split by job: this file decides *what* is compared; `figures` decides which
+//! figures a section gets, one kind per module (`convergence`, `meshes`, `deformed`, `field`,
+//! `model_plots` for the model-adaptive tables, `forming` for a load-step run, Fig. IV.54, `film`
+//! for the film comparisons and Fig. III.6, `performance` for the page's solve cost), drawn with
+//! the shared helpers of `plots`; `html` lays out the page; `errata` and `families` read their
+//! texts from `text/*.toml`.
 
 mod convergence;
 pub mod data;
