@@ -296,8 +296,12 @@ pub(super) fn deformed_drawing(
         f.height()
     );
 
-    // Legend (only for pictures with an obstacle or Signorini faces) and caption under the
-    // picture.
+    deformed_legend(svg, pic, f, margin);
+}
+
+/// The legend under a deformed-body picture (only for one with an obstacle or Signorini faces)
+/// and its caption; `margin` is the picture's left margin.
+fn deformed_legend(svg: &mut String, pic: &DeformedPicture, f: &Frame, margin: f64) {
     let y = f.top + f.height() + AXIS_BELOW + 22.0;
     if !pic.obstacles.is_empty() {
         let _ = writeln!(

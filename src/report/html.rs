@@ -826,7 +826,6 @@ fn claim_paragraph(h: &mut String, costs: &[crate::results::CostRow]) {
 }
 
 #[cfg(test)]
-
 mod tests {
     use super::*;
 
