@@ -12,6 +12,7 @@ pub mod experiment;
 pub mod fe;
 pub mod heap;
 pub mod linalg;
+pub mod machine;
 pub mod mesh;
 pub mod models;
 pub mod report;

@@ -412,6 +412,22 @@ impl Cuts {
             .find(|(n, _)| n == name)
             .map(|(_, v)| v.as_slice())
     }
+
+    /// max|ψ^S − ψ^R| over the cut relative to max|ψ^R − ψ₀|, the measure of §IV.3.3's
+    /// comparison; `None` without both models' pressure or where ψ^R is ψ₀ along the whole cut.
+    pub fn relative_pressure_difference(&self) -> Option<f64> {
+        let boundary_pressure = self.boundary_pressure;
+        let s = self.column("psi_substokes")?;
+        let r = self.column("psi_reynolds")?;
+        let diff = s
+            .iter()
+            .zip(r)
+            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+        let scale = r
+            .iter()
+            .fold(0.0f64, |m, b| m.max((b - boundary_pressure).abs()));
+        (scale > 0.0).then(|| diff / scale)
+    }
 }
 
 /// One outer iteration of a Uzawa run of a solver study (Fig. III.6; the module docs of

@@ -2,7 +2,7 @@
 
 use serde::Serialize;
 
-use crate::experiment::{AdditivePart, Comparison, Experiment};
+use crate::experiment::{AdditivePart, Comparison, Experiment, ThesisFigures};
 
 /// One printed Chapter IV table.
 #[derive(Clone, Debug, Serialize, PartialEq)]
@@ -23,6 +23,9 @@ pub struct ThesisTable {
     /// scene of the user's own has no printed rows here (nothing is scored), and the report
     /// says why.
     pub comparison: Comparison,
+    /// The thesis figures that show the run, from the experiment file (also for an edited
+    /// experiment: its figures are still the thesis's nearest pictures).
+    pub figures: ThesisFigures,
 }
 
 impl ThesisTable {
@@ -42,6 +45,7 @@ impl ThesisTable {
                 duplicate_of: None,
                 additive_part: None,
                 comparison: experiment.comparison.clone(),
+                figures: experiment.figures.clone(),
             };
         }
         ThesisTable {
@@ -52,6 +56,7 @@ impl ThesisTable {
             duplicate_of: experiment.thesis.duplicate_of.clone(),
             additive_part: experiment.thesis.additive_part.clone(),
             comparison: Comparison::Printed,
+            figures: experiment.figures.clone(),
         }
     }
 

@@ -316,6 +316,7 @@ pub fn no_thesis(table: &str, section: &str) -> ThesisTable {
         duplicate_of: None,
         additive_part: None,
         comparison: Default::default(),
+        figures: Default::default(),
     }
 }
 

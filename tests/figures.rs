@@ -11,7 +11,14 @@ use tribo::results::{CellBox, DeformedPicture, FieldPicture, MeshPicture, Row, R
 
 /// The report of one run in a fresh folder `name`; every figure must be drawn.
 fn report_of(name: &str, run: &RunResult) -> PathBuf {
-    let thesis = no_thesis(&run.table, "");
+    let mut thesis = no_thesis(&run.table, "");
+    // The thesis figures a caption cites come from the experiment file, as in a real run.
+    let file = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("experiments")
+        .join(format!("{}.toml", run.table));
+    if file.exists() {
+        thesis.figures = crate::common::spec(&run.table).figures;
+    }
     crate::common::report_of(&format!("figures-{name}"), &[(run, &thesis)]).0
 }
 

@@ -391,6 +391,7 @@ fn control_characters_in_titles_notes_columns_and_messages_are_escaped() {
         duplicate_of: None,
         additive_part: None,
         comparison: Default::default(),
+        figures: Default::default(),
     };
     let failure = Failure {
         table: "IV.2".into(),
@@ -454,6 +455,7 @@ fn many_thesis_rows_render_in_linear_time_and_are_bounded() {
         duplicate_of: None,
         additive_part: None,
         comparison: Default::default(),
+        figures: Default::default(),
     };
     let run = run_result("many printed rows", &[], 4);
     let dir = temp_dir("many-rows");

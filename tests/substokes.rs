@@ -342,13 +342,12 @@ pub fn full_tier_rules(table: &str, r: &RunResult) {
 /// on 32×32 in an independent check).
 #[test]
 fn reynolds_on_the_last_mesh_along_the_cut() {
-    use tribo::models::film_comparison::relative_pressure_difference;
     for (table, limit) in [("IV.50", 0.03), ("IV.53", 0.08)] {
         let r = quick(table);
         let cuts = r.cuts.as_ref().expect("cuts");
         assert_eq!(cuts.column("x").unwrap().len(), 101, "{table}");
         assert_eq!(cuts.y, 0.5);
-        let d = relative_pressure_difference(cuts).unwrap();
+        let d = cuts.relative_pressure_difference().unwrap();
         assert!(d <= limit, "{table}: {d}");
     }
     assert_eq!(

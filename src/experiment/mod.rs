@@ -43,6 +43,8 @@ pub struct Experiment {
     /// Tables of the same scene solved another way ([`ExperimentFile::related`]).
     pub related: Vec<String>,
     pub thesis: ThesisRows,
+    /// The thesis figures that show the run ([`ThesisFigures`]).
+    pub figures: ThesisFigures,
     /// The `[scene]` and `[study]` keys as the file writes them, for the report
     /// ([`parameters::of_file`]).
     pub parameters: Vec<crate::results::Parameter>,

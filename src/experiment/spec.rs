@@ -42,6 +42,10 @@ pub struct ExperimentFile {
     /// The printed table; a figure experiment and a scene of the user's own have none.
     #[serde(default)]
     pub thesis: Option<ThesisRows>,
+    /// The thesis figures that show this run ([`ThesisFigures`]); none where the thesis draws
+    /// none. Not part of what the thesis computed, so not fingerprinted.
+    #[serde(default)]
+    pub figures: ThesisFigures,
 }
 
 /// An effect a scene asks the pipeline to simulate. Only the named effects are built.
@@ -786,6 +790,48 @@ pub struct ThesisRows {
     /// √(thesis² − part²).
     #[serde(default)]
     pub additive_part: Option<AdditivePart>,
+}
+
+/// The thesis figures that show a table's run (`[figures]` of the file), as the text of Chapter
+/// IV assigns them: the adaptively refined grids, the solution on the last grid, and for the
+/// model-adaptive tables the refined model (the contact faces; with grid adaptivity, the grids
+/// with those faces). A part the thesis does not draw is left out; a figure experiment
+/// (`fig-IV.54`) is its own figure in every part. Each is a figure number such as `IV.12`,
+/// which the report cites as "Fig. IV.12".
+#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ThesisFigures {
+    #[serde(default, deserialize_with = "figure_number")]
+    pub grids: Option<String>,
+    #[serde(default, deserialize_with = "figure_number")]
+    pub solution: Option<String>,
+    #[serde(default, deserialize_with = "figure_number")]
+    pub model: Option<String>,
+}
+
+/// A thesis figure number: a chapter in Roman numerals, a dot and a number (`IV.12`, `III.6`).
+fn figure_number<'de, D>(deserializer: D) -> Result<Option<String>, D::Error>
+where
+    D: Deserializer<'de>,
+{
+    let Some(number) = Option::<String>::deserialize(deserializer)? else {
+        return Ok(None);
+    };
+    let valid = number.split_once('.').is_some_and(|(chapter, n)| {
+        !chapter.is_empty()
+            && chapter.chars().all(|c| matches!(c, 'I' | 'V' | 'X'))
+            && !n.is_empty()
+            && n.len() <= 4
+            && n.chars().all(|c| c.is_ascii_digit())
+    });
+    if valid {
+        Ok(Some(number))
+    } else {
+        Err(D::Error::invalid_value(
+            serde::de::Unexpected::Str(&number),
+            &"a thesis figure number such as \"IV.12\"",
+        ))
+    }
 }
 
 /// Reference data for [`ThesisRows::additive_part`]: the printed estimates of the other table,

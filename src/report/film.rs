@@ -10,6 +10,7 @@ use std::path::Path;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
+use super::figures::{Drawing, Figure, Figures};
 use super::html::fmt_short;
 use super::plots::{
     log_range, log_tick, loggable, plot_err, series_legend, write_log_log, Curve, NiceLog,
@@ -375,4 +376,140 @@ pub(super) fn related_cost(path: &Path, run: &RunResult, related: &[&RunResult])
         (&[], ""),
         "no timed rows",
     )
+}
+
+/// The residuals of Uzawa's algorithm with each preconditioner (Fig. III.6).
+pub(super) struct Uzawa;
+
+impl Figures for Uzawa {
+    fn applies(&self, run: &RunResult) -> bool {
+        !run.is_model_adaptive() && !run.is_load_steps() && !run.uzawa.is_empty()
+    }
+
+    fn write(&self, at: &Drawing) -> io::Result<Vec<Figure>> {
+        let run = at.run;
+        let (figure, path) = at.figure(
+            "uzawa",
+            format!(
+                "{}: relative residual √(‖Av − Bp − f‖² + ‖Bᵀv + Cp − g‖²)/r₀ of Uzawa's algorithm \
+                 with each preconditioner on the test problem (III.88), log scale (thesis Fig. \
+                 III.6)",
+                run.table
+            ),
+        );
+        uzawa(&path, run)?;
+        Ok(vec![figure])
+    }
+}
+
+/// SubStokes and Reynolds along a cut of the last mesh, in a SubStokes table.
+pub(super) struct ModelCuts;
+
+impl Figures for ModelCuts {
+    fn applies(&self, run: &RunResult) -> bool {
+        run.cuts.as_ref().is_some_and(|c| c.compares_models())
+    }
+
+    fn write(&self, at: &Drawing) -> io::Result<Vec<Figure>> {
+        let run = at.run;
+        let Some(c) = run.cuts.as_ref() else {
+            return Ok(Vec::new());
+        };
+        let mut caption = format!(
+            "{}: SubStokes (solid) and Reynolds (dashed) on the last mesh along x₂ = {} — \
+             pressure ψ/g and flow rate χ₁, the latter rebuilt by (I.86) for Reynolds \
+             (thesis Figs IV.112–IV.115, IV.143); max|ψ^S − ψ^R| is {} of max|ψ^R − ψ₀|",
+            run.table,
+            fmt_short(c.y),
+            c.relative_pressure_difference()
+                .map_or("undefined".into(), |d| format!("{:.1} %", 100.0 * d)),
+        );
+        if let (Some(s), Some(r)) = (c.cavitated_substokes, c.cavitated_reynolds) {
+            caption.push_str(&format!(
+                "; cavitated area SubStokes {:.0} %, Reynolds {:.0} %",
+                100.0 * s,
+                100.0 * r
+            ));
+        }
+        let (figure, path) = at.figure("cuts", caption);
+        cuts(&path, run, c)?;
+        Ok(vec![figure])
+    }
+}
+
+/// The figures that set a run beside its related tables (`related` of the experiment: the
+/// model-adaptive film of Fig. IV.116 with the pure Reynolds and pure SubStokes runs of its
+/// scene): Fig. IV.117 (estimate vs SubStokes cells), Fig. IV.118 (ψ along the cut) and the cost
+/// of accuracy of the three. A related table that is not on this page is named in the captions.
+pub(super) struct Related;
+
+impl Figures for Related {
+    fn applies(&self, run: &RunResult) -> bool {
+        !run.related.is_empty()
+    }
+
+    fn write(&self, at: &Drawing) -> io::Result<Vec<Figure>> {
+        let run = at.run;
+        let related: Vec<&RunResult> = run
+            .related
+            .iter()
+            .filter_map(|id| at.runs.iter().find(|r| r.table == *id).copied())
+            .collect();
+        let missing: Vec<&str> = run
+            .related
+            .iter()
+            .filter(|id| !related.iter().any(|r| r.table == **id))
+            .map(String::as_str)
+            .collect();
+        let absent = if missing.is_empty() {
+            String::new()
+        } else {
+            format!(
+                " ({} not in this report: run the report with them, e.g. --only {},{})",
+                missing.join(", "),
+                run.table,
+                run.related.join(",")
+            )
+        };
+        let mut figures = Vec::new();
+        let (figure, path) = at.figure(
+            "substokes-cells",
+            format!(
+                "{}: the a-posteriori estimate against the number of SubStokes cells (thesis Fig. \
+                 IV.117) — Theorem III.23 on the SubStokes cells with the model error (the \
+                 thesis's total error, solid black), the same with the Reynolds estimate of the \
+                 Reynolds cells (dashed), and the pure SubStokes run, all of whose cells are \
+                 SubStokes; log–log, cycles without SubStokes cells left out{absent}",
+                run.table
+            ),
+        );
+        figures.push(figure);
+        estimate_vs_substokes_cells(&path, run, &related)?;
+        if let Some(cuts) = &run.cuts {
+            let (figure, path) = at.figure(
+                "related-cuts",
+                format!(
+                    "{}: ψ along x₂ = {} of the last model-adaptive solution (solid) and of the \
+                     last solutions of the pure runs (dashed; thesis Fig. IV.118){absent}",
+                    run.table,
+                    fmt_short(cuts.y)
+                ),
+            );
+            figures.push(figure);
+            related_cuts(&path, run, &related)?;
+        }
+        let (figure, path) = at.figure(
+            "related-cost",
+            format!(
+                "{}: cost of accuracy of one scene solved three ways — each run's estimate against \
+                 its cumulative wall seconds, log–log; each estimate is in its own norm (Theorem \
+                 III.16 for Reynolds, III.23 for SubStokes, the total of Fig. IV.117 for the \
+                 model-adaptive film), so compare slopes and seconds, not levels{absent}",
+                run.table
+            ),
+        );
+        figures.push(figure);
+        related_cost(&path, run, &related)?;
+        Ok(figures)
+    }
 }

@@ -8,7 +8,7 @@
 //! - `<stem>-steps.svg`: what changes from step to step — the tip's position, the split of the
 //!   contact faces into z and Signorini, the penetration and the model error.
 //!
-//! The frames and the animation draw each body with [`plots::deformed_drawing`], the code of
+//! The frames and the animation draw each body with [`deformed::deformed_drawing`], the code of
 //! every other deformed-body picture.
 
 use std::collections::HashSet;
@@ -22,11 +22,14 @@ use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
+use super::deformed::{self, deformed_clip, deformed_drawing, deformed_window, DeformedCanvas};
+use super::figures::{cf, Drawing, Figure, Figures};
 use super::html::fmt_short;
 use super::plots::{
-    self, bbox, deformed_clip, deformed_drawing, deformed_window, log_range, log_tick, plot_err,
-    series_legend, solid_curve, svg_open, text, Curve, DeformedCanvas, NiceLog,
+    self, bbox, log_range, log_tick, plot_err, series_legend, solid_curve, svg_open, text, Curve,
+    NiceLog,
 };
+use crate::experiment::ThesisFigures;
 use crate::results::{columns, DeformedPicture, RunResult};
 
 /// Seconds each frame of the animation is shown.
@@ -95,7 +98,7 @@ pub(super) fn frames(
         let path = fig_dir.join(&file);
         let title = frame_title(&run.table, pic);
         match win {
-            Some(win) => plots::deformed_in(&path, &title, pic, win)?,
+            Some(win) => deformed::deformed_in(&path, &title, pic, win)?,
             None => plots::placeholder(&path, &title, "no finite cells to draw")?,
         }
         files.push(FrameFile {
@@ -356,6 +359,70 @@ where
         solid_curve(&mut chart, c, &consecutive_runs(&c.points))?;
     }
     series_legend(&mut chart, SeriesLabelPosition::UpperLeft, 15)
+}
+
+/// The per-step chart of a load-step run: tip, contact faces, penetration and model error.
+pub(super) struct Steps;
+
+impl Figures for Steps {
+    fn applies(&self, run: &RunResult) -> bool {
+        !run.is_model_adaptive() && run.is_load_steps()
+    }
+
+    fn write(&self, at: &Drawing) -> io::Result<Vec<Figure>> {
+        let run = at.run;
+        let (figure, path) = at.figure(
+            "steps",
+            format!(
+                "{}: per load step, the position of the tip (the lower right corner of the \
+                 undeformed body), the contact faces on the z-model and on the Signorini \
+                 model, and the penetration and model error (log axis; steps where they are 0 \
+                 are not drawn); the thesis draws only the bodies{}",
+                run.table,
+                cf(&at.cited().solution)
+            ),
+        );
+        steps(&path, run)?;
+        Ok(vec![figure])
+    }
+}
+
+/// The animation of a load-step run, with its frames listed under it.
+pub(super) struct Animation;
+
+impl Figures for Animation {
+    fn applies(&self, run: &RunResult) -> bool {
+        run.is_load_steps() && !run.deformed.is_empty()
+    }
+
+    fn write(&self, at: &Drawing) -> io::Result<Vec<Figure>> {
+        let run = at.run;
+        let (mut figure, path) = at.figure("animation", animation_caption(run, at.cited()));
+        figure.links = frames(at.fig_dir, &at.stem, run, &path)?
+            .into_iter()
+            .map(|f| (f.file, format!("step {:02}", f.step)))
+            .collect();
+        Ok(vec![figure])
+    }
+}
+
+/// The caption of a load-step run's animation.
+fn animation_caption(run: &RunResult, thesis: &ThesisFigures) -> String {
+    let steps = run.deformed.len();
+    let signorini = if run.deformed.iter().any(|p| !p.accurate_faces.is_empty()) {
+        ", Signorini faces thick black"
+    } else {
+        ""
+    };
+    format!(
+        "{}: the body after each of the {steps} load step{} in one fixed view, {} s per step \
+         and a pause on the last (an SVG animation); obstacles brown, hatched on their solid \
+         side{signorini}, vertices in contact red{}",
+        run.table,
+        if steps == 1 { "" } else { "s" },
+        fmt_short(FRAME_SECONDS),
+        cf(&thesis.solution)
+    )
 }
 
 #[cfg(test)]

@@ -7,17 +7,26 @@
 //! [`remove_outputs`] keep the output folder honest: writable before anything is solved, and no
 //! stale files of a table that failed today.
 //!
-//! The module is split by job: this file decides *what* is compared and which figures a section
-//! gets, `plots` draws the figures (`model_plots` those of the model-adaptive tables, `forming`
-//! those of a load-step run, Fig. IV.54), `html` lays out the page.
+//! The module is split by job: this file decides *what* is compared; `figures` decides which
+//! figures a section gets, one kind per module (`convergence`, `meshes`, `deformed`, `field`,
+//! `model_plots` for the model-adaptive tables, `forming` for a load-step run, Fig. IV.54, `film`
+//! for the film comparisons and Fig. III.6, `performance` for the page's solve cost), drawn with
+//! the shared helpers of `plots`; `html` lays out the page; `errata` and `families` read their
+//! texts from `text/*.toml`.
 
+mod convergence;
 pub mod data;
+mod deformed;
 pub mod errata;
 pub mod families;
+mod field;
+mod figures;
 mod film;
 mod forming;
 mod html;
+mod meshes;
 mod model_plots;
+mod performance;
 mod plots;
 pub mod provenance;
 pub mod record;
@@ -30,10 +39,11 @@ use std::io;
 use std::panic::{self, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 
-use crate::models::film_comparison;
 use crate::results::columns::PREVIOUS_ESTIMATE;
 use crate::results::{Row, RunResult};
 use crate::thesis::ThesisTable;
+
+pub(crate) use figures::Figure;
 
 /// One table of the report, in table order: a table that ran, or one that did not.
 pub enum Entry<'a> {
@@ -162,8 +172,9 @@ pub fn write_report(out_dir: &Path, entries: &[Entry], meta: &ReportMeta) -> io:
             rendered.push(html::SectionFigures::default());
             continue;
         };
-        let drawn =
-            panic::catch_unwind(AssertUnwindSafe(|| write_figures(&fig_dir, section, &runs)));
+        let drawn = panic::catch_unwind(AssertUnwindSafe(|| {
+            figures::write_figures(&fig_dir, section, &runs)
+        }));
         let figures = match drawn {
             Ok(Ok(figures)) => html::SectionFigures {
                 figures,
@@ -194,7 +205,7 @@ pub fn write_report(out_dir: &Path, entries: &[Entry], meta: &ReportMeta) -> io:
         rendered.push(figures);
     }
     let performance = fig_dir.join(html::PERFORMANCE_FIGURE);
-    plots::solve_cost(&performance, &runs)?;
+    performance::solve_cost(&performance, &runs)?;
     files.push(performance);
     let index = out_dir.join("index.html");
     fs::write(&index, html::page(entries, &rendered, meta))?;
@@ -295,93 +306,9 @@ fn is_output_of(name: &str, stem: &str, separator: char, extension: &str) -> boo
     }
 }
 
-/// A figure written for a section, as the page refers to it.
-pub(crate) struct Figure {
-    /// File name inside `figures/`.
-    pub file: String,
-    /// Alternative text and caption.
-    pub caption: String,
-    /// Further files of the figure inside `figures/`, listed as links under it with their
-    /// labels (the frames of a load-step animation); usually none.
-    pub links: Vec<(String, String)>,
-}
-
 /// The thesis figure a figure experiment's id names (`fig-IV.54` → `Fig. IV.54`).
 pub(crate) fn thesis_figure(table: &str) -> Option<String> {
     table.strip_prefix("fig-").map(|f| format!("Fig. {f}"))
-}
-
-/// The thesis figures that show a table's run, as the text of Chapter IV assigns them: the
-/// adaptively refined grids, the solution on the last grid, and for the model-adaptive tables
-/// the refined model (the contact faces; with grid adaptivity, the grids with those faces).
-/// A part the thesis does not draw is `None`; a figure experiment (`fig-IV.54`) is its own
-/// figure in every part.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub(crate) struct ThesisFigures {
-    pub grids: Option<String>,
-    pub solution: Option<String>,
-    pub model: Option<String>,
-}
-
-/// The [`ThesisFigures`] of table `table` (`IV.7` → grids Fig. IV.12, solution Fig. IV.13).
-///
-/// The elasticity and contact tables IV.1–IV.17 have a figure of the grids and one of the
-/// deformed body each (IV.2 only the latter; before IV.9's comes the sketch of θ_s, Fig.
-/// IV.16); the model-adaptive Tables
-/// IV.18–IV.29 one of the refined model (IV.19 none), the model-and-grid-adaptive Tables
-/// IV.30–IV.35 one of the grids with the model; the Reynolds and SubStokes tables IV.36–IV.63
-/// and the cavitation tables IV.64–IV.75 a grids figure followed by the solution figure.
-pub(crate) fn thesis_figures(table: &str) -> ThesisFigures {
-    if let Some(fig) = thesis_figure(table) {
-        return ThesisFigures {
-            grids: Some(fig.clone()),
-            solution: Some(fig.clone()),
-            model: Some(fig),
-        };
-    }
-    let Some(n) = table
-        .strip_prefix("IV.")
-        .and_then(|n| n.parse::<u32>().ok())
-    else {
-        return ThesisFigures::default();
-    };
-    let fig = |k: u32| Some(format!("Fig. IV.{k}"));
-    let pair = |first: u32| ThesisFigures {
-        grids: fig(first),
-        solution: fig(first + 1),
-        model: None,
-    };
-    let model = |k: Option<u32>| ThesisFigures {
-        model: k.and_then(fig),
-        ..ThesisFigures::default()
-    };
-    match n {
-        1 => pair(1),
-        2 => ThesisFigures {
-            solution: fig(3),
-            ..ThesisFigures::default()
-        },
-        3..=8 => pair(4 + 2 * (n - 3)),
-        9..=17 => pair(17 + 2 * (n - 9)),
-        18 => model(Some(35)),
-        19 => model(None),
-        20..=29 => model(Some(36 + (n - 20))),
-        30..=35 => ThesisFigures {
-            grids: fig(46 + (n - 30)),
-            model: fig(46 + (n - 30)),
-            ..ThesisFigures::default()
-        },
-        36..=63 => pair(56 + 2 * (n - 36)),
-        64..=75 => pair(119 + 2 * (n - 64)),
-        _ => ThesisFigures::default(),
-    }
-}
-
-/// `" (cf. thesis Fig. IV.12)"` for a figure the thesis has, empty otherwise.
-fn cf(figure: &Option<String>) -> String {
-    figure
-        .as_ref()
-        .map_or(String::new(), |f| format!(" (cf. thesis {f})"))
 }
 
 /// Which estimate a run's `estimate` column holds: the symbol with the norm it bounds, short
@@ -452,333 +379,6 @@ pub(crate) fn estimate_name(run: &RunResult) -> EstimateName {
     EstimateName {
         axis: axis.into(),
         caption: caption.into(),
-    }
-}
-
-/// Draw every figure one section has data for.
-///
-/// A load-step run (the forming of §IV.2.4.7, Fig. IV.54) moves its body, so the convergence
-/// and cost plots (one mesh hierarchy refined cycle after cycle), the mesh figure (axis-parallel
-/// cell boxes) and the partition figure (faces on the undeformed strip) do not apply; it gets the
-/// per-step chart, a frame per step and their animation instead.
-fn write_figures(
-    fig_dir: &Path,
-    section: &Section,
-    runs: &[&RunResult],
-) -> io::Result<Vec<Figure>> {
-    let run = section.run;
-    let stem = file_stem(&run.table);
-    let load_steps = run.is_load_steps();
-    let thesis = thesis_figures(&run.table);
-    let eta = estimate_name(run);
-    let mut figures = Vec::new();
-    let mut push = |kind: &str, caption: String| -> PathBuf {
-        let file = format!("{stem}-{kind}.svg");
-        let path = fig_dir.join(&file);
-        figures.push(Figure {
-            file,
-            caption,
-            links: Vec::new(),
-        });
-        path
-    };
-
-    if run.is_model_adaptive() {
-        // Model-adaptive: a fixed mesh, so no convergence in dofs; the face split and the
-        // model error per cycle.
-        let path = push(
-            "model",
-            format!(
-                "{}: Signorini faces and model error per cycle, tribo (solid) and thesis \
-                 (dashed); the partitions are in the next figure{}",
-                run.table,
-                cf(&thesis.model)
-            ),
-        );
-        model_plots::model_adaptivity(&path, run, section.thesis)?;
-    } else if load_steps {
-        let path = push(
-            "steps",
-            format!(
-                "{}: per load step, the position of the tip (the lower right corner of the \
-                 undeformed body), the contact faces on the z-model and on the Signorini \
-                 model, and the penetration and model error (log axis; steps where they are 0 \
-                 are not drawn); the thesis draws only the bodies{}",
-                run.table,
-                cf(&thesis.solution)
-            ),
-        );
-        forming::steps(&path, run)?;
-    } else if !run.uzawa.is_empty() {
-        let path = push(
-            "uzawa",
-            format!(
-                "{}: relative residual √(‖Av − Bp − f‖² + ‖Bᵀv + Cp − g‖²)/r₀ of Uzawa's algorithm \
-                 with each preconditioner on the test problem (III.88), log scale (thesis Fig. \
-                 III.6)",
-                run.table
-            ),
-        );
-        film::uzawa(&path, run)?;
-    } else {
-        let path = push(
-            "convergence",
-            format!(
-                "{}: {} against the degrees of freedom, tribo (solid) and thesis (dashed), \
-                 log–log",
-                run.table, eta.caption
-            ),
-        );
-        plots::convergence(&path, run, section.thesis)?;
-    }
-    if run.has_partitions() && !load_steps {
-        // Model and grid adaptivity: the faces change with the mesh.
-        let mesh = if run.is_model_adaptive() {
-            ""
-        } else {
-            " on the adapted mesh"
-        };
-        let path = push(
-            "partition",
-            format!(
-                "{}: the contact faces per cycle{mesh}, Signorini black and z light grey{}",
-                run.table,
-                cf(&thesis.model)
-            ),
-        );
-        model_plots::partitions(&path, run, run.domain)?;
-    }
-    if !run.costs.is_empty() {
-        let path = push(
-            "accuracy",
-            format!(
-                "{}: cost of accuracy on this scene's fixed mesh — energy distance to the \
-                 all-Signorini solution and true penetration against cumulative solve seconds, \
-                 for z on every face, Signorini on every face, Algorithms III.2 and III.3",
-                run.table
-            ),
-        );
-        plots::accuracy(&path, run)?;
-    }
-    if !run.rows.is_empty() && !run.is_model_adaptive() && !load_steps {
-        let path = push(
-            "cost",
-            format!(
-                "{}: cost of accuracy — {} against the cumulative wall seconds, and the \
-                 seconds per phase",
-                run.table, eta.caption
-            ),
-        );
-        plots::cost(&path, run)?;
-    }
-    if !run.meshes.is_empty() && !load_steps {
-        let cycles: Vec<String> = run.meshes.iter().map(|m| m.cycle.to_string()).collect();
-        // The Signorini faces on the adapted meshes of the model-and-grid tables.
-        let partitions: &[_] = if run.is_model_adaptive() {
-            &[]
-        } else {
-            &run.partitions
-        };
-        let path = push(
-            "mesh",
-            format!(
-                "{}: active cells after cycle {}{}{}",
-                run.table,
-                cycles.join(", "),
-                if !partitions.is_empty() {
-                    "; Signorini faces thick black"
-                } else if run.meshes.iter().any(|m| !m.shaded.is_empty()) {
-                    "; SubStokes cells grey, Reynolds cells white"
-                } else {
-                    ", coloured by refinement level, with x₁/x₂ axes; a thin domain is followed \
-                     by a zoom onto its finest cells"
-                },
-                cf(&thesis.grids)
-            ),
-        );
-        plots::meshes(&path, &run.meshes, run.domain, partitions)?;
-    }
-
-    // The animation of a load-step run and its frames, listed under it once `push` is done.
-    let mut animation = None;
-    if load_steps && !run.deformed.is_empty() {
-        let path = push("animation", animation_caption(run));
-        let frames = forming::frames(fig_dir, &stem, run, &path)?;
-        animation = Some((path, frames));
-    } else {
-        for (i, pic) in run.deformed.iter().enumerate() {
-            let kind = indexed("deformed", i, run.deformed.len());
-            let path = push(
-                &kind,
-                format!(
-                    "{}: deformed body after cycle {}, displacement × {}{}{}{}",
-                    run.table,
-                    pic.cycle,
-                    html::fmt_short(pic.scale),
-                    if pic.accurate_faces.is_empty() {
-                        ""
-                    } else {
-                        "; Signorini faces thick black"
-                    },
-                    if pic.obstacles.is_empty() {
-                        ""
-                    } else {
-                        "; obstacles brown, hatched on their solid side"
-                    },
-                    cf(&thesis.solution)
-                ),
-            );
-            plots::deformed(&path, &run.table, pic)?;
-        }
-    }
-
-    for (i, pic) in run.fields.iter().enumerate() {
-        let kind = indexed(
-            &format!("field-{}", file_stem(&pic.name)),
-            i,
-            run.fields.len(),
-        );
-        let path = push(
-            &kind,
-            format!(
-                "{}: {} on the active cells after cycle {}, x₁/x₂ axes{}",
-                run.table,
-                pic.name,
-                pic.cycle,
-                cf(&thesis.solution)
-            ),
-        );
-        plots::field(&path, &run.table, pic, run.domain)?;
-    }
-
-    if let Some(cuts) = run.cuts.as_ref().filter(|c| c.compares_models()) {
-        let mut caption = format!(
-            "{}: SubStokes (solid) and Reynolds (dashed) on the last mesh along x₂ = {} — \
-             pressure ψ/g and flow rate χ₁, the latter rebuilt by (I.86) for Reynolds \
-             (thesis Figs IV.112–IV.115, IV.143); max|ψ^S − ψ^R| is {} of max|ψ^R − ψ₀|",
-            run.table,
-            html::fmt_short(cuts.y),
-            film_comparison::relative_pressure_difference(cuts)
-                .map_or("undefined".into(), |d| format!("{:.1} %", 100.0 * d)),
-        );
-        if let (Some(s), Some(r)) = (cuts.cavitated_substokes, cuts.cavitated_reynolds) {
-            caption.push_str(&format!(
-                "; cavitated area SubStokes {:.0} %, Reynolds {:.0} %",
-                100.0 * s,
-                100.0 * r
-            ));
-        }
-        let path = push("cuts", caption);
-        film::cuts(&path, run, cuts)?;
-    }
-
-    if !run.related.is_empty() {
-        related_figures(run, runs, &mut push)?;
-    }
-
-    if let Some((path, frames)) = animation {
-        if let Some(figure) = figures.iter_mut().find(|f| fig_dir.join(&f.file) == path) {
-            figure.links = frames
-                .into_iter()
-                .map(|f| (f.file, format!("step {:02}", f.step)))
-                .collect();
-        }
-    }
-    Ok(figures)
-}
-
-/// The figures that set a run beside its related tables (`related` of the experiment: the
-/// model-adaptive film of Fig. IV.116 with the pure Reynolds and pure SubStokes runs of its
-/// scene): Fig. IV.117 (estimate vs SubStokes cells), Fig. IV.118 (ψ along the cut) and the cost
-/// of accuracy of the three. A related table that is not on this page is named in the captions.
-fn related_figures(
-    run: &RunResult,
-    runs: &[&RunResult],
-    push: &mut dyn FnMut(&str, String) -> PathBuf,
-) -> io::Result<()> {
-    let related: Vec<&RunResult> = run
-        .related
-        .iter()
-        .filter_map(|id| runs.iter().find(|r| r.table == *id).copied())
-        .collect();
-    let missing: Vec<&str> = run
-        .related
-        .iter()
-        .filter(|id| !related.iter().any(|r| r.table == **id))
-        .map(String::as_str)
-        .collect();
-    let absent = if missing.is_empty() {
-        String::new()
-    } else {
-        format!(
-            " ({} not in this report: run the report with them, e.g. --only {},{})",
-            missing.join(", "),
-            run.table,
-            run.related.join(",")
-        )
-    };
-    let path = push(
-        "substokes-cells",
-        format!(
-            "{}: the a-posteriori estimate against the number of SubStokes cells (thesis Fig. \
-             IV.117) — Theorem III.23 on the SubStokes cells with the model error (the \
-             thesis's total error, solid black), the same with the Reynolds estimate of the \
-             Reynolds cells (dashed), and the pure SubStokes run, all of whose cells are \
-             SubStokes; log–log, cycles without SubStokes cells left out{absent}",
-            run.table
-        ),
-    );
-    film::estimate_vs_substokes_cells(&path, run, &related)?;
-    if let Some(cuts) = &run.cuts {
-        let path = push(
-            "related-cuts",
-            format!(
-                "{}: ψ along x₂ = {} of the last model-adaptive solution (solid) and of the last \
-                 solutions of the pure runs (dashed; thesis Fig. IV.118){absent}",
-                run.table,
-                html::fmt_short(cuts.y)
-            ),
-        );
-        film::related_cuts(&path, run, &related)?;
-    }
-    let path = push(
-        "related-cost",
-        format!(
-            "{}: cost of accuracy of one scene solved three ways — each run's estimate against \
-             its cumulative wall seconds, log–log; each estimate is in its own norm (Theorem \
-             III.16 for Reynolds, III.23 for SubStokes, the total of Fig. IV.117 for the \
-             model-adaptive film), so compare slopes and seconds, not levels{absent}",
-            run.table
-        ),
-    );
-    film::related_cost(&path, run, &related)
-}
-
-/// The caption of a load-step run's animation.
-fn animation_caption(run: &RunResult) -> String {
-    let steps = run.deformed.len();
-    let signorini = if run.deformed.iter().any(|p| !p.accurate_faces.is_empty()) {
-        ", Signorini faces thick black"
-    } else {
-        ""
-    };
-    format!(
-        "{}: the body after each of the {steps} load step{} in one fixed view, {} s per step \
-         and a pause on the last (an SVG animation); obstacles brown, hatched on their solid \
-         side{signorini}, vertices in contact red{}",
-        run.table,
-        if steps == 1 { "" } else { "s" },
-        html::fmt_short(forming::FRAME_SECONDS),
-        cf(&thesis_figures(&run.table).solution)
-    )
-}
-
-/// `kind` when a run has one picture of that kind, `kind-i` when it has several.
-fn indexed(kind: &str, i: usize, n: usize) -> String {
-    if n > 1 {
-        format!("{kind}-{i}")
-    } else {
-        kind.to_string()
     }
 }
 
@@ -1016,6 +616,32 @@ mod tests {
         assert_eq!(rel_diff(1.0, 0.0), None);
         assert_eq!(rel_diff(1.0, f64::INFINITY), None);
         assert!((rel_diff(1.1, 1.0).unwrap() - 0.1).abs() < 1e-12);
+    }
+
+    /// The figure numbers come from the experiment files: a pair of grids and solution, a
+    /// table the thesis draws only once or not at all, and a figure experiment that is its own
+    /// figure in every part.
+    #[test]
+    fn figure_numbers_come_from_the_experiment_files() {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments");
+        let only: Vec<String> = ["IV.2", "IV.7", "IV.19", "IV.30", "fig-IV.54"]
+            .map(String::from)
+            .to_vec();
+        let experiments = crate::experiment::load_dir(&dir, Some(&only)).unwrap();
+        let figures = |id: &str| {
+            let e = experiments.iter().find(|e| e.table == id).unwrap();
+            let f = &e.figures;
+            [&f.grids, &f.solution, &f.model].map(|f| f.as_ref().map(|_| figures::cf(f)))
+        };
+        let cited = |f: &str| Some(format!(" (cf. thesis Fig. {f})"));
+        assert_eq!(figures("IV.7"), [cited("IV.12"), cited("IV.13"), None]);
+        assert_eq!(figures("IV.2"), [None, cited("IV.3"), None]);
+        assert_eq!(figures("IV.19"), [None, None, None]);
+        assert_eq!(figures("IV.30"), [cited("IV.46"), None, cited("IV.46")]);
+        assert_eq!(
+            figures("fig-IV.54"),
+            [cited("IV.54"), cited("IV.54"), cited("IV.54")]
+        );
     }
 
     fn row(cycle: usize, estimate: f64, previous: Option<f64>) -> Row {

@@ -7,6 +7,7 @@ use std::fs;
 use std::io;
 use std::path::Path;
 
+use super::figures::{cf, Drawing, Figure, Figures};
 use super::plots::{svg_open, text};
 use crate::results::{columns, PartitionPicture, RunResult};
 use crate::thesis::ThesisTable;
@@ -329,5 +330,59 @@ fn strip_row(
                 let _ = writeln!(svg, "<path d=\"{path}\" fill=\"{fill}\"/>");
             }
         }
+    }
+}
+
+/// The face split and the model error per cycle of a model-adaptive run: a fixed mesh, so no
+/// convergence in dofs.
+pub(super) struct ModelAdaptivity;
+
+impl Figures for ModelAdaptivity {
+    fn applies(&self, run: &RunResult) -> bool {
+        run.is_model_adaptive()
+    }
+
+    fn write(&self, at: &Drawing) -> io::Result<Vec<Figure>> {
+        let run = at.run;
+        let (figure, path) = at.figure(
+            "model",
+            format!(
+                "{}: Signorini faces and model error per cycle, tribo (solid) and thesis \
+                 (dashed); the partitions are in the next figure{}",
+                run.table,
+                cf(&at.cited().model)
+            ),
+        );
+        model_adaptivity(&path, run, at.thesis)?;
+        Ok(vec![figure])
+    }
+}
+
+/// The contact faces per cycle, on the undeformed strip (so not of a load-step run).
+pub(super) struct Partition;
+
+impl Figures for Partition {
+    fn applies(&self, run: &RunResult) -> bool {
+        run.has_partitions() && !run.is_load_steps()
+    }
+
+    fn write(&self, at: &Drawing) -> io::Result<Vec<Figure>> {
+        let run = at.run;
+        // Model and grid adaptivity: the faces change with the mesh.
+        let mesh = if run.is_model_adaptive() {
+            ""
+        } else {
+            " on the adapted mesh"
+        };
+        let (figure, path) = at.figure(
+            "partition",
+            format!(
+                "{}: the contact faces per cycle{mesh}, Signorini black and z light grey{}",
+                run.table,
+                cf(&at.cited().model)
+            ),
+        );
+        partitions(&path, run, run.domain)?;
+        Ok(vec![figure])
     }
 }

@@ -28,7 +28,7 @@ impl Provenance {
             .duration_since(UNIX_EPOCH)
             .map_or(0, |d| d.as_secs());
         let cores = std::thread::available_parallelism().map_or(0, |n| n.get());
-        let memory = crate::study::budget::machine_memory().map_or("unknown memory".into(), |b| {
+        let memory = crate::machine::machine_memory().map_or("unknown memory".into(), |b| {
             format!("{:.1} GiB", b / (1024.0 * 1024.0 * 1024.0))
         });
         Provenance {

@@ -98,6 +98,9 @@ pub struct PrintedTable {
     /// of one's own are not).
     #[serde(default)]
     pub comparison: crate::experiment::Comparison,
+    /// The thesis figures that show the run (none in a record written before they were kept).
+    #[serde(default)]
+    pub figures: crate::experiment::ThesisFigures,
 }
 
 /// One printed value: a finite number, or a word for the others.
@@ -150,6 +153,7 @@ impl PrintedTable {
             duplicate_of: t.duplicate_of.clone(),
             additive_part: t.additive_part.clone(),
             comparison: t.comparison.clone(),
+            figures: t.figures.clone(),
         }
     }
 
@@ -168,6 +172,7 @@ impl PrintedTable {
             duplicate_of: self.duplicate_of.clone(),
             additive_part: self.additive_part.clone(),
             comparison: self.comparison.clone(),
+            figures: self.figures.clone(),
         })
     }
 }

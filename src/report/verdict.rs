@@ -163,6 +163,7 @@ mod tests {
             duplicate_of: None,
             additive_part: None,
             comparison: Default::default(),
+            figures: Default::default(),
         }
     }
 

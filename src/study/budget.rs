@@ -28,14 +28,7 @@ pub const BYTES_PER_CELL: f64 = 2000.0;
 /// tables reach 1.09–1.16 times 1 + 3θ_r − ¾θ_c to the power of their cycles (5 to 9).
 pub const CLOSURE: f64 = 1.02;
 
-/// The machine's total memory in bytes (`MemTotal` of `/proc/meminfo`, Linux); `None` where it
-/// cannot be read.
-pub fn machine_memory() -> Option<f64> {
-    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
-    let line = text.lines().find(|l| l.starts_with("MemTotal:"))?;
-    let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kib * 1024.0)
-}
+pub use crate::machine::machine_memory;
 
 /// The memory of the tables running at once, shared by the workers of a report: a table
 /// starts when its predicted peak ([`Budget::predicted_peak`]) fits beside those of the tables

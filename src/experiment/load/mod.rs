@@ -67,6 +67,7 @@ pub fn load(path: &Path) -> Result<Experiment, ExperimentError> {
         notes,
         related,
         thesis,
+        figures,
     } = file;
     Ok(Experiment {
         table,
@@ -91,6 +92,7 @@ pub fn load(path: &Path) -> Result<Experiment, ExperimentError> {
         notes,
         related,
         thesis: thesis.unwrap_or_default(),
+        figures,
         parameters: super::parameters::of_file(&text),
         comparison,
     })

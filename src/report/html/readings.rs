@@ -1,0 +1,155 @@
+//! The readings of a table (its notes, the known difference, the family's shared notes and the
+//! errata that affect it), the family boxes, and the errata section of the page.
+
+use super::*;
+
+/// The "Readings and known differences" block of a table's section: the table's own notes first,
+/// then the known difference, the family's shared notes that hold for it (shown once in the family
+/// box, linked), and the thesis errata that affect the table (linked to the errata section).
+pub(super) fn readings(h: &mut String, table: &str, notes: &[String]) {
+    let family = families::family_of(table);
+    let shared = family
+        .map(|f| families::notes_for(f, table).len())
+        .unwrap_or(0);
+    let found = errata::errata_for(table);
+    let known = errata::known_difference(table);
+    if notes.is_empty() && family.is_none() && found.is_empty() && known.is_none() {
+        return;
+    }
+    h.push_str("<h3>Readings and known differences</h3>\n");
+    if !notes.is_empty() {
+        h.push_str("<ul class=\"notes\">\n");
+        for n in notes {
+            let _ = writeln!(h, "<li>{}</li>", escape(n));
+        }
+        h.push_str("</ul>\n");
+    }
+    if let Some(k) = known {
+        let _ = writeln!(
+            h,
+            "<p class=\"known\"><b>Known difference ({}):</b> {}</p>",
+            k.kind.name(),
+            escape(k.reason)
+        );
+    }
+    if let Some(f) = family {
+        let what = match shared {
+            0 => "The model and its conventions".to_string(),
+            1 => "The model, its conventions and 1 shared note that holds for this table".into(),
+            n => {
+                format!("The model, its conventions and {n} shared notes that hold for this table")
+            }
+        };
+        let _ = writeln!(
+            h,
+            "<p class=\"family-link\">{what}: <a href=\"#{}\">{}</a>.</p>",
+            f.id,
+            escape(&f.name)
+        );
+    }
+    if !found.is_empty() {
+        h.push_str("<p class=\"errata-link\">Thesis errata affecting this table: ");
+        for (i, e) in found.iter().enumerate() {
+            let _ = write!(
+                h,
+                "{}<a href=\"#{}\">{}</a>",
+                if i == 0 { "" } else { " · " },
+                escape(&e.id),
+                escape(&e.title)
+            );
+        }
+        h.push_str(".</p>\n");
+    }
+}
+
+/// A family's "model and conventions" box with the notes its tables share; shown once, before
+/// the first section of the family on the page.
+pub(super) fn family_box(h: &mut String, family: &Family) {
+    let _ = write!(
+        h,
+        "<section id=\"{}\" class=\"family\">\n<h2>{} — model and conventions</h2>\n\
+         <p class=\"meta\">{}</p>\n<dl class=\"model\">\n",
+        family.id,
+        escape(&family.name),
+        escape(&family.sections)
+    );
+    for item in &family.model {
+        let _ = writeln!(
+            h,
+            "<dt>{}</dt><dd>{}</dd>",
+            escape(&item.heading),
+            escape(&item.text)
+        );
+    }
+    h.push_str("</dl>\n");
+    if !family.notes.is_empty() {
+        h.push_str("<h3>Notes shared by the family</h3>\n<ul class=\"notes\">\n");
+        for n in &family.notes {
+            let tables = if n.tables.is_empty() {
+                "All tables".to_string()
+            } else {
+                n.tables
+                    .iter()
+                    .map(|t| entry_name(t))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            };
+            let _ = writeln!(
+                h,
+                "<li><b>{}:</b> {}</li>",
+                escape(&tables),
+                escape(&n.text)
+            );
+        }
+        h.push_str("</ul>\n");
+    }
+    h.push_str("</section>\n");
+}
+
+/// The errata section: every thesis defect tribo found, with its evidence and the reading used,
+/// and links to the affected tables that are on the page.
+pub(super) fn errata_section(h: &mut String, entries: &[Entry]) {
+    let on_page: BTreeSet<&str> = entries
+        .iter()
+        .map(|e| match e {
+            Entry::Done(s) => s.run.table.as_str(),
+            Entry::Failed(f) => f.table.as_str(),
+        })
+        .collect();
+    h.push_str(
+        "<section id=\"errata\">\n<h2>Thesis errata</h2>\n<p>Defects of the printed thesis \
+         found while reproducing Chapter IV — duplicated tables, spikes and noise, contradictions \
+         between text and tables, garbled or missing formulas — with the evidence and the reading \
+         tribo uses.</p>\n",
+    );
+    for e in errata::errata() {
+        erratum_entry(h, e, &on_page);
+    }
+    h.push_str("</section>\n");
+}
+
+pub(super) fn erratum_entry(h: &mut String, e: &Erratum, on_page: &BTreeSet<&str>) {
+    let tables = e
+        .tables
+        .iter()
+        .map(|t| {
+            if on_page.contains(t.as_str()) {
+                format!("<a href=\"#{}\">{}</a>", anchor(t), escape(&entry_name(t)))
+            } else {
+                escape(&entry_name(t))
+            }
+        })
+        .collect::<Vec<_>>()
+        .join(", ");
+    let _ = writeln!(
+        h,
+        "<div class=\"erratum\" id=\"{}\">\n<h3>{}</h3>\n<p class=\"meta\">{} · affects {}</p>\n\
+         <p><b>Evidence.</b> {}</p>\n<p><b>Reading.</b> {}</p>\n</div>",
+        escape(&e.id),
+        escape(&e.title),
+        e.kind.name(),
+        tables,
+        escape(&e.evidence),
+        escape(&e.reading)
+    );
+}
