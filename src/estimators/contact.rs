@@ -6,7 +6,7 @@
 //! η_{C,Q}² = ‖∇(n·s_h)‖² and η_{−C,Q}² = ‖n·(I_h(b n − x) − (b n − x))‖², where Σ_ph ≈ Σ_p1
 //! (the contact vertices in contact, thesis l. 4045).
 //!
-//! The thesis's two codes evidently used different term sets (spec/estimators.md §5.2,
+//! The thesis's two codes evidently used different term sets (docs/estimators.md §5.2,
 //! calibrated on the cycle-0 rows of Tables IV.6 and IV.12); both are provided
 //! ([`ContactEstimator`]):
 //!
@@ -38,7 +38,7 @@
 //!   full Neumann residual on the free faces, for the constraints of either model (n and b of
 //!   each vertex's constraint). Reproduces the cycle-0 "interior" 0.6213 of Table IV.30 (the
 //!   cells without a contact face), and the contact-boundary 0.5941 to 0.3 % (cells with a
-//!   z-face; spec/estimators.md §10).
+//!   z-face; docs/estimators.md §10).
 //!
 //! Γ_C faces use the 4-point Gauss rule (the obstacle terms are not polynomial).
 

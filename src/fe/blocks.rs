@@ -4,7 +4,7 @@
 //! A v − B p = f,    Bᵀv + C p = g,
 //! ```
 //!
-//! for the Uzawa solvers of [`crate::linalg::uzawa`] (spec/estimators.md §6).
+//! for the Uzawa solvers of [`crate::linalg::uzawa`] (docs/estimators.md §6).
 //!
 //! **What is split.** A system with several components per vertex, one of which is the pressure
 //! (the others the velocity), assembled as the symmetric quasi-definite matrix

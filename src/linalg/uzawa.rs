@@ -6,7 +6,7 @@
 //! ```
 //!
 //! with A ∈ ℝ^{n×n} SPD, B ∈ ℝ^{n×m}, C ∈ ℝ^{m×m} symmetric positive semidefinite and the Schur
-//! complement S = BᵀA⁻¹B + C positive definite (spec/estimators.md §6, spec/models.md §13.2).
+//! complement S = BᵀA⁻¹B + C positive definite (docs/estimators.md §6, docs/models.md §13.2).
 //! The variants differ in the preconditioner A_p of the pressure update (Fig. III.6):
 //!
 //! * [`Variant::Identity`]: Richardson (III.87) with A_p = I and step ω = [`UzawaOptions::damping`]
@@ -92,7 +92,7 @@
 //! set and never vanishes). The update: p_j ← max(p_j, 0) after each pressure update — per
 //! unknown inside the Gauss–Seidel and SSOR sweeps, after the vector update for identity, Jacobi
 //! and the CG step of [`CgRule::AsPrinted`] (the "projected cg-method" of the Outlook read as
-//! spec §6 does). That reading stalls for CG-SSOR on the SubStokes cavitation systems (at about
+//! docs/estimators.md §6 does). That reading stalls for CG-SSOR on the SubStokes cavitation systems (at about
 //! 3e-3 relative for (IV.8) on 32×32: the clipped two-term step is neither a minimiser nor a
 //! descent step). [`CgRule::Safeguarded`] then solves the bound-constrained problem by a
 //! face method in the manner of Dostál's MPRGP and Moré–Toraldo's GPCG, with the SSOR step as
@@ -494,7 +494,7 @@ pub struct UzawaOptions {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum CgRule {
     /// (III.92) as printed: p¹ = p^{½}, then always the two-term minimiser over span{q, d};
-    /// projected runs clip, p_j ← max(p_j, 0), after every update (the reading of spec §6).
+    /// projected runs clip, p_j ← max(p_j, 0), after every update (the reading of docs/estimators.md §6).
     #[default]
     AsPrinted,
     /// Safeguarded: the SSOR correction q is replaced by D⁻¹s when it is no descent direction

@@ -6,9 +6,9 @@
 //! A v − B p = f,    Bᵀv + C p = g,
 //! ```
 //!
-//! for [`crate::linalg::uzawa`] (spec/estimators.md §6, spec/models.md §13.2).
+//! for [`crate::linalg::uzawa`] (docs/estimators.md §6, docs/models.md §13.2).
 //!
-//! **Weak form** (III.88), with the typos of the print corrected (spec §6): for all w ∈ V_h,
+//! **Weak form** (III.88), with the typos of the print corrected (docs/estimators.md §6): for all w ∈ V_h,
 //! ψ ∈ P_h vanishing at the Dirichlet vertices,
 //! ⟨∂_i v_j, ∂_i w_j⟩ − ⟨∂_j w_j, p⟩ = 0 and ⟨∂_j v_j, ψ⟩ + Σ_Q δ_ε h_Q² ⟨∇p, ∇ψ⟩_Q = 0, so
 //! A_{(a,μ),(b,μ)} = ∫ ∇φ_a·∇φ_b, B_{(a,μ),q} = ∫ ψ_q ∂_μ φ_a, C_{q,r} = Σ_Q δ_ε h_Q² ∫_Q ∇ψ_q·∇ψ_r

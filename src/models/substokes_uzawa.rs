@@ -1,6 +1,6 @@
 //! The SubStokes systems of [`crate::models::substokes`] solved by the CG-accelerated SSOR Uzawa
 //! method (III.92) instead of the direct LDLᵀ of [`solve_system`](crate::models::substokes::solve_system) / [`solve_cavitation`](crate::models::substokes::solve_cavitation)
-//! (spec/estimators.md §6: "a direct sparse solve of the coupled stabilised system is an
+//! (docs/estimators.md §6: "a direct sparse solve of the coupled stabilised system is an
 //! acceptable substitute"; this module is the thesis's own solver family as the alternative).
 //!
 //! **Blocks.** The assembled system [A −B; −Bᵀ −C] [χ; ψ] = [F; −G] of
@@ -36,7 +36,7 @@
 //! **Cavitation** ([`solve_cavitation_uzawa`]). The discrete problem (III.79) in its multiplier
 //! form (ψ ≥ 0 at the free ψ dofs, λ = Bᵀχ + Cψ − G ≥ 0, ψ_j λ_j = 0) is the complementarity
 //! problem of the Schur complement, min ½ψᵀSψ − b_Sᵀψ over ψ ≥ 0. The thesis solves it by "a
-//! projected cg-method" (outlook, l. 8980) without details. Spec §6 reads it [R/A] as CG-SSOR
+//! projected cg-method" (outlook, l. 8980) without details. docs/estimators.md §6 reads it [R/A] as CG-SSOR
 //! with p_j ← max(p_j, 0) after every pressure update ([`CgRule::AsPrinted`] with
 //! [`UzawaOptions::projected`]); that reading does not converge here (stalls near 3e-3 for (IV.8)
 //! on 32×32, test `clipping_as_printed_stalls_where_the_face_method_converges`). The default,
@@ -525,7 +525,7 @@ mod tests {
         assert!(err.contains("complementarity"), "{err}");
     }
 
-    /// The reading of spec §6 taken literally — (III.92) as printed with p ← max(p, 0) after
+    /// The reading of docs/estimators.md §6 taken literally — (III.92) as printed with p ← max(p, 0) after
     /// every update ([`CgRule::AsPrinted`]) — does not converge on (IV.8) with cavitation on
     /// 32×32 (it stalls near 3e-3 relative), where the safeguarded face method converges.
     #[test]

@@ -13,10 +13,10 @@
 //! * [`ThinFilm`]: one example (gap, constant upper-wall velocity, lower wall z₀ = 0 at rest,
 //!   κ = 0, η = ρ = 1), with per-point evaluation of those terms and of the Reynolds loads
 //!   l_R (II.37) and l_{R,c} (II.39).
-//! * [`example`]: the table of spec/models.md §14.
+//! * [`example`]: the table of docs/models.md §14.
 //!
 //! Notation follows the thesis: `g` is the gap width, Greek indices μ, ν ∈ {1, 2} (0-based in the
-//! code), Einstein summation, ∂ and Δ are 2-D tangential operators in (x₁, x₂) (spec §15 item 15).
+//! code), Einstein summation, ∂ and Δ are 2-D tangential operators in (x₁, x₂) (docs/models.md §15 item 15).
 
 // Index loops mirror the index notation of the thesis (sums over μ, ν); keep them.
 #![allow(clippy::needless_range_loop)]
@@ -366,7 +366,7 @@ fn sin_range(lo: f64, hi: f64) -> (f64, f64) {
 
 impl Gap {
     /// g and its analytic derivatives up to third order at `x` (needed because R₃ (I.77) contains
-    /// ∂(gΔg), spec §8.4). Inlined like the [`Jet`] operations: the loads then use the entries of
+    /// ∂(gΔg), docs/models.md §8.4). Inlined like the [`Jet`] operations: the loads then use the entries of
     /// the gap that are constant (zero for the plain, linear and wave gaps) as constants.
     #[inline(always)]
     pub fn jet(&self, x: [f64; 2]) -> Jet {
@@ -494,7 +494,7 @@ impl Gap {
 // General Chapter I formulas
 // ---------------------------------------------------------------------------------------------
 
-/// Which cavitation correction γ₃c to use (spec/models.md §7 and §15 item 9).
+/// Which cavitation correction γ₃c to use (docs/models.md §7 and §15 item 9).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub enum CavitationSource {
     /// (I.61) as printed.
@@ -641,7 +641,7 @@ impl FilmJets {
 
     /// (I.61): (γ₃c)_μ = (γ₃)_μ + ∂_μ∂_ν(v̄_ν g + δv_ν z̄) − (g ∂_μ∂_ν v̄_ν + z̄ ∂_μ∂_ν δv_ν)
     /// − g ∂_μ(δv₃/g) for [`CavitationSource::Printed`]; 2γ₃ − (that) for
-    /// [`CavitationSource::SelfConsistent`] (spec §15 item 9); γ₃ for
+    /// [`CavitationSource::SelfConsistent`] (docs/models.md §15 item 9); γ₃ for
     /// [`CavitationSource::Reynolds`].
     #[inline(always)]
     pub fn gamma3c(&self, source: CavitationSource) -> [Jet; 2] {
@@ -889,7 +889,7 @@ pub const EXAMPLES: [&str; 14] = [
 ];
 
 /// The fluid example with thesis equation label `equation` ("IV.7" … "IV.20"; surrounding
-/// parentheses are accepted), per spec/models.md §14 and thesis §IV.3.
+/// parentheses are accepted), per docs/models.md §14 and thesis §IV.3.
 pub fn example(equation: &str) -> Option<ThinFilm> {
     let label = equation
         .trim()
@@ -1276,7 +1276,7 @@ mod tests {
         ]
     }
 
-    /// The quantities of `QUANTITIES` from the simplified forms of spec/models.md §14 (constant
+    /// The quantities of `QUANTITIES` from the simplified forms of docs/models.md §14 (constant
     /// δv, v(z₀) = 0, z₀ = 0, so z̄ = g/2, v̄ = δv/2), derived independently by hand.
     fn simplified(film: &ThinFilm, x: [f64; 2]) -> [f64; 16] {
         let j = film.gap.jet(x);
@@ -1331,7 +1331,7 @@ mod tests {
         ]
     }
 
-    /// (b) General formulas against the simplified forms of spec §14, all 14 examples, 25 points
+    /// (b) General formulas against the simplified forms of docs/models.md §14, all 14 examples, 25 points
     /// each. The relative error is measured against the largest |simplified value| of that
     /// quantity over the sample points of that example (1 if the quantity vanishes identically).
     #[test]

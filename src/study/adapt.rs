@@ -134,7 +134,7 @@ impl ModelMarking {
 /// * a face f compares ε^m(f) with η of its cell K(f);
 /// * a cell K compares η_K with ε^m(K) = (Σ ε^m(f)²)^{1/2} over its **z-faces**: the thesis
 ///   says the model error "of course only appears on the z-faces" (§IV.2.4), so a cell whose
-///   contact face is already Signorini has no model error to balance (spec/estimators.md §7
+///   contact face is already Signorini has no model error to balance (docs/estimators.md §7
 ///   sums over all its contact faces; that reading differs only on cells with an S-face).
 ///
 /// After refinement a face's children inherit its model; a face made by coarsening is

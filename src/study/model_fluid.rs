@@ -20,7 +20,7 @@
 //!    and the same mesh:
 //!    * the models by Algorithm III.3 (sorted error, [`sorted_error`]) over all cells, 𝕋_c the
 //!      Reynolds cells, with p_r = 5 % (§IV.3.4: "on 5% of the Reynolds cells"), p_c = 1 % and
-//!      ε₀ = 1e-7 (neither stated in the thesis; spec/estimators.md §2.3–§2.4); ties in the
+//!      ε₀ = 1e-7 (neither stated in the thesis; docs/estimators.md §2.3–§2.4); ties in the
 //!      order of the active cells;
 //!    * the grid by the fixed number 30 % / 3 % with tie groups split
 //!      ([`mark_fixed_number_split`] in the order [`split_order`], as the SubStokes tables) on
