@@ -1,7 +1,7 @@
 //! tribo — regenerates the results of Chapter IV of F. Gimbel, *Modelling and Numerical
 //! Simulation of Contact and Lubrication* (Siegen, 2012).
 //!
-//! The pipeline of one experiment (DESIGN.md): [`experiment`] file → typed problem →
+//! The pipeline of one experiment (docs/architecture.md, "Data flow"): [`experiment`] file → typed problem →
 //! [`study`] loop over [`mesh::Mesh`] → [`fe::System`] (dofs, constraints, pattern) → assembly
 //! ([`models`]) and solve ([`linalg`]) → estimate ([`estimators`]) → [`adaptivity`] →
 //! [`results::RunResult`] → golden snapshot (tests) and [`report`].

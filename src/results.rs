@@ -4,7 +4,7 @@
 
 use serde::{Deserialize, Serialize};
 
-/// Wall-clock seconds spent in each phase of one cycle (DESIGN.md data flow).
+/// Wall-clock seconds spent in each phase of one cycle (docs/architecture.md, "Data flow").
 #[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq)]
 pub struct PhaseSeconds {
     /// Dof numbering, constraints and sparsity pattern.

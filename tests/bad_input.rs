@@ -715,7 +715,7 @@ fn load_dir_sorts_numerically_and_filters() {
     let _ = fs::remove_dir_all(&dir);
 }
 
-/// The hostile inputs of issue 15 that the loader must refuse, each naming file and field:
+/// Hostile inputs that the loader must refuse, each naming file and field:
 /// fixed-length lists of another length (serde's arrays dropped extra values and ran a changed
 /// problem), control characters in text that reaches the page, degenerate domains and extreme
 /// material constants (they reached the solver as "not positive definite"), contradictory
@@ -1529,7 +1529,7 @@ fn forming_checks_name_file_and_field() {
     );
 }
 
-/// The SubStokes fields (issue 17): every bad value names file, field and expectation.
+/// The SubStokes fields: every bad value names file, field and expectation.
 #[test]
 fn substokes_checks_name_file_and_field() {
     let base =

@@ -5,6 +5,7 @@ mod browser;
 mod cli;
 mod common;
 mod contact;
+mod docs;
 mod elasticity;
 mod figures;
 mod forming;

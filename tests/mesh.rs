@@ -148,7 +148,7 @@ fn the_previous_cell_of_a_vertex_is_found_through_the_lineage() {
     assert_eq!(after.cell_at_vertex_in(&other, c, key), None);
 }
 
-/// Issue 15.1: coarse grids more than 128 cells wide (integer positions past 2³¹, whose vertex
+/// Coarse grids more than 128 cells wide (integer positions past 2³¹, whose vertex
 /// midpoints overflowed 32 bits: "hanging vertex exists") or 256 wide (past 2³²: an assert in
 /// `Mesh::new`). Hanging vertices at the far end of the strip, in x₁ and turned in x₂, are the
 /// midpoints of their parents.
@@ -211,7 +211,7 @@ fn vertices_are_the_corners_of_the_active_cells_each_once() {
     }
 }
 
-/// Issue 15.7: a cell of the deepest level cannot be refined (its children would have no integer
+/// A cell of the deepest level cannot be refined (its children would have no integer
 /// position); the refinement fails, names the cell and the mesh's levels, and leaves the mesh as
 /// it was.
 #[test]
@@ -574,7 +574,7 @@ fn assert_hanging_vertices_are_midpoints(dofs: &DofMap, tol: f64) {
     }
 }
 
-/// The fixed meshes of the model-adaptive contact tables (§IV.2.3, issue 16): 64 × 2 cells on
+/// The fixed meshes of the model-adaptive contact tables (§IV.2.3): 64 × 2 cells on
 /// [−16, 16] × [0, 1] refined 3× at the contact side — the printed 1472 cells, 3980 dofs and
 /// 512 faces of IV.18–IV.25 and IV.28–IV.29; 2× at both sides — the 1280 cells, 3342 dofs and
 /// 256 + 256 faces that IV.26/IV.27 print; 3× at both sides — the 7442 dofs of the text.

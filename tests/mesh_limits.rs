@@ -82,7 +82,7 @@ fn assert_same_run(a: &RunResult, b: &RunResult, tolerance: f64, what: &str) {
     }
 }
 
-/// Issue 15.1: a 300 × 2 coarse grid (integer positions up to 300 · 2²⁴ > 2³²: it panicked in
+/// A 300 × 2 coarse grid (integer positions up to 300 · 2²⁴ > 2³²: it panicked in
 /// `Mesh::new`; 129–255 cells panicked in the dof numbering once a cell was refined) is the
 /// 150 × 1 grid refined once, in every cycle of the adaptive loop, and so is the strip turned
 /// on its side, 2 × 300 against 1 × 150.
@@ -109,7 +109,7 @@ fn strips_past_256_coarse_cells_equal_their_once_refined_halves() {
     );
 }
 
-/// Issue 15.1: the coarse grids that panicked — 129 and 255 cells wide in the dof numbering once
+/// The coarse grids that panicked — 129 and 255 cells wide in the dof numbering once
 /// refinement makes hanging vertices at the far end, 256 in `Mesh::new` — run.
 #[test]
 fn coarse_grids_past_128_cells_in_one_direction_run() {
@@ -129,7 +129,7 @@ fn coarse_grids_past_128_cells_in_one_direction_run() {
     }
 }
 
-/// Issue 15.7: a feature finer than the deepest level. The bottom obstacle lifts the body by
+/// A feature finer than the deepest level. The bottom obstacle lifts the body by
 /// 0.01 everywhere but in the last 1e-9 before the clamped corner x₁ = 1, where it drops to 0 —
 /// feasible (the obstacle is 0 where the clamp holds s = 0), but 1e-9 is below the 2⁻²⁶ ≈ 1.5e-8
 /// of a level-24 cell of this 8 × 4 grid. On every mesh the corner vertex is held at 0 while the

@@ -230,7 +230,7 @@ fn balance_separates_model_and_grid_refinement() {
 /// the printed (IV.34: rows 0–6; its printed rows 7–9 grow by ×2.1 and ×2.8 per cycle), the
 /// balance claim (last row: model error ≤ the total estimate), IV.30's estimates within 15 %
 /// in every row. The convergence rule and the spread of the interior estimate are reported in
-/// the README and the notes, not asserted: they hold for IV.30 and IV.31 only (module docs of
+/// docs/results.md and the notes, not asserted: they hold for IV.30 and IV.31 only (module docs of
 /// `study::model_contact`).
 pub fn full_tier_rules(t: &str, r: &RunResult) {
     let thesis = ThesisTable::of(&spec(t));

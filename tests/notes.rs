@@ -1,6 +1,6 @@
 //! Notes a reader can follow: no references to files the reader does not have, to thesis text
-//! lines or to the project's issues; every erratum names tables that exist and is linked from
-//! them; each family's "model and conventions" box appears once on a page.
+//! lines or to an issue tracker outside the repository; every erratum names tables that exist
+//! and is linked from them; each family's "model and conventions" box appears once on a page.
 
 use std::collections::BTreeSet;
 use std::fs;

@@ -1,5 +1,5 @@
 //! Tables IV.36–IV.49 (Reynolds, Theorem III.16) and IV.64–IV.69 (Reynolds with cavitation,
-//! Theorem III.17) on the quick tier, plus the checks of issue 4: analytic value of (IV.7),
+//! Theorem III.17) on the quick tier, plus further checks: analytic value of (IV.7),
 //! constant solutions, sign-symmetric pairs, thesis agreement, `auto` cavitation, hard case.
 
 use std::f64::consts::PI;

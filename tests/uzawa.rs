@@ -39,7 +39,7 @@ fn the_cg_accelerated_variant_is_far_ahead() {
     assert!(r.rows.is_empty(), "a solver study has no adaptive cycles");
 }
 
-/// The data file: one row per variant and iteration, the columns of the issue.
+/// The data file: one row per variant and iteration, the columns of report/README.md.
 #[test]
 fn data_file_has_one_row_per_iteration() {
     let r = quick(FIGURE);

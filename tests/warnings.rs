@@ -1,4 +1,4 @@
-//! Legal but suspicious experiments (issue 15, item 8): they run, and the report warns — in the
+//! Legal but suspicious experiments: they run, and the report warns — in the
 //! table's section, in the summary's status and on stderr. No shipped experiment warns.
 
 use std::fs;

@@ -1,6 +1,6 @@
 //! Grid marking: the "fixed number" strategy of every Chapter IV grid-adaptive run
-//! (spec/estimators.md §1.4; deal.II `refine_and_coarsen_fixed_number(tria, η, 0.3, 0.03)`),
-//! with the tie band of DESIGN.md.
+//! (docs/estimators.md §1.4; deal.II `refine_and_coarsen_fixed_number(tria, η, 0.3, 0.03)`),
+//! with the tie band of docs/estimators.md §1.4.
 
 use rayon::prelude::*;
 

@@ -1,6 +1,6 @@
 //! Model marking: which units use the coarse and which the accurate model — Algorithms III.2
 //! (fixed fraction) and III.3 (sorted error) of §III.1, as the Chapter IV runs evidently ran
-//! them (spec/estimators.md §2.2, §2.3).
+//! them (docs/estimators.md §2.2, §2.3).
 //!
 //! A unit is a contact face f ⊂ Γ_C in the contact tables (𝕋_c: z-faces, 𝕋_a: Signorini
 //! faces, §IV.2.3) or a cell of Ω₂ in the fluid ones. The functions here see only unit indices
@@ -8,7 +8,7 @@
 //! between 𝕋_c and 𝕋_a. The global model error is (Σ_{𝕋_c} ε^m²)^{1/2} ([`model_error`]).
 //!
 //! **Ties** are broken by the geometric order: among equal indicators the unit with the smaller
-//! index moves first, in both directions (spec §2.2: with ε^m ≡ 0 the faces are taken in face
+//! index moves first, in both directions (docs/estimators.md §2.2: with ε^m ≡ 0 the faces are taken in face
 //! iteration order, l. 6103).
 
 use std::collections::BTreeSet;
@@ -142,7 +142,7 @@ impl Partition {
 }
 
 /// The global model-error estimate ε^m = (Σ_{Q∈𝕋_c} ε^m(Q)²)^{1/2}, summed over the coarse
-/// units only (spec §2: the accurate units carry no model error).
+/// units only (docs/estimators.md §2: the accurate units carry no model error).
 pub fn model_error(partition: &Partition, eps: &[f64]) -> f64 {
     squared_coarse_error(partition, eps).sqrt()
 }
@@ -168,7 +168,7 @@ pub struct Moves {
 }
 
 /// One marking step of **Algorithm III.2** (fixed fraction strategy), as the Chapter IV runs
-/// did it (Tables IV.18, 20, 22, 24, 26, 28; spec §2.2):
+/// did it (Tables IV.18, 20, 22, 24, 26, 28; docs/estimators.md §2.2):
 /// * move the ⌊p_r·|𝕋_c|⌋ coarse units of largest ε^m to 𝕋_a — also when ε^m = 0 (the printed
 ///   face counts keep falling in IV.18 with a flat obstacle, so the ε₀ test was not active);
 ///   the printed loop `while |𝕋_c| > (1 − p_r)|𝕋_c|` would move ⌊p_r·|𝕋_c|⌋ + 1 (11 of 512),
@@ -222,7 +222,7 @@ pub struct SwapsExceeded {
 }
 
 /// One marking step of **Algorithm III.3** (sorted error strategy), as the Chapter IV runs did
-/// it (Tables IV.19, 21, 23, 25, 27, 29; spec §2.3, indentation repaired). With
+/// it (Tables IV.19, 21, 23, 25, 27, 29; docs/estimators.md §2.3, indentation repaired). With
 /// E² = Σ_{𝕋_c} ε^m²:
 /// 1. **Swap** while max_{𝕋_c} ε^m > min_{𝕋_a} ε^m, where the min over an empty 𝕋_a is 0: if
 ///    E² + (min_{𝕋_a} ε^m)² > ε₀², move the coarse maximum to 𝕋_a (E² falls), else move the

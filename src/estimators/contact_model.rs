@@ -1,9 +1,9 @@
 //! The contact model error: how far the z-contact model (I.20) is from the Signorini model (I.21)
 //! on each contact face — the local projection difference ε_P of (III.9)–(III.16) and the face
 //! indicator ε^m(f) = ‖ε_P(s_h)‖_{L2(f)} that Algorithms III.2/III.3 mark with
-//! (spec/estimators.md §3.2–§3.4; issue 16).
+//! (docs/estimators.md §3.2–§3.4).
 //!
-//! **Reading (spec §3.4, [R]/[A]).** Both s_z and s_s of Theorem III.4 are replaced by the current
+//! **Reading (docs/estimators.md §3.4, \[R\]/\[A\]).** Both s_z and s_s of Theorem III.4 are replaced by the current
 //! solution s_h (the thesis orders faces by "the monotony of the estimate with regard to
 //! ε(s_h)"). At every contact vertex σ:
 //! * n_z and η_z: the fixed direction ∓e₂ and the obstacle distance along it from the undeformed

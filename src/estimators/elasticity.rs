@@ -1,5 +1,5 @@
 //! Residual estimator of Theorem III.12 (linear elasticity, energy norm), with the calibrated
-//! conventions of spec/estimators.md §5.1:
+//! conventions of docs/estimators.md §5.1:
 //!
 //! η_Q² = h_Q² ‖ρf + div σ(s_h)‖²_Q + h_Q Σ_{E⊂∂Q} ‖J_E‖²_E,
 //!
@@ -19,7 +19,7 @@ use crate::mesh::{Mesh, Side, FACES};
 use crate::models::elasticity::Elasticity;
 
 /// Which boundary residuals the estimator includes (the three thesis codes differ here,
-/// spec/estimators.md §5.2).
+/// docs/estimators.md §5.2).
 #[derive(Clone, Debug, PartialEq)]
 pub struct BoundaryTerms {
     /// Include the full residual σn − τn on Neumann faces.

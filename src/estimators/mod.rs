@@ -1,5 +1,5 @@
 //! A-posteriori error estimators of Chapter III with the conventions that reproduce the printed
-//! thesis numbers (spec/estimators.md §1.3): h_Q = cell diameter, ½ inside the norm on interior
+//! thesis numbers (docs/estimators.md §1.3): h_Q = cell diameter, ½ inside the norm on interior
 //! faces, the full residual on Neumann faces, constant c = 1. Every estimator returns the squared
 //! indicator η_Q² per active cell; the printed estimate is √(Σ_Q η_Q²).
 

@@ -1,5 +1,5 @@
 //! Residual estimators of Theorem III.16 (Reynolds equation, Reynolds norm (II.10)) and
-//! Theorem III.17 (Reynolds with cavitation), spec/estimators.md §5.3–§5.4:
+//! Theorem III.17 (Reynolds with cavitation), docs/estimators.md §5.3–§5.4:
 //!
 //! η_Q² = h_Q² ρ_Q² + h_Q ρ_∂Q²,
 //! ρ_Q = ‖l + (1/g)∂_μ(g²∂_μ(ψ_h/g))‖_Q = ‖l − ψ_h Δg/g‖_Q,
@@ -23,7 +23,7 @@
 //! **Thesis-code reading** ([`VolumeResidual::thesis_code`]). The printed fluid tables carry the
 //! estimate of the previous solve (row k: mesh of solve k+1, estimate of solve k), so their row 0
 //! is the estimate on the uniform 64×64 grid, which tribo computes too: it calibrates the
-//! estimator after all (spec/estimators.md §5.3 says it cannot be, having missed the shift).
+//! estimator after all (docs/estimators.md §5.3).
 //! With ρ_Q as stated ([`VolumeResidual::THEOREM`]) tribo's row 0 is 2.39 (IV.36), 2.37
 //! (IV.39), 2.08 (IV.44) and 2.16 (IV.45) times the printed value. Leaving out the operator term
 //! −ψ_hΔg/g everywhere, and the squeeze part −12δv₃/g² of l_R in the runs without cavitation,
@@ -39,8 +39,8 @@
 //! the theorem as stated beside it. In its cavitation runs the code evidently also took the
 //! source without cavitation, R₃ of (I.77) in place of R₃c: with that reading
 //! ([`crate::models::thin_film::CavitationSource::Reynolds`]) row 0 of IV.66 is 1170.69 against
-//! the printed 1170.7 (IV.68: 271.82 against 271.45); the experiments keep the printed γ₃c, as
-//! the issue asks, and the report runs the other readings beside them.
+//! the printed 1170.7 (IV.68: 271.82 against 271.45); the experiments keep the printed γ₃c, the
+//! thesis's own reading, and the report runs the other readings beside them.
 
 use super::per_cell;
 use crate::fe::cell_values::evaluate_at;

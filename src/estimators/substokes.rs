@@ -1,7 +1,7 @@
 //! Residual estimators of Theorem III.23 (stabilised SubStokes (II.32) without cavitation) and
 //! of Theorem III.24 (SubStokes with cavitation (III.74), discrete multiplier form (III.79)).
 //!
-//! **Theorem III.23**, spec/estimators.md §5.6, in the reading of issue 17:
+//! **Theorem III.23**, docs/estimators.md §5.6, in the literal reading:
 //!
 //! η² = Σ_Q η_Q², η_Q² = m_Q + j_Q + d_Q + s_Q,
 //!
@@ -9,22 +9,22 @@
 //!    m_Q = h_Q² ‖κ + γ + Δχ_h − (12/g²)χ_h − g∇(ψ_h/g) + c_Q‖²_Q,
 //!    where g∇(ψ_h/g) = ∇ψ_h − ψ_h∇g/g and c_Q = (1/(2|Q|)) Σ_{Γ⊂∂Q} ∫_Γ J_Γ ds is a constant
 //!    vector per cell (the thesis's "(|Γ|/(2|Q|)) Σ_Γ [ψ_h n − ∂_nχ_h]_Γ", Becker 1995, with
-//!    |Γ|·[·]_Γ read as the face integral of the jump, spec §5.6);
+//!    |Γ|·[·]_Γ read as the face integral of the jump, docs/estimators.md §5.6);
 //! 2. face jumps, j_Q = h_Q Σ_{Γ⊂∂Q} ‖J̃_Γ‖²_Γ with J̃_Γ = ½ J_Γ on interior faces and J̃_Γ = J_Γ on
-//!    faces on ∂Ω₂ (spec §1.3 convention), where
+//!    faces on ∂Ω₂ (docs/estimators.md §1.3 convention), where
 //!    J_Γ = [ψ_h n − ∂_nχ_h] = ∂_{n_Q}χ_h|_{Q′} − ∂_{n_Q}χ_h|_Q on interior faces (ψ_h is
 //!    continuous) and J_Γ = (ψ_h n − ∂_nχ_h) − (ψ₀ n − X₀) with X₀ = 0 on ∂Ω₂ (ψ_h = ψ₀ there,
 //!    so this is −∂_nχ_h up to rounding);
 //! 3. the unweighted mass residual d_Q = ‖σ₃ − (1/g)∇·(gχ_h)‖²_Q = ‖σ₃ − div χ_h − χ_h·∇g/g‖²_Q;
-//! 4. the stabilisation term s_Q = δ_Q² ‖∇ψ_h − κ − γ‖²_Q with δ_Q = h_Q (issue 17: table IV.52
-//!    pins δ_Q = h_Q; [`Stabilisation::Literal`]). Spec §5.6's default δ_ε h_Q² ‖∇ψ_h‖²_Q is
-//!    available as [`Stabilisation::DeltaEps`].
+//! 4. the stabilisation term s_Q = δ_Q² ‖∇ψ_h − κ − γ‖²_Q with δ_Q = h_Q (table IV.52
+//!    pins δ_Q = h_Q; [`Stabilisation::Literal`]). The other reading of docs/estimators.md §5.6,
+//!    δ_ε h_Q² ‖∇ψ_h‖²_Q, is available as [`Stabilisation::DeltaEps`].
 //!
 //! The printed estimate is η = √(Σ_Q η_Q²), the root of the SUM of the four squared sums (not the
 //! sum of the four roots that Theorem III.23 prints), with C = 1. The four squared sums are
 //! returned separately ([`SubStokesEstimate::parts`]) so that a study can report them.
 //!
-//! **Theorem III.24**, spec/estimators.md §5.7 ([`estimate_cavitation`]): the same four parts
+//! **Theorem III.24**, docs/estimators.md §5.7 ([`estimate_cavitation`]): the same four parts
 //! with the cavitation residuals — momentum h_Q²‖κ + γ_c + Δχ_h − 12χ_h/g² + ∇(div χ_h) −
 //! g∇(ψ_h/g)‖²_Q without c_Q, jumps of (ψ_h − div χ_h) n − ∂_nχ_h (same ½ and boundary
 //! conventions as above), mass ‖λ_h + σ₃ − (1/g)div(gχ_h)‖²_Q with the multiplier λ_h
@@ -53,10 +53,11 @@ use crate::models::thin_film::CavitationSource;
 /// The weight and residual of the stabilisation term (4).
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub enum Stabilisation {
-    /// δ_Q² ‖∇ψ_h − κ − γ‖²_Q with δ_Q = h_Q, as Theorem III.23 prints it (issue 17's reading).
+    /// δ_Q² ‖∇ψ_h − κ − γ‖²_Q with δ_Q = h_Q, as Theorem III.23 prints it (the literal reading).
     #[default]
     Literal,
-    /// δ_ε h_Q² ‖∇ψ_h‖²_Q (spec §5.6's default, consistent with Theorem III.24).
+    /// δ_ε h_Q² ‖∇ψ_h‖²_Q (the other reading of docs/estimators.md §5.6, consistent with
+    /// Theorem III.24).
     DeltaEps(f64),
 }
 
@@ -151,7 +152,7 @@ fn from_cell_parts(per_cell: &[[f64; 4]]) -> SubStokesEstimate {
     }
 }
 
-/// The reading of the multiplier λ_h in the mass term of Theorem III.24 (spec/estimators.md
+/// The reading of the multiplier λ_h in the mass term of Theorem III.24 (docs/estimators.md
 /// §5.7), from the hat-function residuals r_j = b₂c(χ_h, φ_j) + Σ_Q δ_ε h_Q²⟨∇ψ_h, ∇φ_j⟩_Q −
 /// ⟨σ₃, φ_j⟩ of the free ψ dofs — the multipliers [`SubStokesCavitationSolution::lambda`] of the
 /// solver.
@@ -159,7 +160,7 @@ fn from_cell_parts(per_cell: &[[f64; 4]]) -> SubStokesEstimate {
 pub enum Multiplier {
     /// λ_h = Σ λ_j φ_j with λ_j = max(r_j, 0)/∫φ_j at the cavitated free vertices (ψ_h = 0
     /// there) and 0 elsewhere ([`lumped_multiplier`]; the nodal complementarity of the solver,
-    /// spec §5.7's recommendation).
+    /// docs/estimators.md §5.7's recommendation).
     #[default]
     Lumped,
     /// λ_h = M⁻¹r: the Riesz representative ⟨λ_h, φ_j⟩ = r_j for every free vertex j with the
@@ -314,7 +315,7 @@ pub fn consistent_multiplier(mesh: &Mesh, dofs: &DofMap, r: &[f64]) -> Result<Ve
     Ok(lambda)
 }
 
-/// The estimate of Theorem III.24 (spec/estimators.md §5.7) for vertex-major values `u` =
+/// The estimate of Theorem III.24 (docs/estimators.md §5.7) for vertex-major values `u` =
 /// (χ₁, χ₂, ψ) on `dofs` and the nodal values `lambda` of λ_h per vertex (hanging values
 /// distributed; [`lumped_multiplier`], [`consistent_multiplier`]):
 ///

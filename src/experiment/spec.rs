@@ -191,7 +191,7 @@ impl ContactModel {
 }
 
 /// The term set of the contact estimator (Theorem III.15) that the thesis's codes evidently used
-/// (spec/estimators.md §5.2; `crate::estimators::contact::ContactEstimator`).
+/// (docs/estimators.md §5.2; `crate::estimators::contact::ContactEstimator`).
 #[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
 #[serde(rename_all = "kebab-case")]
 pub enum ContactEstimator {
@@ -229,7 +229,7 @@ pub struct ContactData {
 #[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
 #[serde(rename_all = "kebab-case")]
 pub enum ModelErrorSolution {
-    /// The mixed solution, the solution of the cycle (spec/estimators.md §3.4).
+    /// The mixed solution, the solution of the cycle (docs/estimators.md §3.4).
     #[default]
     Mixed,
     /// The z-solution on all faces, computed first in every cycle (the coarse solution u_c of
@@ -471,7 +471,7 @@ pub enum SubStokesStabilisation {
     /// δ_Q²‖∇ψ_h − κ − γ‖² with δ_Q = h_Q, as Theorem III.23 prints it.
     #[default]
     Literal,
-    /// δ_ε h_Q²‖∇ψ_h‖², the thesis's own stabilisation (spec/estimators.md §5.6).
+    /// δ_ε h_Q²‖∇ψ_h‖², the thesis's own stabilisation (docs/estimators.md §5.6).
     DeltaEps,
 }
 
@@ -637,11 +637,11 @@ pub enum ModelAlgorithm {
 
 /// ε₀ of Algorithms III.2/III.3 when a file does not set it: unstated in the thesis; IV.27
 /// row 1 (2.9744e-08, no refinement after it) and IV.29 row 8 (7.6012e-07, refinement
-/// continues) bound it to [2.97e-8, 7.6e-7) (spec/estimators.md §2.3).
+/// continues) bound it to [2.97e-8, 7.6e-7) (docs/estimators.md §2.3).
 pub const DEFAULT_MODEL_TOLERANCE: f64 = 1e-7;
 
 /// α of the balance (III.93) when a file does not set it: unstated in the thesis; 0.5, the
-/// middle of (0, 1) (spec/estimators.md §7).
+/// middle of (0, 1) (docs/estimators.md §7).
 pub const DEFAULT_BALANCE: f64 = 0.5;
 
 #[derive(Clone, Debug, Deserialize, PartialEq)]

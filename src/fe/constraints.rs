@@ -15,7 +15,7 @@
 //! * [`Constraints::distribute`] sets every hanging dof from its parents after a solve.
 //!
 //! Hanging vertices are never fixed nor put in an active set: their values follow from their
-//! parents (DESIGN.md "Determinism").
+//! parents (docs/architecture.md, "Determinism").
 
 use super::dofs::{DofMap, Hanging};
 use crate::mesh::Side;

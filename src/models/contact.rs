@@ -4,7 +4,7 @@
 //! from their parents), nor are Dirichlet vertices.
 //!
 //! * z-contact (I.20), §IV.2.1: fixed direction n = n_z = ∓e₂ and the bound η_z(x₁) on the
-//!   **undeformed** face (spec/models.md §2.4, §15 item 2).
+//!   **undeformed** face (docs/models.md §2.4, §15 item 2).
 //! * Signorini contact (I.21), linearised per cycle as in §IV.2.2 (thesis l. 5556–5568): with a
 //!   displacement s₀ (the previous cycle's solution), at every contact vertex n is the outer unit
 //!   normal of the deformed boundary polyline x + s₀ (mean of the two adjacent face normals,

@@ -7,7 +7,7 @@
 //!
 //! χ^R_μ = g v̄_μ + (g²/12) [Δ(g v̄_μ) − g ∂_μ(ψ^R/g) + κ_μ + (γ₃)_μ],
 //!
-//! with g ∂_μ(ψ/g) = ∂_μψ − ψ ∂_μg/g (spec/models.md §11). The pressure is p ≈ ψ/g (I.85).
+//! with g ∂_μ(ψ/g) = ∂_μψ − ψ ∂_μg/g (docs/models.md §11). The pressure is p ≈ ψ/g (I.85).
 //!
 //! **Thin-film limits.** Eliminating χ from (I.58) gives ∇·(g⁴∇(ψ/g)) = 12gδv₃ for a vertical
 //! squeeze, and g²·(I.77) is that minus 2g³∇g·∇(ψ/g): where ∇g ≠ 0 (wave, hill) the two models

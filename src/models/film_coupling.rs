@@ -1,5 +1,5 @@
 //! The model-adaptive fluid of §IV.3.4: the Reynolds model (I.77) on all of Ω₂ and the
-//! SubStokes model (I.58) on the cells flagged SubStokes, coupled one way (spec/models.md §11),
+//! SubStokes model (I.58) on the cells flagged SubStokes, coupled one way (docs/models.md §11),
 //! and the per-cell model indicator of Theorem III.6 that decides which cells are flagged.
 //!
 //! **The coupled solve** ([`Coupling::solve`]; the two `calculate` lines of Algorithms
@@ -16,8 +16,8 @@
 //!      solve) and −⟨ψ^R n, ξ⟩ on Γ_I ([`Coupling::assemble_substokes`]); without the second
 //!      term the natural condition would be ∂_nχ = ψ^R n instead.
 //!
-//!    No Neumann data for χ from (I.86) is imposed (spec §11 calls it optional), and no point
-//!    condition (I.56) (as in the plain SubStokes solve: a₂ is coercive).
+//!    No Neumann data for χ from (I.86) is imposed (optional in docs/models.md §11), and no
+//!    point condition (I.56) (as in the plain SubStokes solve: a₂ is coercive).
 //!
 //! The coupled pressure is ψ_h on the SubStokes cells and ψ^R on the Reynolds cells
 //! ([`CoupledSolution::pressure_at`]). It is continuous: along every interface face ψ_h and ψ^R
@@ -44,7 +44,7 @@
 //!   is then an extra condition of this reading ([`Region::extra_fixed`] counts them).
 //!
 //! **Model indicator** ([`model_indicator`]), the velocity bound of Theorem III.6 on one cell
-//! Q (spec/estimators.md §4.2, the reading of the project's issue):
+//! Q (docs/estimators.md §4.2, the reading chosen there):
 //! ε^m(Q) = V(Q) = (‖g²‖_{∞,Q}/12)·P(Q) + ‖g²Δ(g³)‖_Q + ‖g⁵‖_Q + 6‖g⁴∇g‖_Q, with the pressure
 //! bound restricted to Q
 //! P(Q) = (1/g_min)(‖∂_μ(gΔ(g³)) + 24g∂_μg‖_Q + ‖gΔ(g³)‖_Q + 2‖∂_μ(g∂_ν(g³))‖_Q
@@ -53,8 +53,8 @@
 //! Ω₂ = [0, 1]² in §IV.3), ‖g²‖_{∞,Q} exact ([`crate::models::thin_film::Gap::range_on_box`]),
 //! vector and tensor fields in the Euclidean/Frobenius norm pointwise, L²(Q) norms by 4×4 Gauss
 //! points on sub-cells of side ≤ 1/32 ([`model_indicator`]), the derivatives of g analytic (the
-//! third-order [`Jet`] of the gap). P(Q) alone (spec §4.2's default) does not single out the
-//! wide gap, as §IV.3.4 says the refinement does: on 8×8 it is 6.610 in the cells next to the
+//! third-order [`Jet`] of the gap). P(Q) alone (the other reading of docs/estimators.md §4.2)
+//! does not single out the wide gap, as §IV.3.4 says the refinement does: on 8×8 it is 6.610 in the cells next to the
 //! widest gap (x₁ = 1/8, 5/8) and 6.692 next to the narrowest (3/8, 7/8); the velocity bound is
 //! 0.01789 and 0.00582 there (test `theorem_iii6_bounds_on_8x8`).
 
@@ -608,7 +608,7 @@ mod tests {
     }
 
     /// The model indicator on the 8×8 grid for (IV.17): per column of cells (it depends on x₁
-    /// alone), P(Q) and V(Q). The issue quotes P = 6.61 next to the widest gap (x₁ = 1/8, 5/8)
+    /// alone), P(Q) and V(Q). A reference computation gives P = 6.61 next to the widest gap (x₁ = 1/8, 5/8)
     /// and 6.69 next to the narrowest (3/8, 7/8), V = 0.0179 and 0.0058.
     #[test]
     fn theorem_iii6_bounds_on_8x8() {

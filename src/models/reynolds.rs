@@ -20,7 +20,7 @@
 //!
 //! **Load.** l_R (II.37) and l_{R,c} (II.39) from the general Chapter I formulas
 //! ([`ThinFilm::reynolds_load`], [`ThinFilm::cavitation_load`]), 2×2 Gauss points per cell
-//! (spec/estimators.md §1.2). The load, Δg/g and the squeeze part of the load at the quadrature
+//! (docs/estimators.md §1.2). The load, Δg/g and the squeeze part of the load at the quadrature
 //! points are computed once per mesh ([`CellData`]) and shared by assembly and estimator; cells
 //! unchanged since the previous mesh keep theirs, and for gaps that depend on x₁ alone the
 //! formulas are evaluated once per distinct x₁ ([`ReynoldsProblem::cell_data_reusing`]).

@@ -7,7 +7,7 @@
 //! χ₁, χ₂, ψ ([`System::new`] with 3 components; every vertex counts, hanging and boundary
 //! ones included: 81 vertices, 243 dofs on the 8×8 grid).
 //!
-//! **Discrete problem** (spec/models.md §6.4): find χ_h ∈ (Q₁)², ψ_h ∈ Q₁ with ψ_h = ψ₀ at the
+//! **Discrete problem** (docs/models.md §6.4): find χ_h ∈ (Q₁)², ψ_h ∈ Q₁ with ψ_h = ψ₀ at the
 //! boundary vertices such that
 //!
 //! a₂(χ_h, ξ) − b₂(ξ, ψ_h) = ⟨κ + γ, ξ⟩ − ⟨ψ₀ n − X₀, ξ⟩_{∂Ω₂}   for all ξ ∈ (Q₁)²,
@@ -17,7 +17,7 @@
 //! (II.33), γ the momentum source (I.52) ([`FilmJets::gamma`]), σ₃ the mass source (I.50)
 //! ([`FilmJets::sigma3`]), g the gap, h_Q the cell diameter (the diagonal of a rectangle) and δ_ε
 //! the stabilisation constant ([`DEFAULT_DELTA_EPS`]). The examples of §IV.3 have κ = 0 and, by
-//! the best reading of spec §15 item 8, X₀ = 0. The point condition (I.56) on χ is not imposed:
+//! the best reading of docs/models.md §15 item 8, X₀ = 0. The point condition (I.56) on χ is not imposed:
 //! a₂ is coercive on all of H¹ (Thm II.40), so χ is determined without it.
 //!
 //! **Matrix.** The mass rows are negated so that the system is symmetric quasi-definite,
@@ -35,10 +35,10 @@
 //! integral 2 Gauss points per boundary face. The boundary values ψ₀ are eliminated dofs, the
 //! hanging-node constraints are condensed as in the other models ([`crate::fe::Constraints`]).
 //!
-//! **Cavitation** (§III.2.3.3, spec/models.md §7; [`Form::Cavitation`], [`solve_cavitation`]).
+//! **Cavitation** (§III.2.3.3, docs/models.md §7; [`Form::Cavitation`], [`solve_cavitation`]).
 //! The velocity form is a₂c(χ, ξ) = ⟨∇χ, ∇ξ⟩ + 12⟨χ/g, ξ/g⟩ + ⟨div χ, div ξ⟩ with the plain 2-D
 //! divergence (I.66); the boundary term −⟨div χ, n·ξ⟩_{∂Ω₂} of (I.66) is dropped, as (III.74),
-//! (III.75) argue (div χ = 0 on ∂Ω₂ for ψ₀ > 0; spec §15 item 11), which keeps the matrix
+//! (III.75) argue (div χ = 0 on ∂Ω₂ for ψ₀ > 0; docs/models.md §15 item 11), which keeps the matrix
 //! symmetric. The momentum source is κ + γ_c with γ_c = γ₃c + 12 v̄/g (I.61), (I.65)
 //! ([`FilmJets::gamma_c`], in the reading [`SubStokesProblem::cavitation_source`], default
 //! (I.61) as printed). b₂c = b₂, the stabilisation C, the mass load G and the boundary term
@@ -61,8 +61,8 @@ use crate::mesh::{bilinear, CellId, Face, Mesh};
 use crate::models::thin_film::{CavitationSource, ThinFilm};
 
 /// Default stabilisation constant δ_ε of the pressure stabilisation Σ_Q δ_ε h_Q² ⟨∇ψ, ∇φ⟩_Q
-/// (§III.2.3). The thesis only states the form ε = δ_ε h² (spec §15 item 13), not the value:
-/// 1.10e-3 is the value the issue calibrates on row 0 of table IV.50, not a thesis number.
+/// (§III.2.3). The thesis only states the form ε = δ_ε h² (docs/models.md §15 item 13), not the value:
+/// 1.10e-3 is the value calibrated on row 0 of table IV.50, not a thesis number.
 pub const DEFAULT_DELTA_EPS: f64 = 1.10e-3;
 
 /// Number of components per vertex: χ₁, χ₂, ψ.
@@ -93,7 +93,7 @@ pub struct SubStokesProblem {
     pub delta_eps: f64,
     /// The reading of γ₃c in the momentum source γ_c = γ₃c + 12 v̄/g (I.61), (I.65) of the
     /// cavitation form ([`Form::Cavitation`]); the plain form does not use it. Default: (I.61) as
-    /// printed (spec/models.md §7).
+    /// printed (docs/models.md §7).
     pub cavitation_source: CavitationSource,
     /// The point P of the point condition (I.56) χ(P) = (g v̄)(P) + g³ρ(P) (ρ = 0 in §IV.3), or
     /// none (the default: a₂ is coercive on all of H¹, Theorem II.40, so χ is determined without
@@ -1081,7 +1081,7 @@ mod tests {
 
     /// ψ(½, ½) of (IV.7) on 8×8 and 32×32 with δ_ε = 1.10e-3 and δ_ε = 1 (printed; run with
     /// `--nocapture`). Asserted: the squeeze raises the centre pressure above ψ₀, and with
-    /// δ_ε = 1 the values agree with the independent check quoted in issue 17 (223 on 8×8,
+    /// δ_ε = 1 the values agree with an independent reference computation (223 on 8×8,
     /// 466 on 32×32) to the digits quoted (±1).
     #[test]
     fn centre_pressure_of_iv7() {

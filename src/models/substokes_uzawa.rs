@@ -36,7 +36,7 @@
 //! **Cavitation** ([`solve_cavitation_uzawa`]). The discrete problem (III.79) in its multiplier
 //! form (ψ ≥ 0 at the free ψ dofs, λ = Bᵀχ + Cψ − G ≥ 0, ψ_j λ_j = 0) is the complementarity
 //! problem of the Schur complement, min ½ψᵀSψ − b_Sᵀψ over ψ ≥ 0. The thesis solves it by "a
-//! projected cg-method" (outlook, l. 8980) without details. Spec §6 reads it [R/A] as CG-SSOR
+//! projected cg-method" (outlook, l. 8980) without details. docs/estimators.md §6 reads it [R/A] as CG-SSOR
 //! with p_j ← max(p_j, 0) after every pressure update ([`CgRule::AsPrinted`] with
 //! [`UzawaOptions::projected`]); that reading does not converge here (stalls near 3e-3 for (IV.8)
 //! on 32×32, test `clipping_as_printed_stalls_where_the_face_method_converges`). The default,

@@ -8,7 +8,7 @@ use std::time::Instant;
 
 use crate::results::PhaseSeconds;
 
-/// The phases of a cycle (DESIGN.md data flow).
+/// The phases of a cycle (docs/architecture.md, "Data flow").
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Phase {
     Setup,

@@ -1,4 +1,4 @@
-//! The study: one loop for every table (DESIGN.md data flow), deal.II step-6 style —
+//! The study: one loop for every table (docs/architecture.md, "Data flow"), deal.II step-6 style —
 //! setup → assemble → solve → estimate → record → adapt. What differs between table families
 //! lives in two places: the [`Problem`] (what is assembled and solved, which columns it produces)
 //! and the [`Adaptation`] (what changes between cycles). A new family is a new problem or a new

@@ -13,7 +13,7 @@
 //!    the Signorini constraint. Without Signorini faces the z-solution is the solution.
 //!
 //! **Indicator.** ε^m(f) = ‖ε_P(s_h)‖_{L2(f)} of (III.16) for the mixed solution s_h on every
-//! face ([`crate::estimators::contact_model`], spec/estimators.md §3.4), the printed
+//! face ([`crate::estimators::contact_model`], docs/estimators.md §3.4), the printed
 //! `model_error` = (Σ_{f∈𝕋_c} ε^m(f)²)^{1/2} over the z-faces.
 //!
 //! **Model and grid (Tables IV.30–IV.35, Algorithm III.25).** The same two solves per cycle on

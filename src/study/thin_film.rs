@@ -87,7 +87,7 @@ impl FieldSample<'_> {
 
 /// Whether the cavitation model runs. `auto` solves without cavitation and switches the
 /// cavitation model on — for this and every later solve — as soon as the pressure drops below
-/// zero at a vertex (DESIGN.md "simulate only what a scene calls for"; the thesis does this by
+/// zero at a vertex (docs/architecture.md, "Scenes"; the thesis does this by
 /// hand in §IV.3.5).
 #[derive(Clone, Debug)]
 pub struct CavitationSwitch {
@@ -217,7 +217,7 @@ pub struct SourceReading {
 }
 
 /// The readings of R₃c that the report runs beside a thin-film table with cavitation and the
-/// printed γ₃c of (I.61): the self-consistent 2γ₃ − γ₃c (spec/models.md §15 item 9), and R₃ of
+/// printed γ₃c of (I.61): the self-consistent 2γ₃ − γ₃c (docs/models.md §15 item 9), and R₃ of
 /// (I.77), the source without cavitation, which the thesis's code evidently used
 /// ([`CavitationSource::Reynolds`]). None for other tables.
 pub fn source_readings(cavitation: Cavitation, source: CavitationSource) -> Vec<SourceReading> {

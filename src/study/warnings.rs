@@ -1,4 +1,4 @@
-//! What only a run shows to be suspicious (issue 15): every estimate 0, an obstacle that is
+//! What only a run shows to be suspicious: every estimate 0, an obstacle that is
 //! never touched, an estimate that grows where the study expects convergence. Joined to the
 //! file's own warnings ([`Experiment::warnings`]) in the run's result.
 

@@ -42,7 +42,7 @@ impl ContactSide {
     }
 
     /// b(x₁), the bound on s₂ of the z-contact model (I.20) at the **undeformed** x₁
-    /// (spec models.md §15 item 2): s₂ ≥ b (lower) or s₂ ≤ b (upper).
+    /// (docs/models.md §15 item 2): s₂ ≥ b (lower) or s₂ ≤ b (upper).
     pub fn z_bound(&self, x1: f64) -> f64 {
         self.shape.value(x1)
     }
