@@ -179,3 +179,50 @@ fn the_ticket_check_reads_words() {
     assert!(has_section("## 15. Garbled\n", "15"));
     assert!(!has_section("5.6 in text\n", "5.6"));
 }
+
+/// The files a reader of the documentation is sent to.
+const DOCUMENTATION: [&str; 3] = ["docs", "README.md", "report/README.md"];
+
+/// The `src/…` paths of `line` (a file `src/x.rs` or a folder `src/x/`).
+fn source_paths(line: &str) -> Vec<String> {
+    let path_char = |c: char| c.is_ascii_alphanumeric() || "_-./".contains(c);
+    line.match_indices("src/")
+        .filter(|(i, _)| !line[..*i].chars().next_back().is_some_and(path_char))
+        .map(|(i, _)| {
+            let rest = &line[i..];
+            let end = rest.find(|c: char| !path_char(c)).unwrap_or(rest.len());
+            rest[..end].trim_end_matches('.').to_string()
+        })
+        .collect()
+}
+
+/// Code moves between files; the documentation must follow it. Every `src/…` file or folder
+/// that the README, report/README.md or docs/ name exists.
+#[test]
+fn source_paths_named_in_the_documentation_exist() {
+    let mut missing = Vec::new();
+    let mut named = 0;
+    for (path, text) in files_of(&DOCUMENTATION) {
+        for (n, line) in text.lines().enumerate() {
+            for source in source_paths(line) {
+                named += 1;
+                if !root().join(&source).exists() {
+                    missing.push(format!("{}:{}: {source}", path.display(), n + 1));
+                }
+            }
+        }
+    }
+    assert!(
+        named > 0,
+        "the documentation names no source path: the check would be empty"
+    );
+    assert!(
+        missing.is_empty(),
+        "source paths named in the documentation that do not exist:\n{}",
+        missing.join("\n")
+    );
+    assert_eq!(
+        source_paths("(`src/mesh/`, src/fe/constraints.rs.) and a/src/x"),
+        vec!["src/mesh/".to_string(), "src/fe/constraints.rs".to_string()]
+    );
+}
