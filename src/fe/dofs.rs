@@ -32,7 +32,7 @@ pub struct Vertices {
     pub is_hanging: Vec<bool>,
     /// The active cell that holds each vertex where [`Mesh::cell_at_vertex`] finds it (the cell
     /// to its upper right, or below or left of it on the right and top sides of the domain):
-    /// the cell that listed the vertex ([`vertex_keys`]).
+    /// the cell that listed the vertex (`vertex_keys`).
     pub owner: Vec<CellId>,
     extent: (u64, u64),
     /// Vertex number by integer position ([`Vertices::find`]).

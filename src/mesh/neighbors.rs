@@ -218,9 +218,9 @@ impl Mesh {
         }
     }
 
-    /// [`Mesh::across`] of every cell and face at once, top-down: the cells are stored level
+    /// `Mesh::across` of every cell and face at once, top-down: the cells are stored level
     /// after level (breadth-first, [`Mesh::truncated`] relies on it too), and a child's
-    /// neighbour follows from its parent's ([`Mesh::across_child`]), so each level is one
+    /// neighbour follows from its parent's (`Mesh::across_child`), so each level is one
     /// parallel pass and no query walks up the tree. The loops that visit every cell's four
     /// faces (the vertex numbering, the estimators) read it through [`Mesh::neighbor_in`].
     pub fn face_neighbors(&self) -> FaceNeighbors {

@@ -264,7 +264,7 @@ impl Mesh {
 
     /// The mesh of the cells of level ≤ `level`: every cell of that level becomes active (the
     /// level meshes of global-coarsening multigrid, [`crate::fe::hierarchy`]). The storage is
-    /// breadth-first by level ([`Mesh::rebuild`]), so the coarser mesh is a prefix of it with
+    /// breadth-first by level (`Mesh::rebuild`), so the coarser mesh is a prefix of it with
     /// the same cell ids; a truncation of a 2:1-balanced mesh is 2:1 balanced (a leaf next to a
     /// cell of level `level` had a neighbour of level ≥ `level` before, so its level is at
     /// least `level − 1`).

@@ -3,7 +3,7 @@
 //!
 //! A row is within tolerance when each of its scored columns that both tribo and the thesis
 //! have — `dofs` (3 %) and `estimate` (5 %), the columns of the summary's "max Δ" — differs by
-//! no more than the tolerance ([`super::tolerance`]). A table whose every row is within
+//! no more than the tolerance (`super::tolerance`). A table whose every row is within
 //! tolerance is *reproduced*. A table the thesis prints as a copy of another is not scored
 //! (its printed numbers belong to the other scene); a figure experiment and a scene without a
 //! printed table have nothing to be scored against.

@@ -59,7 +59,7 @@ pub fn check(mesh: &LastMesh) -> io::Result<()> {
     Ok(())
 }
 
-/// Write `mesh` to `path` as a `.vtu` file ([`write`]).
+/// Write `mesh` to `path` as a `.vtu` file (`write`).
 pub fn write_file(path: &Path, mesh: &LastMesh) -> io::Result<()> {
     let mut out = BufWriter::with_capacity(1 << 20, File::create(path)?);
     write(&mut out, mesh)?;
@@ -247,7 +247,7 @@ fn xml_unescape(name: &str) -> String {
         .replace("&amp;", "&")
 }
 
-/// A `.vtu` file as [`write`] writes it, read back: the counts of its piece and every data array
+/// A `.vtu` file as `write` writes it, read back: the counts of its piece and every data array
 /// as doubles (integers converted), by name.
 #[derive(Debug)]
 pub struct VtuFile {
@@ -266,7 +266,7 @@ impl VtuFile {
     }
 }
 
-/// Read a file written by [`write`] (appended raw data, UInt64 headers, little-endian); an error
+/// Read a file written by `write` (appended raw data, UInt64 headers, little-endian); an error
 /// says what does not fit that form.
 pub fn read(bytes: &[u8]) -> io::Result<VtuFile> {
     let marker = b"<AppendedData encoding=\"raw\">";
