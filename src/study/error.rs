@@ -8,6 +8,7 @@
 use crate::linalg::uzawa::UzawaError;
 use crate::linalg::SolveError;
 use crate::mesh::MeshError;
+use crate::models::ModelError;
 
 /// The failure of one cycle (or of the setup before the first one) of a study.
 #[derive(Debug, thiserror::Error)]
@@ -15,6 +16,9 @@ pub enum StudyError {
     /// A linear solve failed (factorisation, iteration, a non-finite value).
     #[error(transparent)]
     Solve(#[from] SolveError),
+    /// A model's solve or an estimator failed.
+    #[error(transparent)]
+    Model(#[from] ModelError),
     /// An Uzawa run of a solver study failed.
     #[error(transparent)]
     Uzawa(#[from] UzawaError),
@@ -56,6 +60,19 @@ impl StudyError {
         match self {
             StudyError::Context { source, .. } => source.kind(),
             other => other,
+        }
+    }
+
+    /// The failed linear solve behind this error, under the contexts of the study and of the
+    /// model, if a solve failed.
+    pub fn solve_error(&self) -> Option<&SolveError> {
+        match self.kind() {
+            StudyError::Solve(e) => Some(e),
+            StudyError::Model(m) => match m.kind() {
+                ModelError::Solve(e) => Some(e),
+                _ => None,
+            },
+            _ => None,
         }
     }
 }

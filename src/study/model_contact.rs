@@ -265,7 +265,7 @@ impl ModelAdaptiveContact {
             &self.z_constraints,
             self.z_active.as_deref(),
         )
-        .map_err(|e| format!("z-solve on all faces: {e}"))?;
+        .map_err(|e| StudyError::from(e).context("z-solve on all faces"))?;
         if self.accurate.is_empty() {
             return Ok((z, None));
         }

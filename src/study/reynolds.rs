@@ -258,7 +258,7 @@ impl Problem for ReynoldsFilm {
         let cuts = match cut {
             Ok(cuts) => Some(cuts),
             Err(e) => {
-                self.cut_failure = Some(e);
+                self.cut_failure = Some(e.to_string());
                 None
             }
         };

@@ -330,7 +330,7 @@ impl Problem for SubStokesFilm {
         let cuts = match comparison.cuts(&disc.mesh, dofs, &solution.u, self.domain.x) {
             Ok(cuts) => Some(cuts),
             Err(e) => {
-                self.comparison_failure = Some(e);
+                self.comparison_failure = Some(e.to_string());
                 None
             }
         };
