@@ -3,6 +3,7 @@
 //! model that knows which of its solves failed wraps the error in [`ModelError::Context`]
 //! (`"contact: …"`, `"cavitation: …"`). The text a user reads is the `Display`, contexts first.
 
+use crate::linalg::saddle_point::SaddlePointError;
 use crate::linalg::uzawa::UzawaError;
 use crate::linalg::SolveError;
 
@@ -12,6 +13,9 @@ pub enum ModelError {
     /// A linear solve (or the active-set method around it) failed.
     #[error(transparent)]
     Solve(#[from] SolveError),
+    /// A saddle point system could not be split off or solved directly.
+    #[error(transparent)]
+    SaddlePoint(#[from] SaddlePointError),
     /// An Uzawa run failed.
     #[error(transparent)]
     Uzawa(#[from] UzawaError),

@@ -160,7 +160,7 @@ fn run(
             )));
         }
     }
-    let blocks = SaddleBlocks::new(system, PSI).map_err(|e| format!("{what}: {e}"))?;
+    let blocks = SaddleBlocks::new(system, PSI).map_err(|e| ModelError::from(e).context(what))?;
     let options = UzawaOptions {
         projected,
         scale: ResidualScale::RightHandSide,
