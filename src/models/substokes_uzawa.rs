@@ -168,7 +168,7 @@ fn run(
     };
     let p0 = initial.map(|u| blocks.pressure_of(u));
     let out = uzawa_from(&blocks.system, &options, None, p0.as_deref())
-        .map_err(|e| format!("{what}: {e}"))?;
+        .map_err(|e| ModelError::from(e).context(what))?;
     let last = out.rows.last().expect("row 0 is always there");
     if !out.converged {
         return Err(ModelError::Failed(format!(

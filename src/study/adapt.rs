@@ -131,7 +131,7 @@ impl ModelMarking {
                     self.coarsen,
                     self.tolerance,
                 )
-                .map_err(|e| format!("model marking: {e}"))?;
+                .map_err(|e| StudyError::from(e).context("model marking"))?;
             }
         }
         Ok(units

@@ -5,6 +5,7 @@
 //! [`StudyError::Context`]. The text a user reads is the `Display` of the kind, with the
 //! contexts in front of it, outermost first.
 
+use crate::adaptivity::model::SwapsExceeded;
 use crate::linalg::uzawa::UzawaError;
 use crate::linalg::SolveError;
 use crate::mesh::MeshError;
@@ -25,6 +26,9 @@ pub enum StudyError {
     /// The mesh cannot be built or refined.
     #[error(transparent)]
     Mesh(#[from] MeshError),
+    /// The model marking (Algorithm III.3) did not settle.
+    #[error(transparent)]
+    Marking(#[from] SwapsExceeded),
     /// The solution or the error estimate of a cycle has a value that is not finite.
     #[error("{0}")]
     NonFinite(String),
