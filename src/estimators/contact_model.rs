@@ -19,6 +19,7 @@
 //! values a, b and the length |f| of the undeformed face.
 
 use crate::models::obstacle::ContactSide;
+use crate::models::ModelError;
 
 /// Relative tolerance of the tests (S) and (Z).
 pub const CONDITION_TOLERANCE: f64 = 1e-12;
@@ -46,7 +47,7 @@ pub fn vertex_differences(
     side: &ContactSide,
     points: &[[f64; 2]],
     displacement: &[[f64; 2]],
-) -> Result<Vec<f64>, String> {
+) -> Result<Vec<f64>, ModelError> {
     assert_eq!(
         points.len(),
         displacement.len(),
@@ -80,14 +81,14 @@ pub fn vertex_differences(
             if eps.is_finite() {
                 Ok(eps)
             } else {
-                Err(format!(
+                Err(ModelError::Failed(format!(
                     "model error at the contact vertex ({}, {}): the z-constraint fails there \
                      (s₂ beyond the obstacle by {:e}) but the normal line of the deformed \
                      boundary meets no obstacle",
                     points[i][0],
                     points[i][1],
                     s_dot_nz - eta_z
-                ))
+                )))
             }
         })
         .collect()

@@ -49,6 +49,7 @@ use crate::models::substokes::{
     SubStokesCavitationSolution, SubStokesProblem, SubStokesSolution, PSI,
 };
 use crate::models::thin_film::CavitationSource;
+use crate::models::ModelError;
 
 /// The weight and residual of the stabilisation term (4).
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
@@ -278,7 +279,11 @@ fn distribute_hanging(dofs: &DofMap, values: &mut [f64]) {
 /// solve M λ = r on the free vertices (interior, non-hanging) with the Q₁ mass matrix M of the
 /// conforming hat functions (2×2 Gauss, exact for Q₁ × Q₁ on rectangles), λ = 0 on ∂Ω₂, hanging
 /// values distributed. `r` per dof as [`SubStokesCavitationSolution::lambda`].
-pub fn consistent_multiplier(mesh: &Mesh, dofs: &DofMap, r: &[f64]) -> Result<Vec<f64>, String> {
+pub fn consistent_multiplier(
+    mesh: &Mesh,
+    dofs: &DofMap,
+    r: &[f64],
+) -> Result<Vec<f64>, ModelError> {
     let mut system = System::new(mesh, 1);
     for v in 0..system.dofs.vertices.len() as u32 {
         if system.dofs.vertices.on_boundary(v) {
@@ -311,7 +316,7 @@ pub fn consistent_multiplier(mesh: &Mesh, dofs: &DofMap, r: &[f64]) -> Result<Ve
         .collect();
     let lambda = system
         .solve(&mut DirectSolver::cholesky())
-        .map_err(|e| format!("III.24 consistent multiplier: {e}"))?;
+        .map_err(|e| ModelError::from(e).context("III.24 consistent multiplier"))?;
     Ok(lambda)
 }
 
@@ -342,14 +347,14 @@ pub fn estimate_cavitation(
     lambda: &[f64],
     problem: &SubStokesProblem,
     options: CavitationOptions,
-) -> Result<SubStokesEstimate, String> {
+) -> Result<SubStokesEstimate, ModelError> {
     let per_cell = cavitation_cell_parts(mesh, dofs, u, lambda, problem, options)?;
     let estimate = from_cell_parts(&per_cell);
     if let Some(k) = estimate.indicators.iter().position(|v| !v.is_finite()) {
-        return Err(format!(
+        return Err(ModelError::Failed(format!(
             "III.24 estimate: indicator {} on active cell {k}",
             estimate.indicators[k]
-        ));
+        )));
     }
     Ok(estimate)
 }
@@ -362,19 +367,19 @@ pub fn cavitation_cell_parts(
     lambda: &[f64],
     problem: &SubStokesProblem,
     options: CavitationOptions,
-) -> Result<Vec<[f64; 4]>, String> {
+) -> Result<Vec<[f64; 4]>, ModelError> {
     if lambda.len() != dofs.vertices.len() {
-        return Err(format!(
+        return Err(ModelError::Failed(format!(
             "III.24 estimate: {} multiplier values for {} vertices",
             lambda.len(),
             dofs.vertices.len()
-        ));
+        )));
     }
     if let Some(v) = lambda.iter().position(|l| !l.is_finite()) {
-        return Err(format!(
+        return Err(ModelError::Failed(format!(
             "III.24 estimate: multiplier {} at vertex {v}",
             lambda[v]
-        ));
+        )));
     }
     let terms = Terms {
         source: Source::GammaC(problem.cavitation_source),
@@ -394,7 +399,7 @@ pub fn estimate_cavitation_solution(
     solution: &SubStokesCavitationSolution,
     problem: &SubStokesProblem,
     options: CavitationOptions,
-) -> Result<SubStokesEstimate, String> {
+) -> Result<SubStokesEstimate, ModelError> {
     let s = &solution.solution;
     let lambda = match options.multiplier {
         Multiplier::Lumped => lumped_multiplier(mesh, &s.dofs, &s.u, &solution.lambda),
@@ -915,9 +920,13 @@ mod tests {
         let mut bad = lambda.clone();
         bad[40] = f64::NAN;
         let e = estimate_cavitation(&mesh, dofs, &s.solution.u, &bad, &p, o).unwrap_err();
-        assert!(e.contains("multiplier NaN at vertex 40"), "{e}");
+        assert!(e.to_string().contains("multiplier NaN at vertex 40"), "{e}");
         let e = estimate_cavitation(&mesh, dofs, &s.solution.u, &lambda[1..], &p, o).unwrap_err();
-        assert!(e.contains("80 multiplier values for 81 vertices"), "{e}");
+        assert!(
+            e.to_string()
+                .contains("80 multiplier values for 81 vertices"),
+            "{e}"
+        );
     }
 
     /// The consistent λ_h = M⁻¹r of (IV.11) on the mesh with hanging nodes satisfies

@@ -33,7 +33,7 @@
 
 use super::System;
 use crate::linalg::csr::CsrMatrix;
-use crate::linalg::saddle_point::SaddlePoint;
+use crate::linalg::saddle_point::{SaddlePoint, SaddlePointError};
 use crate::linalg::Ordering;
 
 /// The blocks of (III.86) of an assembled [`System`] with the maps back to its dofs.
@@ -60,16 +60,21 @@ impl SaddleBlocks {
     /// Split the assembled `system` (matrix [A −B; −Bᵀ −C], load [f; −g], module docs) whose
     /// component `pressure_component` is the pressure and whose other components are the
     /// velocity. Fails if the system is not assembled or the blocks are inconsistent.
-    pub fn new(system: &System, pressure_component: usize) -> Result<SaddleBlocks, String> {
+    pub fn new(
+        system: &System,
+        pressure_component: usize,
+    ) -> Result<SaddleBlocks, SaddlePointError> {
         let n_dofs = system.dofs.n_dofs();
         let nc = system.dofs.n_components;
         if pressure_component >= nc {
-            return Err(format!(
-                "saddle blocks: pressure component {pressure_component} of {nc}"
-            ));
+            return Err(SaddlePointError::Blocks(format!(
+                "pressure component {pressure_component} of {nc}"
+            )));
         }
         if system.matrix.is_empty() || system.rhs.len() != n_dofs {
-            return Err("saddle blocks: the system is not assembled".into());
+            return Err(SaddlePointError::Blocks(
+                "the system is not assembled".into(),
+            ));
         }
         let is_pressure = |d: usize| d % nc == pressure_component;
         // Block index of each free dof (velocity or pressure numbering).

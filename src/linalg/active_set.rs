@@ -37,7 +37,7 @@
 use std::borrow::Cow;
 
 use super::solver::Accuracy;
-use super::Csc;
+use super::{Csc, SolveError};
 
 /// Whether a bound is an upper (x_d ≤ value) or a lower one (x_d ≥ value).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -265,7 +265,7 @@ pub fn primal_dual_active_set(
     solver: &mut dyn super::SolveConstrained,
     initial: Option<&[bool]>,
     options: &ActiveSetOptions,
-) -> Result<ActiveSetSolution, String> {
+) -> Result<ActiveSetSolution, SolveError> {
     let (values, rhs): (Cow<[f64]>, Cow<[f64]>) = match problem.rotation {
         Some(rotation) => {
             let mut k = problem.matrix.values.to_vec();
@@ -310,9 +310,7 @@ pub fn primal_dual_active_set(
                 .map(|(b, _)| (b.dof(), b.value)),
         );
         let solve = |solver: &mut dyn super::SolveConstrained, accuracy| {
-            solver
-                .solve_overlay(matrix, &rhs, &eliminated, constrained, accuracy)
-                .map_err(|e| e.to_string())
+            solver.solve_overlay(matrix, &rhs, &eliminated, constrained, accuracy)
         };
         let mut x = solve(solver, step)?;
         let mut kx = matrix.multiply(&x);
@@ -344,10 +342,7 @@ pub fn primal_dual_active_set(
             });
         }
         if iterations >= options.max_iterations {
-            return Err(format!(
-                "the primal–dual active-set method did not converge: the active set still changed \
-                 after {iterations} iterations (the limit)"
-            ));
+            return Err(SolveError::ActiveSetNotConverged { iterations });
         }
         active = next;
     }
@@ -662,7 +657,7 @@ mod tests {
                         .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
                 assert!(off > 1e-3, "the wrong reading found the solution ({off:e})");
             }
-            Err(e) => assert!(e.contains("did not converge"), "{e}"),
+            Err(e) => assert!(matches!(e, SolveError::ActiveSetNotConverged { .. }), "{e}"),
         }
     }
 
@@ -687,7 +682,7 @@ mod tests {
         let err = primal_dual_active_set(&problem, &mut DirectSolver::cholesky(), None, &options)
             .unwrap_err();
         assert!(
-            err.contains("did not converge") && err.contains("1 iterations"),
+            matches!(err, SolveError::ActiveSetNotConverged { iterations: 1 }),
             "{err}"
         );
     }

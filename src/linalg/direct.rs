@@ -81,6 +81,11 @@ pub enum SolveError {
     IterativeNonFinite(usize),
     #[error("dof {0} has no diagonal sign for the LDLᵀ factorisation ({1} signs for {2} dofs)")]
     Signs(usize, usize, usize),
+    #[error(
+        "the primal–dual active-set method did not converge: the active set still changed after \
+         {iterations} iterations (the limit)"
+    )]
+    ActiveSetNotConverged { iterations: usize },
 }
 
 impl SolveError {

@@ -5,7 +5,7 @@
 use super::csr::CsrMatrix;
 #[cfg(doc)]
 use super::uzawa::InnerSolver;
-use super::{Csc, DirectSolver, Ordering};
+use super::{Csc, DirectSolver, Ordering, SolveError};
 
 /// The block system (III.86), A v − B p = f, Bᵀv + C p = g, with Bᵀ kept as its own compressed
 /// rows for the pressure updates.
@@ -34,6 +34,26 @@ pub struct DirectSolution {
 /// Largest relative residual accepted from [`SaddlePoint::solve_direct`].
 pub const DIRECT_RELATIVE_RESIDUAL: f64 = 1e-10;
 
+/// Why a saddle point system could not be built or solved directly.
+#[derive(Debug, thiserror::Error, Clone, PartialEq)]
+pub enum SaddlePointError {
+    /// Blocks, loads or an ordering of inconsistent sizes (the sizes in the message).
+    #[error("saddle point: {0}")]
+    Dimensions(String),
+    /// The blocks of an assembled system cannot be split off ([`crate::fe::blocks`]).
+    #[error("saddle blocks: {0}")]
+    Blocks(String),
+    /// The LDLᵀ factorisation or solve failed.
+    #[error("saddle point, direct solve: {0}")]
+    Direct(#[source] SolveError),
+    /// The direct solution does not meet [`DIRECT_RELATIVE_RESIDUAL`].
+    #[error(
+        "saddle point, direct solve: relative residual {relative_residual:e} exceeds \
+         {DIRECT_RELATIVE_RESIDUAL:e}"
+    )]
+    Residual { relative_residual: f64 },
+}
+
 /// Euclidean inner product.
 pub(super) fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
@@ -52,20 +72,20 @@ impl SaddlePoint {
         c: CsrMatrix,
         f: Vec<f64>,
         g: Vec<f64>,
-    ) -> Result<SaddlePoint, String> {
+    ) -> Result<SaddlePoint, SaddlePointError> {
         let (n, m) = (a.n_rows, c.n_rows);
         if a.n_cols != n || c.n_cols != m || b.n_rows != n || b.n_cols != m {
-            return Err(format!(
-                "saddle point: A is {}×{}, B {}×{}, C {}×{}",
+            return Err(SaddlePointError::Dimensions(format!(
+                "A is {}×{}, B {}×{}, C {}×{}",
                 a.n_rows, a.n_cols, b.n_rows, b.n_cols, c.n_rows, c.n_cols
-            ));
+            )));
         }
         if f.len() != n || g.len() != m {
-            return Err(format!(
-                "saddle point: f has {} entries for n = {n}, g {} for m = {m}",
+            return Err(SaddlePointError::Dimensions(format!(
+                "f has {} entries for n = {n}, g {} for m = {m}",
                 f.len(),
                 g.len()
-            ));
+            )));
         }
         let bt = b.transpose();
         Ok(SaddlePoint {
@@ -125,7 +145,10 @@ impl SaddlePoint {
     /// [`DirectSolver::ldlt`] (signs +1, −1), in the given fill-reducing `ordering` of the
     /// n + m unknowns (natural order if `None`). Fails if the factorisation fails or the
     /// relative residual exceeds [`DIRECT_RELATIVE_RESIDUAL`].
-    pub fn solve_direct(&self, ordering: Option<Ordering>) -> Result<DirectSolution, String> {
+    pub fn solve_direct(
+        &self,
+        ordering: Option<Ordering>,
+    ) -> Result<DirectSolution, SaddlePointError> {
         let (n, m) = (self.n_velocity(), self.n_pressure());
         let total = n + m;
         // Full symmetric storage: column j = row j of the symmetric matrix.
@@ -171,10 +194,10 @@ impl SaddlePoint {
         let mut solver = DirectSolver::ldlt(signs);
         if let Some(ordering) = ordering {
             if ordering.len() != total {
-                return Err(format!(
-                    "saddle point: ordering of {} unknowns for {total}",
+                return Err(SaddlePointError::Dimensions(format!(
+                    "ordering of {} unknowns for {total}",
                     ordering.len()
-                ));
+                )));
             }
             solver.reorder(ordering);
         }
@@ -186,16 +209,13 @@ impl SaddlePoint {
             .collect();
         let x = solver
             .solve(matrix, &rhs, &[])
-            .map_err(|e| format!("saddle point, direct solve: {e}"))?;
+            .map_err(SaddlePointError::Direct)?;
         let (velocity, pressure) = (x[..n].to_vec(), x[n..].to_vec());
         let scale = self.rhs_norm();
         let r = self.residual(&velocity, &pressure);
         let relative_residual = if scale > 0.0 { r / scale } else { r };
         if !relative_residual.is_finite() || relative_residual > DIRECT_RELATIVE_RESIDUAL {
-            return Err(format!(
-                "saddle point, direct solve: relative residual {relative_residual:e} exceeds \
-                 {DIRECT_RELATIVE_RESIDUAL:e}"
-            ));
+            return Err(SaddlePointError::Residual { relative_residual });
         }
         Ok(DirectSolution {
             velocity,

@@ -70,6 +70,26 @@ pub enum MeshError {
     PastDeepestLevel { centre: [f64; 2] },
     #[error("refinement would make {cells} cells, more than the mesh can number ({MAX_CELLS})")]
     TooManyCells { cells: u64 },
+    #[error("a {nx} × {ny} coarse grid has {expected} vertices, not {got}")]
+    CoarseVertexCount {
+        nx: usize,
+        ny: usize,
+        expected: usize,
+        got: usize,
+    },
+    #[error("coarse vertex {index} is not finite: {vertex:?}")]
+    NonFiniteVertex { index: usize, vertex: [f64; 2] },
+    #[error(
+        "coarse cell ({i}, {j}) is folded or degenerate: det J = {det:.3e} at its corner (ξ, η) \
+         = ({xi}, {eta})"
+    )]
+    FoldedCell {
+        i: usize,
+        j: usize,
+        det: f64,
+        xi: f64,
+        eta: f64,
+    },
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -263,25 +283,25 @@ impl Mesh {
         nx: usize,
         ny: usize,
         vertices: Vec<[f64; 2]>,
-    ) -> Result<Mesh, String> {
+    ) -> Result<Mesh, MeshError> {
         if vertices.len() != (nx + 1) * (ny + 1) {
-            return Err(format!(
-                "a {nx} × {ny} coarse grid has {} vertices, not {}",
-                (nx + 1) * (ny + 1),
-                vertices.len()
-            ));
+            return Err(MeshError::CoarseVertexCount {
+                nx,
+                ny,
+                expected: (nx + 1) * (ny + 1),
+                got: vertices.len(),
+            });
         }
         if let Some(i) = vertices
             .iter()
             .position(|p| !(p[0].is_finite() && p[1].is_finite()))
         {
-            return Err(format!(
-                "coarse vertex {i} is not finite: {:?}",
-                vertices[i]
-            ));
+            return Err(MeshError::NonFiniteVertex {
+                index: i,
+                vertex: vertices[i],
+            });
         }
-        let mut mesh =
-            Mesh::try_new([0.0, nx as f64], [0.0, ny as f64], nx, ny).map_err(|e| e.to_string())?;
+        let mut mesh = Mesh::try_new([0.0, nx as f64], [0.0, ny as f64], nx, ny)?;
         mesh.moved = Some(vertices);
         for c in 0..(nx * ny) as CellId {
             let shape = mesh.cell_shape(c);
@@ -289,10 +309,13 @@ impl Mesh {
                 let det = shape.jacobian(xi, eta).determinant();
                 if det.is_nan() || det <= 0.0 {
                     let (i, jj) = (c as usize % nx, c as usize / nx);
-                    return Err(format!(
-                        "coarse cell ({i}, {jj}) is folded or degenerate: det J = {det:.3e} at \
-                         its corner (ξ, η) = ({xi}, {eta})"
-                    ));
+                    return Err(MeshError::FoldedCell {
+                        i,
+                        j: jj,
+                        det,
+                        xi,
+                        eta,
+                    });
                 }
             }
         }

@@ -32,6 +32,7 @@ use crate::linalg::active_set::{
 };
 use crate::mesh::{BoundaryFace, Side};
 use crate::models::obstacle::ContactSide;
+use crate::models::ModelError;
 
 /// Which contact projection a face uses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -131,7 +132,7 @@ impl ConstraintBuilder<'_> {
         dofs: &DofMap,
         constraints: &Constraints,
         s0: Option<&[f64]>,
-    ) -> Result<Vec<ContactConstraint>, String> {
+    ) -> Result<Vec<ContactConstraint>, ModelError> {
         assert_eq!(dofs.n_components, 2, "contact needs a vector field");
         let v = &dofs.vertices;
         let mut out = Vec::new();
@@ -190,14 +191,14 @@ impl ConstraintBuilder<'_> {
                     Ok(Some(g)) => g,
                     Ok(None) => continue,
                     Err(e) => {
-                        return Err(format!(
+                        return Err(ModelError::Failed(format!(
                             "Signorini linearisation at the contact vertex ({}, {}) deformed to \
                              ({:.6}, {:.6}) with normal ({:.4}, {:.4}): {e}, and the vertex lies \
                              beyond the obstacle: the displacement s₀ of the previous cycle (or \
                              the obstacle itself, in cycle 0) puts it deeper inside the obstacle \
                              than the normal line can be followed",
                             xv[0], xv[1], here[0], here[1], n[0], n[1]
-                        ))
+                        )))
                     }
                 };
                 let s0n = n[0] * (here[0] - xv[0]) + n[1] * (here[1] - xv[1]);
@@ -263,7 +264,7 @@ pub fn solve_contact(
     solver: &mut dyn crate::linalg::SolveConstrained,
     constraints: &[ContactConstraint],
     initial: Option<&[bool]>,
-) -> Result<ContactSolution, String> {
+) -> Result<ContactSolution, ModelError> {
     let rotation = Rotation {
         frames: constraints.iter().map(|c| (c.vertex, c.normal)).collect(),
     };
@@ -286,7 +287,7 @@ pub fn solve_contact(
         violation: ViolationTolerance::PerBound(1e-13),
     };
     let solution = primal_dual_active_set(&problem, solver, initial, &options)
-        .map_err(|e| format!("contact: {e}"))?;
+        .map_err(|e| ModelError::from(e).context("contact"))?;
     let mut u = solution.x;
     system.constraints.distribute(&mut u);
     Ok(ContactSolution {

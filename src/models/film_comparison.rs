@@ -21,6 +21,7 @@ use crate::mesh::Mesh;
 use crate::models::reynolds::{solve_cavitation, Form, Load, ReynoldsProblem};
 use crate::models::substokes::PSI;
 use crate::models::thin_film::{CavitationSource, ThinFilm};
+use crate::models::ModelError;
 use crate::results::Cuts;
 
 /// Points of a cut (x = x₀ + i (x₁ − x₀)/100, i = 0 … 100).
@@ -50,7 +51,7 @@ pub fn pressure_cut(
     x_range: [f64; 2],
     boundary_pressure: f64,
     pressure: impl Fn([f64; 2]) -> Option<f64>,
-) -> Result<Cuts, String> {
+) -> Result<Cuts, ModelError> {
     let (mut xs, mut psi) = (
         Vec::with_capacity(CUT_POINTS),
         Vec::with_capacity(CUT_POINTS),
@@ -61,8 +62,16 @@ pub fn pressure_cut(
                 xs.push(x);
                 psi.push(v);
             }
-            Some(v) => return Err(format!("the cut: ψ = {v} at ({x}, {y}) is not finite")),
-            None => return Err(format!("the cut point ({x}, {y}) lies outside the mesh")),
+            Some(v) => {
+                return Err(ModelError::NonFinite(format!(
+                    "the cut: ψ = {v} at ({x}, {y}) is not finite"
+                )))
+            }
+            None => {
+                return Err(ModelError::Failed(format!(
+                    "the cut point ({x}, {y}) lies outside the mesh"
+                )))
+            }
         }
     }
     Ok(Cuts {
@@ -101,7 +110,7 @@ impl Comparison {
 
     /// ψ^R on `mesh`: (I.79), or (I.82) by the active set started from the vertices where
     /// `start` (the SubStokes pressure per vertex) is ≤ 0.
-    pub fn solve_reynolds(&self, mesh: &Mesh, start: &[f64]) -> Result<ReynoldsOnMesh, String> {
+    pub fn solve_reynolds(&self, mesh: &Mesh, start: &[f64]) -> Result<ReynoldsOnMesh, ModelError> {
         let problem = self.reynolds();
         let mut system = System::new(mesh, 1);
         problem.constrain(&mut system);
@@ -114,7 +123,7 @@ impl Comparison {
         let mut solver = DirectSolver::cholesky();
         solver.reorder(system.ordering());
         let psi = match self.cavitation {
-            None => system.solve(&mut solver).map_err(|e| e.to_string())?,
+            None => system.solve(&mut solver)?,
             Some(_) => {
                 let initial: Vec<bool> = start.iter().map(|&p| p <= 0.0).collect();
                 solve_cavitation(&system, &mut solver, &initial)?.psi
@@ -136,7 +145,7 @@ impl Comparison {
         dofs: &DofMap,
         u: &[f64],
         x_range: [f64; 2],
-    ) -> Result<Cuts, String> {
+    ) -> Result<Cuts, ModelError> {
         let n_vertices = dofs.vertices.len() as u32;
         let psi_s: Vec<f64> = (0..n_vertices).map(|v| u[dofs.dof(v, PSI)]).collect();
         let reynolds = self.solve_reynolds(mesh, &psi_s)?;

@@ -58,6 +58,7 @@
 //! widest gap (x₁ = 1/8, 5/8) and 6.692 next to the narrowest (3/8, 7/8); the velocity bound is
 //! 0.01789 and 0.00582 there (test `theorem_iii6_bounds_on_8x8`).
 
+use crate::models::ModelError;
 use rayon::prelude::*;
 
 use crate::estimators::face_segments;
@@ -429,12 +430,12 @@ impl Coupling {
     }
 
     /// Solve the assembled Reynolds system (Cholesky in the nested-dissection order).
-    pub fn solve_reynolds(system: &System) -> Result<Vec<f64>, String> {
+    pub fn solve_reynolds(system: &System) -> Result<Vec<f64>, ModelError> {
         let mut solver = DirectSolver::cholesky();
         solver.reorder(system.ordering());
         let psi = system
             .solve(&mut solver)
-            .map_err(|e| format!("Reynolds: {e}"))?;
+            .map_err(|e| ModelError::from(e).context("Reynolds"))?;
         finite("Reynolds ψ", &psi)?;
         Ok(psi)
     }
@@ -499,7 +500,7 @@ impl Coupling {
 
     /// Solve the assembled and constrained SubStokes system of a region (LDLᵀ with the signs
     /// +1 on χ, −1 on ψ, nested-dissection order; [`solve_system`] checks the residual).
-    pub fn solve_substokes(system: &System) -> Result<RegionSolution, String> {
+    pub fn solve_substokes(system: &System) -> Result<RegionSolution, ModelError> {
         let mut solver = DirectSolver::ldlt(SubStokesProblem::signs(&system.dofs));
         solver.reorder(system.ordering());
         let (u, relative_residual) = solve_system(system, &mut solver)?;
@@ -512,7 +513,7 @@ impl Coupling {
 
     /// The coupled solve on `mesh` with the cells flagged in `substokes` (module docs): Reynolds
     /// everywhere, then SubStokes on the region with ψ^R as Dirichlet data on the interface.
-    pub fn solve(&self, mesh: &Mesh, substokes: &[bool]) -> Result<CoupledSolution, String> {
+    pub fn solve(&self, mesh: &Mesh, substokes: &[bool]) -> Result<CoupledSolution, ModelError> {
         let mut system = self.reynolds_system(mesh);
         let data = self.assemble_reynolds(mesh, &mut system);
         let psi = Self::solve_reynolds(&system)?;
@@ -535,9 +536,12 @@ impl Coupling {
 }
 
 /// An error naming the first non-finite entry of `u`.
-fn finite(what: &str, u: &[f64]) -> Result<(), String> {
+fn finite(what: &str, u: &[f64]) -> Result<(), ModelError> {
     match u.iter().position(|v| !v.is_finite()) {
-        Some(i) => Err(format!("{what} is not finite at dof {i}: {}", u[i])),
+        Some(i) => Err(ModelError::NonFinite(format!(
+            "{what} is not finite at dof {i}: {}",
+            u[i]
+        ))),
         None => Ok(()),
     }
 }

@@ -2,6 +2,7 @@
 
 pub mod contact;
 pub mod elasticity;
+pub mod error;
 pub mod film_comparison;
 pub mod film_coupling;
 pub mod obstacle;
@@ -10,3 +11,5 @@ pub mod stokes_channel;
 pub mod substokes;
 pub mod substokes_uzawa;
 pub mod thin_film;
+
+pub use error::ModelError;

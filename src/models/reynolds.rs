@@ -31,6 +31,7 @@
 //! ([`solve_cavitation`]); the pattern of K never changes, so every iteration costs one numeric
 //! Cholesky factorisation with the symbolic factorisation reused.
 
+use crate::models::ModelError;
 use rayon::prelude::*;
 
 use crate::fe::cell_values::CellValues;
@@ -392,7 +393,7 @@ pub fn solve_cavitation(
     system: &System,
     solver: &mut dyn crate::linalg::SolveConstrained,
     initial: &[bool],
-) -> Result<CavitationSolution, String> {
+) -> Result<CavitationSolution, ModelError> {
     let n = system.dofs.n_dofs();
     let rhs = &system.rhs;
     let constrained: Vec<bool> = (0..n).map(|d| system.constraints.is_free(d)).collect();
@@ -428,16 +429,16 @@ pub fn solve_cavitation(
         iterations,
         ..
     } = primal_dual_active_set(&problem, solver, Some(&initial), &options)
-        .map_err(|e| format!("cavitation: {e}"))?;
+        .map_err(|e| ModelError::from(e).context("cavitation"))?;
     drop(initial);
     let scale = psi.iter().fold(0.0f64, |m, v| m.max(v.abs()));
     for i in 0..n {
         if constrained[i] && psi[i] < 0.0 {
             if psi[i] < -1e-12 * scale {
-                return Err(format!(
+                return Err(ModelError::Failed(format!(
                     "cavitation: ψ = {} < 0 at an inactive vertex after convergence",
                     psi[i]
-                ));
+                )));
             }
             psi[i] = 0.0;
         }

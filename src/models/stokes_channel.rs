@@ -54,9 +54,10 @@ use crate::fe::cell_values::CellValues;
 use crate::fe::quadrature::square_rule;
 use crate::fe::{LocalDofs, System};
 use crate::linalg::saddle_point::{DirectSolution, SaddlePoint};
-use crate::linalg::uzawa::{uzawa, UzawaError, UzawaOptions, Variant};
+use crate::linalg::uzawa::{uzawa, UzawaOptions, Variant};
 use crate::linalg::Ordering;
 use crate::mesh::Mesh;
+use crate::models::ModelError;
 use crate::results::UzawaRow;
 
 /// Components per vertex: v₁, v₂, p.
@@ -108,8 +109,8 @@ pub struct ChannelBlocks {
 
 impl ChannelBlocks {
     /// The coupled system solved directly (LDLᵀ, [`SaddlePoint::solve_direct`]).
-    pub fn solve_direct(&self) -> Result<DirectSolution, String> {
-        self.system.solve_direct(Some(self.ordering.clone()))
+    pub fn solve_direct(&self) -> Result<DirectSolution, ModelError> {
+        Ok(self.system.solve_direct(Some(self.ordering.clone()))?)
     }
 
     /// The vertex-major field (v₁, v₂, p) per vertex from block vectors, Dirichlet values
@@ -226,7 +227,7 @@ impl StokesChannel {
     /// Assemble on [`StokesChannel::mesh`] and split into the blocks of (III.86) with the
     /// Dirichlet values eliminated ([`SaddleBlocks::new`], shared with the SubStokes Uzawa
     /// solver).
-    pub fn blocks(&self) -> Result<ChannelBlocks, String> {
+    pub fn blocks(&self) -> Result<ChannelBlocks, ModelError> {
         let mesh = self.mesh();
         let mut system = self.system(&mesh);
         self.assemble(&mesh, &mut system);
@@ -256,7 +257,7 @@ impl StokesChannel {
 /// Rows 0..=k of each variant, one after the other; the pressure error is against the direct
 /// LDLᵀ solution. A diverging variant or a failed inner solve is an error naming the variant
 /// and the iteration.
-pub fn run_fig_iii6(iterations: usize) -> Result<Vec<UzawaRow>, String> {
+pub fn run_fig_iii6(iterations: usize) -> Result<Vec<UzawaRow>, ModelError> {
     let blocks = StokesChannel::thesis().blocks()?;
     let direct = blocks.solve_direct()?;
     let mut rows = Vec::new();
@@ -266,8 +267,7 @@ pub fn run_fig_iii6(iterations: usize) -> Result<Vec<UzawaRow>, String> {
             relative_tolerance: FIG_III6_TOLERANCE,
             ..UzawaOptions::new(variant)
         };
-        let run = uzawa(&blocks.system, &options, Some(&direct.pressure))
-            .map_err(|e: UzawaError| e.to_string())?;
+        let run = uzawa(&blocks.system, &options, Some(&direct.pressure))?;
         rows.extend(run.rows);
     }
     Ok(rows)

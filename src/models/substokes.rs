@@ -59,6 +59,7 @@ use crate::linalg::active_set::{
 use crate::linalg::{Csc, DirectSolver};
 use crate::mesh::{bilinear, CellId, Face, Mesh};
 use crate::models::thin_film::{CavitationSource, ThinFilm};
+use crate::models::ModelError;
 
 /// Default stabilisation constant δ_ε of the pressure stabilisation Σ_Q δ_ε h_Q² ⟨∇ψ, ∇φ⟩_Q
 /// (§III.2.3). The thesis only states the form ε = δ_ε h² (docs/models.md §15 item 13), not the value:
@@ -376,7 +377,7 @@ impl SubStokesProblem {
     }
 
     /// Set up, assemble and solve on `mesh` with a fresh LDLᵀ solver.
-    pub fn solve(&self, mesh: &Mesh) -> Result<SubStokesSolution, String> {
+    pub fn solve(&self, mesh: &Mesh) -> Result<SubStokesSolution, ModelError> {
         let mut system = self.system(mesh);
         self.assemble(mesh, &mut system);
         let mut solver = DirectSolver::ldlt(Self::signs(&system.dofs));
@@ -395,7 +396,7 @@ impl SubStokesProblem {
     pub fn solve_with_cavitation(
         &self,
         mesh: &Mesh,
-    ) -> Result<SubStokesCavitationSolution, String> {
+    ) -> Result<SubStokesCavitationSolution, ModelError> {
         let mut system = self.system(mesh);
         self.assemble_cavitation(mesh, &mut system);
         let mut solver = DirectSolver::ldlt(Self::signs(&system.dofs));
@@ -484,14 +485,14 @@ impl PsiBounds {
         max_complementarity: f64,
         what: &str,
         after: &str,
-    ) -> Result<f64, String> {
+    ) -> Result<f64, ModelError> {
         let n = u.len();
         if let Some(d) = (0..n).find(|&d| d % N_COMPONENTS == PSI && u[d] < 0.0) {
-            return Err(format!(
+            return Err(ModelError::Failed(format!(
                 "{what}: ψ = {} < 0 at vertex {}",
                 u[d],
                 d / N_COMPONENTS
-            ));
+            )));
         }
         let complementarity = (0..n)
             .filter(|&d| self.bounded[d])
@@ -499,10 +500,10 @@ impl PsiBounds {
             .fold(0.0f64, f64::max);
         let tolerance = max_complementarity * self.load_scale.max(1.0);
         if !complementarity.is_finite() || complementarity > tolerance {
-            return Err(format!(
+            return Err(ModelError::Failed(format!(
                 "{what}: complementarity max|min(ψ, λ)| = {complementarity:e} exceeds \
                  {tolerance:e}{after}"
-            ));
+            )));
         }
         Ok(complementarity)
     }
@@ -536,13 +537,13 @@ pub fn solve_cavitation(
     system: &System,
     solver: &mut DirectSolver,
     initial_active: &[bool],
-) -> Result<SubStokesCavitationSolution, String> {
+) -> Result<SubStokesCavitationSolution, ModelError> {
     let n = system.dofs.n_dofs();
     if initial_active.len() != n {
-        return Err(format!(
+        return Err(ModelError::Failed(format!(
             "SubStokes cavitation: the initial active set has {} entries for {n} dofs",
             initial_active.len()
-        ));
+        )));
     }
     let rhs = &system.rhs;
     let psi_bounds = PsiBounds::of(system);
@@ -569,17 +570,17 @@ pub fn solve_cavitation(
         violation: ViolationTolerance::SolutionScale(1e-13),
     };
     let result = primal_dual_active_set(&problem, solver, Some(&initial), &options)
-        .map_err(|e| format!("SubStokes cavitation: {e}"))?;
+        .map_err(|e| ModelError::from(e).context("SubStokes cavitation"))?;
     let mut active = vec![false; n];
     for (b, &a) in bounds.iter().zip(&result.active) {
         active[b.dof()] = a;
     }
     let mut u = result.x;
     if let Some(d) = u.iter().position(|v| !v.is_finite()) {
-        return Err(format!(
+        return Err(ModelError::Failed(format!(
             "SubStokes cavitation: non-finite value {} at dof {d}",
             u[d]
-        ));
+        )));
     }
     // Residual of the last linear system (active ψ dofs eliminated at 0) and the multipliers,
     // from x as the solver returns it (hanging dofs at 0).
@@ -587,10 +588,10 @@ pub fn solve_cavitation(
         system.constraints.is_free(i) && !active[i]
     });
     if !relative.is_finite() || relative > MAX_RELATIVE_RESIDUAL {
-        return Err(format!(
+        return Err(ModelError::Failed(format!(
             "SubStokes cavitation: relative residual {relative:e} of the last LDLᵀ solve \
              exceeds {MAX_RELATIVE_RESIDUAL:e}"
-        ));
+        )));
     }
     let lambda = psi_bounds.multipliers(system, &u);
     let psi_scale = (0..n)
@@ -601,10 +602,10 @@ pub fn solve_cavitation(
             continue;
         }
         if u[d] < -1e-12 * psi_scale {
-            return Err(format!(
+            return Err(ModelError::Failed(format!(
                 "SubStokes cavitation: ψ = {} < 0 at an inactive dof {d} after convergence",
                 u[d]
-            ));
+            )));
         }
         u[d] = 0.0;
     }
@@ -633,12 +634,15 @@ pub fn solve_cavitation(
 /// Errors: a failed factorisation (a zero pivot; [`DirectSolver`] factors without dynamic
 /// regularisation, so no pivot is ever silently regularised) or a relative residual above
 /// [`MAX_RELATIVE_RESIDUAL`].
-pub fn solve_system(system: &System, solver: &mut DirectSolver) -> Result<(Vec<f64>, f64), String> {
+pub fn solve_system(
+    system: &System,
+    solver: &mut DirectSolver,
+) -> Result<(Vec<f64>, f64), ModelError> {
     let eliminated = system.constraints.eliminated();
     let matrix = system.matrix();
     let mut u = solver
         .solve(matrix, &system.rhs, &eliminated)
-        .map_err(|e| format!("SubStokes: {e}"))?;
+        .map_err(|e| ModelError::from(e).context("SubStokes"))?;
     // Residual of the reduced system: x holds the eliminated values (hanging dofs at 0), so
     // (Kx − f)_free is the residual of the free equations, and the reduced right-hand side is
     // f_free − (K x_eliminated)_free.
@@ -646,10 +650,10 @@ pub fn solve_system(system: &System, solver: &mut DirectSolver) -> Result<(Vec<f
         system.constraints.is_free(i)
     });
     if !relative.is_finite() || relative > MAX_RELATIVE_RESIDUAL {
-        return Err(format!(
+        return Err(ModelError::Failed(format!(
             "SubStokes: relative residual {relative:e} of the LDLᵀ solve exceeds \
              {MAX_RELATIVE_RESIDUAL:e}"
-        ));
+        )));
     }
     system.constraints.distribute(&mut u);
     Ok((u, relative))
@@ -1076,7 +1080,7 @@ mod tests {
         assert!(cold.lambda.iter().any(|&l| l > 1e-6));
         // The wrong length is an error.
         let err = solve_cavitation(&system, &mut solver, &all[1..]).unwrap_err();
-        assert!(err.contains("initial active set"), "{err}");
+        assert!(err.to_string().contains("initial active set"), "{err}");
     }
 
     /// ψ(½, ½) of (IV.7) on 8×8 and 32×32 with δ_ε = 1.10e-3 and δ_ε = 1 (printed; run with

@@ -69,6 +69,7 @@
 //! [`solve_system`]: crate::models::substokes::solve_system
 //! [`solve_cavitation`]: crate::models::substokes::solve_cavitation
 
+use crate::models::ModelError;
 use std::time::Instant;
 
 use crate::fe::{SaddleBlocks, System};
@@ -143,7 +144,7 @@ fn run(
     initial: Option<&[f64]>,
     options: &UzawaOptions,
     projected: bool,
-) -> Result<(SaddleBlocks, UzawaRun, UzawaStats), String> {
+) -> Result<(SaddleBlocks, UzawaRun, UzawaStats), ModelError> {
     let start = Instant::now();
     let what = if projected {
         "SubStokes cavitation Uzawa"
@@ -153,13 +154,13 @@ fn run(
     let n = system.dofs.n_dofs();
     if let Some(initial) = initial {
         if initial.len() != n {
-            return Err(format!(
+            return Err(ModelError::Failed(format!(
                 "{what}: the initial vector has {} entries for {n} dofs",
                 initial.len()
-            ));
+            )));
         }
     }
-    let blocks = SaddleBlocks::new(system, PSI).map_err(|e| format!("{what}: {e}"))?;
+    let blocks = SaddleBlocks::new(system, PSI).map_err(|e| ModelError::from(e).context(what))?;
     let options = UzawaOptions {
         projected,
         scale: ResidualScale::RightHandSide,
@@ -167,13 +168,13 @@ fn run(
     };
     let p0 = initial.map(|u| blocks.pressure_of(u));
     let out = uzawa_from(&blocks.system, &options, None, p0.as_deref())
-        .map_err(|e| format!("{what}: {e}"))?;
+        .map_err(|e| ModelError::from(e).context(what))?;
     let last = out.rows.last().expect("row 0 is always there");
     if !out.converged {
-        return Err(format!(
+        return Err(ModelError::Failed(format!(
             "{what} ({}): not converged after outer iteration {}: relative residual {:e} > {:e}",
             options.variant, last.iteration, last.relative_residual, options.relative_tolerance
-        ));
+        )));
     }
     let stats = UzawaStats {
         outer_iterations: last.iteration,
@@ -191,7 +192,7 @@ fn run(
 pub fn solve_uzawa(
     system: &System,
     options: &UzawaOptions,
-) -> Result<(Vec<f64>, UzawaStats), String> {
+) -> Result<(Vec<f64>, UzawaStats), ModelError> {
     solve_uzawa_from(system, None, options)
 }
 
@@ -202,7 +203,7 @@ pub fn solve_uzawa_from(
     system: &System,
     initial: Option<&[f64]>,
     options: &UzawaOptions,
-) -> Result<(Vec<f64>, UzawaStats), String> {
+) -> Result<(Vec<f64>, UzawaStats), ModelError> {
     let (blocks, out, stats) = run(system, initial, options, false)?;
     let mut u = blocks.field(&out.velocity, &out.pressure);
     system.constraints.distribute(&mut u);
@@ -229,7 +230,7 @@ pub fn solve_cavitation_uzawa(
     system: &System,
     initial: Option<&[f64]>,
     options: &CavitationUzawaOptions,
-) -> Result<(SubStokesCavitationSolution, UzawaStats), String> {
+) -> Result<(SubStokesCavitationSolution, UzawaStats), ModelError> {
     let (blocks, out, stats) = run(system, initial, &options.uzawa, true)?;
     let n = system.dofs.n_dofs();
     let mut u = blocks.field(&out.velocity, &out.pressure);
@@ -486,7 +487,7 @@ mod tests {
         assert!(warm_stats.outer_iterations < cold_stats.outer_iterations);
         assert_eq!(warm.active, cold.active);
         let err = solve_cavitation_uzawa(&system, Some(&perturbed[1..]), &options).unwrap_err();
-        assert!(err.contains("initial vector"), "{err}");
+        assert!(err.to_string().contains("initial vector"), "{err}");
         let plain = assembled("IV.7", &mesh, false);
         let (u, _) = solve_uzawa(&plain, &default_options()).unwrap();
         let (_, again) = solve_uzawa_from(&plain, Some(&u), &default_options()).unwrap();
@@ -506,7 +507,8 @@ mod tests {
         };
         let err = solve_uzawa(&system, &options).unwrap_err();
         assert!(
-            err.contains("not converged after outer iteration 3"),
+            err.to_string()
+                .contains("not converged after outer iteration 3"),
             "{err}"
         );
         let mut broken = assembled("IV.17", &mesh, false);
@@ -515,14 +517,14 @@ mod tests {
             .unwrap();
         broken.rhs[d] = f64::NAN;
         let err = solve_uzawa(&broken, &default_options()).unwrap_err();
-        assert!(err.contains("iteration 0"), "{err}");
+        assert!(err.to_string().contains("iteration 0"), "{err}");
         let cavitation = assembled("IV.17", &mesh, true);
         let strict = CavitationUzawaOptions {
             max_complementarity: 1e-30,
             ..CavitationUzawaOptions::default()
         };
         let err = solve_cavitation_uzawa(&cavitation, None, &strict).unwrap_err();
-        assert!(err.contains("complementarity"), "{err}");
+        assert!(err.to_string().contains("complementarity"), "{err}");
     }
 
     /// The Outlook's "projected cg-method" taken literally — (III.92) as printed with p ← max(p, 0) after
@@ -543,7 +545,8 @@ mod tests {
         let err = solve_cavitation_uzawa(&system, None, &literal).unwrap_err();
         println!("as printed: {err}");
         assert!(
-            err.contains("not converged after outer iteration 300"),
+            err.to_string()
+                .contains("not converged after outer iteration 300"),
             "{err}"
         );
         let safeguarded = CavitationUzawaOptions {

@@ -5,6 +5,7 @@
 
 use std::collections::{BTreeSet, HashMap};
 
+use super::error::StudyError;
 use super::problem::{Discretisation, Estimate, Models};
 use crate::adaptivity::model::{
     fixed_fraction, inherit_models, sorted_error, ModelIndicators, ModelUnit, Partition,
@@ -17,7 +18,7 @@ use crate::mesh::{BoundaryFace, Mesh, Side};
 /// One adaptation step between two solves.
 pub trait Adaptation {
     /// Change the discretisation according to the estimate of the solve just done.
-    fn adapt(&mut self, disc: &mut Discretisation, estimate: &Estimate) -> Result<(), String>;
+    fn adapt(&mut self, disc: &mut Discretisation, estimate: &Estimate) -> Result<(), StudyError>;
 }
 
 /// Fixed-number grid marking of every Chapter IV grid-adaptive run (refine the fraction
@@ -31,7 +32,7 @@ pub struct FixedNumber {
 }
 
 impl Adaptation for FixedNumber {
-    fn adapt(&mut self, disc: &mut Discretisation, estimate: &Estimate) -> Result<(), String> {
+    fn adapt(&mut self, disc: &mut Discretisation, estimate: &Estimate) -> Result<(), StudyError> {
         let floor = estimate.noise_floor.unwrap_or(f64::NEG_INFINITY);
         let eta: Vec<f64> = estimate
             .cells
@@ -44,7 +45,7 @@ impl Adaptation for FixedNumber {
 
 impl FixedNumber {
     /// Mark by the indicators η_Q (one per active cell) and refine and coarsen `mesh`.
-    fn refine(&self, mesh: &mut Mesh, eta: &[f64]) -> Result<(), String> {
+    fn refine(&self, mesh: &mut Mesh, eta: &[f64]) -> Result<(), StudyError> {
         let marking = match self.ties {
             Ties::Band => mark_fixed_number(
                 eta,
@@ -60,7 +61,7 @@ impl FixedNumber {
             ),
         };
         mesh.refine_and_coarsen(&marking.refine, &marking.coarsen)
-            .map_err(|e| format!("cannot refine the mesh after this cycle: {e}"))?;
+            .map_err(|e| StudyError::from(e).context("cannot refine the mesh after this cycle"))?;
         Ok(())
     }
 }
@@ -76,7 +77,11 @@ pub fn face_partition(faces: &FaceIndicators, accurate: &BTreeSet<BoundaryFace>)
 pub struct KeepModels;
 
 impl Adaptation for KeepModels {
-    fn adapt(&mut self, _disc: &mut Discretisation, _estimate: &Estimate) -> Result<(), String> {
+    fn adapt(
+        &mut self,
+        _disc: &mut Discretisation,
+        _estimate: &Estimate,
+    ) -> Result<(), StudyError> {
         Ok(())
     }
 }
@@ -97,7 +102,7 @@ pub struct ModelMarking {
 }
 
 impl Adaptation for ModelMarking {
-    fn adapt(&mut self, disc: &mut Discretisation, estimate: &Estimate) -> Result<(), String> {
+    fn adapt(&mut self, disc: &mut Discretisation, estimate: &Estimate) -> Result<(), StudyError> {
         disc.models = Models::of_units(self.mark(&estimate.models, &disc.models)?);
         Ok(())
     }
@@ -110,7 +115,7 @@ impl ModelMarking {
         &self,
         units: &ModelIndicators,
         models: &Models,
-    ) -> Result<BTreeSet<ModelUnit>, String> {
+    ) -> Result<BTreeSet<ModelUnit>, StudyError> {
         let eps: Vec<f64> = units.iter().map(|&(_, e)| e).collect();
         let mut partition =
             Partition::from_accurate(units.iter().map(|&(u, _)| models.is_accurate(u)).collect());
@@ -126,7 +131,7 @@ impl ModelMarking {
                     self.coarsen,
                     self.tolerance,
                 )
-                .map_err(|e| format!("model marking: {e}"))?;
+                .map_err(|e| StudyError::from(e).context("model marking"))?;
             }
         }
         Ok(units
@@ -180,16 +185,16 @@ pub struct Balanced {
 }
 
 impl Adaptation for Balanced {
-    fn adapt(&mut self, disc: &mut Discretisation, estimate: &Estimate) -> Result<(), String> {
+    fn adapt(&mut self, disc: &mut Discretisation, estimate: &Estimate) -> Result<(), StudyError> {
         let mesh = &disc.mesh;
         let eta: Vec<f64> = estimate.cells.iter().map(|e| e.sqrt()).collect();
         if eta.len() != mesh.n_active() {
-            return Err(format!(
+            return Err(StudyError::Failed(format!(
                 "the balance (III.93) needs one discretisation indicator per cell: {} for {} \
                  active cells",
                 eta.len(),
                 mesh.n_active()
-            ));
+            )));
         }
         let cell_of = unit_cells(mesh, &estimate.models)?;
         let mut model_of_cell = vec![0.0; eta.len()];
@@ -225,7 +230,7 @@ impl Adaptation for Balanced {
 
 /// The active cell (index into `mesh.active()`) of each unit of `units`, in their order: a
 /// face's cell, a cell's own index; or the first unit that is not on the current mesh.
-fn unit_cells(mesh: &Mesh, units: &ModelIndicators) -> Result<Vec<usize>, String> {
+fn unit_cells(mesh: &Mesh, units: &ModelIndicators) -> Result<Vec<usize>, StudyError> {
     let cell_of_face: HashMap<BoundaryFace, usize> = mesh
         .active()
         .iter()
@@ -245,13 +250,15 @@ fn unit_cells(mesh: &Mesh, units: &ModelIndicators) -> Result<Vec<usize>, String
         .iter()
         .map(|(u, _)| match u {
             ModelUnit::Face(f) => cell_of_face.get(f).copied().ok_or_else(|| {
-                format!(
+                StudyError::Failed(format!(
                     "the balance (III.93): the contact face {f:?} is not a boundary face of the \
                      current mesh"
-                )
+                ))
             }),
             ModelUnit::Cell(c) => cell_of_key.get(c).copied().ok_or_else(|| {
-                format!("the balance (III.93): the cell {c:?} is not an active cell of the mesh")
+                StudyError::Failed(format!(
+                    "the balance (III.93): the cell {c:?} is not an active cell of the mesh"
+                ))
             }),
         })
         .collect()
@@ -334,7 +341,7 @@ impl LoadSteps {
 }
 
 impl Adaptation for LoadSteps {
-    fn adapt(&mut self, disc: &mut Discretisation, estimate: &Estimate) -> Result<(), String> {
+    fn adapt(&mut self, disc: &mut Discretisation, estimate: &Estimate) -> Result<(), StudyError> {
         self.done += 1;
         if !self.done.is_multiple_of(self.cycles) {
             return self.model_and_grid.adapt(disc, estimate);

@@ -18,7 +18,7 @@
 //! (full tier), except for the two tables whose exact solution stops the refinement (IV.38,
 //! IV.43), where it is far above.
 
-use super::{RunError, Schedule, Solve};
+use super::{RunError, Schedule, Solve, StudyError};
 use crate::experiment::{Experiment, Problem, StudyKind};
 
 /// Bytes of memory per active cell and squared solution component, measured (module docs).
@@ -144,7 +144,7 @@ impl Budget {
             if memory(cells, c) > self.bytes {
                 return Err(solve.error(
                     &experiment.table,
-                    format!(
+                    StudyError::OverBudget(format!(
                         "the run is predicted to need {} for about {} active cells in \
                          this cycle, more than the memory budget of {} (from \
                          scene.coarse_cells, scene.global_refinements, study.refine_fraction \
@@ -152,7 +152,7 @@ impl Budget {
                         human(memory(cells, c)),
                         count(cells),
                         human(self.bytes)
-                    ),
+                    )),
                 ));
             }
         }
@@ -160,15 +160,19 @@ impl Budget {
     }
 
     /// Check the mesh of a cycle before it is solved.
-    pub fn admit_cycle(&self, experiment: &Experiment, active_cells: usize) -> Result<(), String> {
+    pub fn admit_cycle(
+        &self,
+        experiment: &Experiment,
+        active_cells: usize,
+    ) -> Result<(), StudyError> {
         let need = memory(active_cells as f64, components(experiment));
         if need > self.bytes {
-            return Err(format!(
+            return Err(StudyError::OverBudget(format!(
                 "the mesh has {active_cells} active cells, which needs about {}, more than the \
                  memory budget of {} (set it with --memory-budget)",
                 human(need),
                 human(self.bytes)
-            ));
+            )));
         }
         Ok(())
     }

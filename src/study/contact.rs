@@ -8,6 +8,7 @@
 
 use super::clock::PhaseClock;
 use super::elasticity::{deformed_picture, displacement_component};
+use super::error::StudyError;
 use super::problem::{setup_system, Discretisation, Estimate, Pictures, Problem, Solution};
 use super::transfer::PreviousSolution;
 use crate::estimators::contact::{self as contact_estimator, ContactEstimate, ContactEstimator};
@@ -133,7 +134,7 @@ impl ContactProblem {
     }
 
     /// s₀ at the contact vertices of the new mesh (zero elsewhere), from the previous cycle.
-    fn transferred_s0(&self, system: &System) -> Result<Option<Vec<f64>>, String> {
+    fn transferred_s0(&self, system: &System) -> Result<Option<Vec<f64>>, StudyError> {
         self.previous
             .as_ref()
             .map(|p| p.at_contact_vertices(&self.boundaries, &system.dofs))
@@ -243,7 +244,7 @@ impl Problem for ContactProblem {
     /// contact vertices is the linearisation point s₀ of the Signorini constraints, and its
     /// contact set (the constraints it touches or violates) the warm start of the active set for
     /// both models.
-    fn assemble(&mut self, disc: &Discretisation, system: &mut System) -> Result<(), String> {
+    fn assemble(&mut self, disc: &Discretisation, system: &mut System) -> Result<(), StudyError> {
         self.model.assemble(&disc.mesh, system);
         let previous = self.transferred_s0(system)?;
         let s0 = if self.uses_signorini {
@@ -268,7 +269,7 @@ impl Problem for ContactProblem {
         _disc: &Discretisation,
         system: &mut System,
         _clock: &PhaseClock,
-    ) -> Result<Solution, String> {
+    ) -> Result<Solution, StudyError> {
         let solution = solve_contact(
             system,
             &mut self.solver,
@@ -291,7 +292,7 @@ impl Problem for ContactProblem {
         disc: &Discretisation,
         dofs: &DofMap,
         solution: &Solution,
-    ) -> Result<Estimate, String> {
+    ) -> Result<Estimate, StudyError> {
         let u = &solution.u;
         let e = self.contact_estimate(&disc.mesh, dofs, u);
         let mut estimate = Estimate::of_cells(e.eta2);

@@ -20,6 +20,7 @@ use std::collections::BTreeSet;
 use std::fmt;
 
 use super::adapt::{boundary_faces, Adaptation, KeepModels, ModelMarking};
+use super::error::StudyError;
 use super::model_contact::ModelAdaptiveContact;
 use super::problem::{Discretisation, Problem};
 use super::{PhaseClock, RunError};
@@ -109,14 +110,10 @@ pub fn accuracy_costs(experiment: &Experiment) -> Result<Vec<CostRow>, RunError>
     else {
         return Ok(Vec::new());
     };
-    let fail = |cycle: usize, message: String| {
-        RunError::at_cycle(
-            &experiment.table,
-            cycle,
-            format!("cost of accuracy: {message}"),
-        )
+    let fail = |cycle: usize, cause: StudyError| {
+        RunError::at_cycle(&experiment.table, cycle, cause.context("cost of accuracy"))
     };
-    let disc = Discretisation::initial(&experiment.scene).map_err(|e| fail(0, e.to_string()))?;
+    let disc = Discretisation::initial(&experiment.scene).map_err(|e| fail(0, e.into()))?;
     let model = Elasticity::from(elasticity);
     let new_problem = || ModelAdaptiveContact::new(elasticity, contact);
     let sides: BTreeSet<_> = contact.obstacles.iter().map(|o| o.side).collect();
@@ -166,7 +163,10 @@ type Cycle = (DofMap, Vec<f64>, f64, i64, super::Estimate);
 /// One cycle of the model-adaptive problem through the study loop's phases
 /// ([`super::solve_and_estimate`]): the solution, the seconds of the solve phase, the active-set
 /// iterations of both solves, and the estimate (face indicators, penetration).
-fn solve_cycle(problem: &mut ModelAdaptiveContact, disc: &Discretisation) -> Result<Cycle, String> {
+fn solve_cycle(
+    problem: &mut ModelAdaptiveContact,
+    disc: &Discretisation,
+) -> Result<Cycle, StudyError> {
     let clock = PhaseClock::default();
     let (dofs, solution, estimate) = super::solve_and_estimate(problem, disc, &clock)?;
     let iterations = solution

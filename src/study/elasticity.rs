@@ -1,6 +1,7 @@
 //! Tables IV.1–IV.5: linear elasticity (I.17) with the estimator of Theorem III.12.
 
 use super::clock::PhaseClock;
+use super::error::StudyError;
 use super::problem::{
     cg_column, setup_system, Discretisation, Estimate, Pictures, Problem, Solution,
 };
@@ -47,7 +48,7 @@ impl Problem for ElasticityProblem {
         setup_system(disc, 2, &mut self.solver, |s| self.model.constrain(s))
     }
 
-    fn assemble(&mut self, disc: &Discretisation, system: &mut System) -> Result<(), String> {
+    fn assemble(&mut self, disc: &Discretisation, system: &mut System) -> Result<(), StudyError> {
         self.model.assemble(&disc.mesh, system);
         Ok(())
     }
@@ -57,12 +58,12 @@ impl Problem for ElasticityProblem {
         _disc: &Discretisation,
         system: &mut System,
         _clock: &PhaseClock,
-    ) -> Result<Solution, String> {
+    ) -> Result<Solution, StudyError> {
         let u = system.solve(&mut self.solver);
         let cg = self.solver.take_iterations();
         self.solver.release_pattern();
         Ok(Solution {
-            u: u.map_err(|e| e.to_string())?,
+            u: u?,
             counters: cg_column(cg).into_iter().collect(),
         })
     }
@@ -72,7 +73,7 @@ impl Problem for ElasticityProblem {
         disc: &Discretisation,
         dofs: &DofMap,
         solution: &Solution,
-    ) -> Result<Estimate, String> {
+    ) -> Result<Estimate, StudyError> {
         Ok(Estimate::of_cells(estimators::elasticity::indicators(
             &disc.mesh,
             dofs,

@@ -13,6 +13,7 @@ pub mod clock;
 pub mod contact;
 pub mod cost;
 pub mod elasticity;
+pub mod error;
 pub mod model_contact;
 pub mod model_fluid;
 pub mod problem;
@@ -29,6 +30,7 @@ pub mod warnings;
 pub use adapt::{Adaptation, Balanced, FixedNumber, GridIndicator, LoadSteps, ModelMarking};
 pub use budget::{Budget, Ledger};
 pub use clock::{Phase, PhaseClock};
+pub use error::StudyError;
 pub use problem::{Discretisation, Estimate, Models, Pictures, Problem, Solution};
 pub use readings::{alternative_readings, AlternativeReading};
 pub use table::{run_table, TableHost, TableOptions, TableOutcome, TableRun};
@@ -58,7 +60,7 @@ impl Tier {
 /// A run that could not finish: names the table, the cycle (and the load step) and the reason.
 #[derive(Debug, thiserror::Error)]
 #[error(
-    "table {table}, {}cycle {cycle}: {message}",
+    "table {table}, {}cycle {cycle}: {cause}",
     step.map_or(String::new(), |j| format!("load step {j}, "))
 )]
 pub struct RunError {
@@ -67,17 +69,18 @@ pub struct RunError {
     pub cycle: usize,
     /// The load step of a load-step study.
     pub step: Option<usize>,
-    pub message: String,
+    /// Why: the kind of failure, its text the end of the message.
+    pub cause: StudyError,
 }
 
 impl RunError {
     /// An error of `table` in printed cycle `cycle` (no load steps).
-    pub fn at_cycle(table: &str, cycle: usize, message: String) -> RunError {
+    pub fn at_cycle(table: &str, cycle: usize, cause: impl Into<StudyError>) -> RunError {
         RunError {
             table: table.to_string(),
             cycle,
             step: None,
-            message,
+            cause: cause.into(),
         }
     }
 }
@@ -114,19 +117,19 @@ pub struct Solve {
 impl Solve {
     /// The error of this solve in `table`, named by its cycle (0 for the unprinted solves) and
     /// its load step.
-    pub fn error(&self, table: &str, message: String) -> RunError {
+    pub fn error(&self, table: &str, cause: StudyError) -> RunError {
         if let Some((step, cycle)) = self.step {
             return RunError {
                 step: Some(step),
-                ..RunError::at_cycle(table, cycle, message)
+                ..RunError::at_cycle(table, cycle, cause)
             };
         }
         match self.row {
-            Some(cycle) => RunError::at_cycle(table, cycle, message),
+            Some(cycle) => RunError::at_cycle(table, cycle, cause),
             None => RunError::at_cycle(
                 table,
                 0,
-                format!("unprinted solve {} before row 0: {message}", self.index + 1),
+                cause.context(format!("unprinted solve {} before row 0", self.index + 1)),
             ),
         }
     }
@@ -250,7 +253,7 @@ fn feasible(experiment: &Experiment) -> Result<(), RunError> {
         Some(message) => Err(RunError::at_cycle(
             &experiment.table,
             0,
-            format!("before the first solve: {message}"),
+            StudyError::InfeasibleObstacle(message).context("before the first solve"),
         )),
         None => Ok(()),
     }
@@ -277,7 +280,7 @@ pub fn solver_of(experiment: &Experiment) -> SolverKind {
 
 /// The model of an experiment's problem: one match arm per model. A solver study
 /// ([`StudyKind::SolverIterations`]) has no model of the study loop ([`solver_iterations`]).
-pub fn build_problem(experiment: &Experiment) -> Result<Box<dyn Problem>, String> {
+pub fn build_problem(experiment: &Experiment) -> Result<Box<dyn Problem>, StudyError> {
     let domain = &experiment.scene.domain;
     Ok(match &experiment.problem {
         experiment::Problem::Elasticity(data) => Box::new(elasticity::ElasticityProblem::new(
@@ -376,7 +379,7 @@ pub fn solve_and_estimate(
     problem: &mut dyn Problem,
     disc: &Discretisation,
     clock: &PhaseClock,
-) -> Result<(fe::DofMap, Solution, Estimate), String> {
+) -> Result<(fe::DofMap, Solution, Estimate), StudyError> {
     let mut system = clock.time(Phase::Setup, || problem.setup(disc));
     clock.time(Phase::Assemble, || problem.assemble(disc, &mut system))?;
     let solution = clock
@@ -402,12 +405,12 @@ pub fn run_study(
         RunError::at_cycle(
             &experiment.table,
             0,
-            format!("the initial mesh cannot be built: {e}"),
+            StudyError::from(e).context("the initial mesh cannot be built"),
         )
     })?;
     let mut record = Recorder::new(experiment, tier, schedule.printed);
     for solve in schedule.solves() {
-        let fail = |message| solve.error(&experiment.table, message);
+        let fail = |cause: StudyError| solve.error(&experiment.table, cause);
         budget
             .admit_cycle(experiment, disc.mesh.n_active())
             .map_err(fail)?;

@@ -37,6 +37,7 @@ use std::collections::BTreeSet;
 use super::adapt::{boundary_faces, face_partition};
 use super::clock::PhaseClock;
 use super::elasticity::displacement_component;
+use super::error::StudyError;
 use super::problem::{setup_system, Discretisation, Estimate, Pictures, Problem, Solution};
 use super::transfer::PreviousSolution;
 use crate::adaptivity::model::{model_error, ModelUnit};
@@ -186,7 +187,12 @@ impl ModelAdaptiveContact {
     /// The columns of the discretisation estimate (model-and-grid-adaptive): η_Q² of the
     /// MGA-code term set per cell and √Σ over the cells with a z-face, with a Signorini face,
     /// without a contact face, and over all cells (`estimate`).
-    fn grid_estimate(&self, mesh: &Mesh, dofs: &DofMap, u: &[f64]) -> Result<GridEstimate, String> {
+    fn grid_estimate(
+        &self,
+        mesh: &Mesh,
+        dofs: &DofMap,
+        u: &[f64],
+    ) -> Result<GridEstimate, StudyError> {
         let state = self
             .state
             .as_ref()
@@ -231,7 +237,7 @@ impl ModelAdaptiveContact {
 
     /// The model-error indicators ε^m(f) of every contact face for the displacement `u`, in
     /// the stable geometric order of the faces.
-    pub fn face_errors(&self, dofs: &DofMap, u: &[f64]) -> Result<FaceIndicators, String> {
+    pub fn face_errors(&self, dofs: &DofMap, u: &[f64]) -> Result<FaceIndicators, StudyError> {
         let v = &dofs.vertices;
         let mut faces = FaceIndicators::new();
         for cb in &self.boundaries {
@@ -249,14 +255,17 @@ impl ModelAdaptiveContact {
     /// The cycle's two solves: the z-solve on all faces, warm-started from the last one, and,
     /// when there are Signorini faces, the mixed solve linearised about the z-solution with its
     /// constraints.
-    fn solve_models(&mut self, system: &System) -> Result<(ContactSolution, MixedSolve), String> {
+    fn solve_models(
+        &mut self,
+        system: &System,
+    ) -> Result<(ContactSolution, MixedSolve), StudyError> {
         let z = solve_contact(
             system,
             &mut self.solver,
             &self.z_constraints,
             self.z_active.as_deref(),
         )
-        .map_err(|e| format!("z-solve on all faces: {e}"))?;
+        .map_err(|e| StudyError::from(e).context("z-solve on all faces"))?;
         if self.accurate.is_empty() {
             return Ok((z, None));
         }
@@ -306,7 +315,7 @@ impl Problem for ModelAdaptiveContact {
         setup_system(disc, 2, &mut self.solver, |s| self.model.constrain(s))
     }
 
-    fn assemble(&mut self, disc: &Discretisation, system: &mut System) -> Result<(), String> {
+    fn assemble(&mut self, disc: &Discretisation, system: &mut System) -> Result<(), StudyError> {
         self.start_load_step(disc.load_step);
         self.model.assemble(&disc.mesh, system);
         let all_z = ConstraintBuilder {
@@ -343,7 +352,7 @@ impl Problem for ModelAdaptiveContact {
         _disc: &Discretisation,
         system: &mut System,
         _clock: &PhaseClock,
-    ) -> Result<Solution, String> {
+    ) -> Result<Solution, StudyError> {
         let solved = self.solve_models(system);
         self.solver.release_pattern();
         let (z, mixed) = solved?;
@@ -378,7 +387,7 @@ impl Problem for ModelAdaptiveContact {
         disc: &Discretisation,
         dofs: &DofMap,
         solution: &Solution,
-    ) -> Result<Estimate, String> {
+    ) -> Result<Estimate, StudyError> {
         let u = &solution.u;
         let at = match (self.error_solution, &self.z_solution) {
             (ModelErrorSolution::Z, Some(z)) => z,

@@ -70,6 +70,7 @@
 
 use super::adapt::{Balanced, FixedNumber, GridIndicator, ModelMarking};
 use super::clock::{Phase, PhaseClock};
+use super::error::StudyError;
 use super::problem::{Discretisation, Estimate, Pictures, Problem, Solution};
 use super::substokes::substokes_problem;
 use crate::adaptivity::model::{model_error, ModelUnit, Partition};
@@ -126,10 +127,10 @@ impl ModelAdaptiveFilm {
         }
     }
 
-    fn solution(&self) -> Result<&CoupledSolution, String> {
+    fn solution(&self) -> Result<&CoupledSolution, StudyError> {
         self.solution
             .as_ref()
-            .ok_or_else(|| "the estimate needs the cycle's coupled solve".to_string())
+            .ok_or_else(|| "the estimate needs the cycle's coupled solve".into())
     }
 }
 
@@ -174,7 +175,7 @@ impl Problem for ModelAdaptiveFilm {
 
     /// The Reynolds system on all of Ω₂ (the SubStokes system needs ψ^R: it is set up and
     /// assembled in the solve).
-    fn assemble(&mut self, disc: &Discretisation, system: &mut System) -> Result<(), String> {
+    fn assemble(&mut self, disc: &Discretisation, system: &mut System) -> Result<(), StudyError> {
         self.data = Some(self.coupling.assemble_reynolds(&disc.mesh, system));
         Ok(())
     }
@@ -186,7 +187,7 @@ impl Problem for ModelAdaptiveFilm {
         disc: &Discretisation,
         system: &mut System,
         clock: &PhaseClock,
-    ) -> Result<Solution, String> {
+    ) -> Result<Solution, StudyError> {
         let mesh = &disc.mesh;
         let coupling = &self.coupling;
         let data = self
@@ -236,7 +237,7 @@ impl Problem for ModelAdaptiveFilm {
         disc: &Discretisation,
         _dofs: &DofMap,
         _solution: &Solution,
-    ) -> Result<Estimate, String> {
+    ) -> Result<Estimate, StudyError> {
         let mesh = &disc.mesh;
         let solution = self.solution()?;
         let eta = estimate(&self.coupling, mesh, solution)?;
@@ -310,7 +311,7 @@ pub fn estimate(
     coupling: &Coupling,
     mesh: &Mesh,
     solution: &CoupledSolution,
-) -> Result<CycleEstimate, String> {
+) -> Result<CycleEstimate, StudyError> {
     let r = &solution.reynolds;
     let reynolds = estimators::reynolds::indicators_with(
         mesh,
@@ -357,7 +358,10 @@ pub fn estimate(
         .collect();
     for (name, values) in [("discretisation", &discretisation), ("model", &model)] {
         if let Some(k) = values.iter().position(|v| !v.is_finite()) {
-            return Err(format!("{name} indicator {} on active cell {k}", values[k]));
+            return Err(StudyError::NonFinite(format!(
+                "{name} indicator {} on active cell {k}",
+                values[k]
+            )));
         }
     }
     // Folded from +0.0: an empty f64 sum is −0.0.
@@ -430,7 +434,11 @@ mod tests {
     }
 
     impl<F: FnMut(Marked)> Adaptation for Observed<F> {
-        fn adapt(&mut self, disc: &mut Discretisation, estimate: &Estimate) -> Result<(), String> {
+        fn adapt(
+            &mut self,
+            disc: &mut Discretisation,
+            estimate: &Estimate,
+        ) -> Result<(), StudyError> {
             // The model marking alone, on the solved mesh (α = 0: the same as the inner one's).
             let mut marked = disc.clone();
             marking(&self.study).model.adapt(&mut marked, estimate)?;

@@ -14,6 +14,7 @@ use crate::mesh::{BoundaryFace, Mesh, MeshError};
 use crate::results::{columns, Cuts, DeformedPicture, FieldPicture, MeshField, Value};
 
 use super::clock::PhaseClock;
+use super::error::StudyError;
 
 /// Which model each unit of a model-adaptive study uses: the units on the accurate model, 𝕋_a
 /// of Algorithms III.1–III.3 — the Signorini faces of the contact tables (the other contact
@@ -118,14 +119,14 @@ impl Discretisation {
         &self,
         scene: &Scene,
         motion: &[[f64; 2]],
-    ) -> Result<Discretisation, String> {
+    ) -> Result<Discretisation, StudyError> {
         let keys = self.mesh.coarse_vertex_keys();
         if motion.len() != keys.len() {
-            return Err(format!(
+            return Err(StudyError::Failed(format!(
                 "the body's motion has {} vertices, the coarse grid {}",
                 motion.len(),
                 keys.len()
-            ));
+            )));
         }
         let moved = keys
             .iter()
@@ -138,9 +139,12 @@ impl Discretisation {
         let [nx, ny] = self.mesh.coarse_cells();
         let next = self.load_step + 1;
         let mesh = Mesh::with_coarse_vertices(nx, ny, moved).map_err(|e| {
-            format!("the body moved by the displacement of load step {} cannot start load step {next}: {e}", self.load_step)
+            StudyError::Mesh(e).context(format!(
+                "the body moved by the displacement of load step {} cannot start load step {next}",
+                self.load_step
+            ))
         })?;
-        let mut disc = Discretisation::refined(scene, mesh).map_err(|e| e.to_string())?;
+        let mut disc = Discretisation::refined(scene, mesh)?;
         disc.load_step = next;
         Ok(disc)
     }
@@ -228,9 +232,11 @@ pub struct Solution {
 
 impl Solution {
     /// The solution, or an error naming the first dof where it is not finite.
-    pub fn finite(self) -> Result<Solution, String> {
+    pub fn finite(self) -> Result<Solution, StudyError> {
         match self.u.iter().position(|v| !v.is_finite()) {
-            Some(i) => Err(format!("the solution is not finite at dof {i}")),
+            Some(i) => Err(StudyError::NonFinite(format!(
+                "the solution is not finite at dof {i}"
+            ))),
             None => Ok(self),
         }
     }
@@ -287,17 +293,17 @@ impl Estimate {
     }
 
     /// √(Σ_Q η_Q²), or an error if it is not finite.
-    pub fn finite_total(&self) -> Result<f64, String> {
+    pub fn finite_total(&self) -> Result<f64, StudyError> {
         let total = crate::estimators::total(&self.cells);
         if total.is_finite() {
             Ok(total)
         } else {
-            Err(
+            Err(StudyError::NonFinite(
                 "the error estimate is not finite: its residuals overflowed — the data (loads, \
                  tractions, wall velocities, boundary values) or the solution are too large for \
                  double precision"
                     .into(),
-            )
+            ))
         }
     }
 }
@@ -319,7 +325,7 @@ pub trait Problem {
     /// Matrix, load and whatever else the solve needs (contact constraints transferred from the
     /// previous cycle, the cavitation load). An error message names what failed (the loop adds
     /// table and cycle).
-    fn assemble(&mut self, disc: &Discretisation, system: &mut System) -> Result<(), String>;
+    fn assemble(&mut self, disc: &Discretisation, system: &mut System) -> Result<(), StudyError>;
 
     /// Solve the assembled problem. Work of another phase inside the solve (a re-assembly) is
     /// timed on `clock`.
@@ -328,7 +334,7 @@ pub trait Problem {
         disc: &Discretisation,
         system: &mut System,
         clock: &PhaseClock,
-    ) -> Result<Solution, String>;
+    ) -> Result<Solution, StudyError>;
 
     /// Indicators and the row's estimate columns (after the solve only the dofs of the system
     /// are kept). An error message names what could not be evaluated.
@@ -337,7 +343,7 @@ pub trait Problem {
         disc: &Discretisation,
         dofs: &DofMap,
         solution: &Solution,
-    ) -> Result<Estimate, String>;
+    ) -> Result<Estimate, StudyError>;
 
     /// After the row is recorded and before the adaptation: keep what the next cycle transfers
     /// (the previous solution).

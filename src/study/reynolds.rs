@@ -10,6 +10,7 @@
 //! below the rounding noise of ψ_h ([`noise_floor`]).
 
 use super::clock::{Phase, PhaseClock};
+use super::error::StudyError;
 use super::problem::{
     cg_column, setup_system, Discretisation, Estimate, Pictures, Problem, Solution,
 };
@@ -108,12 +109,12 @@ impl ReynoldsFilm {
         disc: &Discretisation,
         system: &mut System,
         clock: &PhaseClock,
-    ) -> Result<Solution, String> {
+    ) -> Result<Solution, StudyError> {
         let solve = self.switch.begin_solve();
         if self.switch.is_on() {
             return self.solve_with_cavitation(system, None);
         }
-        let psi = system.solve(&mut self.solver).map_err(|e| e.to_string())?;
+        let psi = system.solve(&mut self.solver)?;
         if !self.switch.after_free_solve(solve, &psi) {
             self.psi_scale = max_abs(&psi);
             return Ok(Solution {
@@ -130,15 +131,15 @@ impl ReynoldsFilm {
         &mut self,
         system: &System,
         free_solution: Option<&[f64]>,
-    ) -> Result<Solution, String> {
+    ) -> Result<Solution, StudyError> {
         let initial = self.initial_active(system, free_solution);
         let sol = solve_cavitation(system, &mut self.solver, &initial)?;
         let tol = 1e-8 * sol.load_scale.max(1.0);
         if sol.complementarity > tol {
-            return Err(format!(
+            return Err(StudyError::Failed(format!(
                 "cavitation: complementarity residual {:.3e} above {tol:.3e}",
                 sol.complementarity
-            ));
+            )));
         }
         self.switch.after_cavitation_solve(&sol.psi);
         self.psi_scale = max_abs(&sol.psi);
@@ -162,7 +163,7 @@ impl Problem for ReynoldsFilm {
         system
     }
 
-    fn assemble(&mut self, disc: &Discretisation, system: &mut System) -> Result<(), String> {
+    fn assemble(&mut self, disc: &Discretisation, system: &mut System) -> Result<(), StudyError> {
         self.assemble_load(disc, system);
         Ok(())
     }
@@ -174,7 +175,7 @@ impl Problem for ReynoldsFilm {
         disc: &Discretisation,
         system: &mut System,
         clock: &PhaseClock,
-    ) -> Result<Solution, String> {
+    ) -> Result<Solution, StudyError> {
         let solution = self.solve_on_mesh(disc, system, clock);
         let cg = self.solver.take_iterations();
         self.solver.release_pattern();
@@ -188,7 +189,7 @@ impl Problem for ReynoldsFilm {
         disc: &Discretisation,
         dofs: &DofMap,
         solution: &Solution,
-    ) -> Result<Estimate, String> {
+    ) -> Result<Estimate, StudyError> {
         let data = &self.cache.as_ref().expect("estimate after assembly").data;
         let cavitation = self.switch.is_on();
         let zone = if cavitation {
@@ -257,7 +258,7 @@ impl Problem for ReynoldsFilm {
         let cuts = match cut {
             Ok(cuts) => Some(cuts),
             Err(e) => {
-                self.cut_failure = Some(e);
+                self.cut_failure = Some(e.to_string());
                 None
             }
         };

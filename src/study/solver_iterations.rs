@@ -5,7 +5,7 @@
 //! [`crate::models::stokes_channel::FIG_III6_TOLERANCE`], and every iteration is recorded with
 //! its error against the direct solve of the coupled system.
 
-use super::{printed_rows, Progress, RunError, Tier};
+use super::{printed_rows, Progress, RunError, StudyError, Tier};
 use crate::experiment::{Experiment, Problem};
 use crate::linalg::uzawa::{uzawa, UzawaOptions, Variant};
 use crate::models::stokes_channel::{StokesChannel, FIG_III6_TOLERANCE};
@@ -14,7 +14,7 @@ use crate::results::RunResult;
 /// Run the variants of the experiment's `[scene.stokes_channel]`.
 pub fn run(experiment: &Experiment, tier: Tier, progress: Progress) -> Result<RunResult, RunError> {
     let table = &experiment.table;
-    let fail = |message: String| RunError::at_cycle(table, 0, message);
+    let fail = |cause: StudyError| RunError::at_cycle(table, 0, cause);
     let Problem::StokesChannel(data) = &experiment.problem else {
         return Err(fail("a solver study needs the Uzawa test problem".into()));
     };
@@ -22,8 +22,8 @@ pub fn run(experiment: &Experiment, tier: Tier, progress: Progress) -> Result<Ru
         delta_eps: data.delta_eps,
         ..StokesChannel::thesis()
     };
-    let blocks = channel.blocks().map_err(fail)?;
-    let direct = blocks.solve_direct().map_err(fail)?;
+    let blocks = channel.blocks().map_err(|e| fail(e.into()))?;
+    let direct = blocks.solve_direct().map_err(|e| fail(e.into()))?;
     let iterations = printed_rows(experiment, tier);
     let d = &experiment.scene.domain;
     let mut result = RunResult::new(
@@ -37,14 +37,14 @@ pub fn run(experiment: &Experiment, tier: Tier, progress: Progress) -> Result<Ru
     result.related = experiment.related.clone();
     for (k, name) in data.variants.iter().enumerate() {
         let variant = Variant::from_name(name)
-            .ok_or_else(|| fail(format!("unknown Uzawa variant `{name}`")))?;
+            .ok_or_else(|| fail(format!("unknown Uzawa variant `{name}`").into()))?;
         let options = UzawaOptions {
             max_iterations: iterations,
             relative_tolerance: FIG_III6_TOLERANCE,
             ..UzawaOptions::new(variant)
         };
-        let run = uzawa(&blocks.system, &options, Some(&direct.pressure))
-            .map_err(|e| fail(e.to_string()))?;
+        let run =
+            uzawa(&blocks.system, &options, Some(&direct.pressure)).map_err(|e| fail(e.into()))?;
         result.uzawa.extend(run.rows);
         progress(table, k + 1, data.variants.len());
     }

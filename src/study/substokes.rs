@@ -17,6 +17,7 @@
 //! ([`columns::THEOREM_ESTIMATE`]).
 
 use super::clock::{Phase, PhaseClock};
+use super::error::StudyError;
 use super::problem::{setup_system, Discretisation, Estimate, Pictures, Problem, Solution};
 use super::thin_film::{CavitationSwitch, FieldSample, PreviousEstimate};
 use super::transfer::PreviousSolution;
@@ -158,7 +159,7 @@ impl SubStokesFilm {
         &mut self,
         system: &System,
         free_solution: Option<&[f64]>,
-    ) -> Result<Solution, String> {
+    ) -> Result<Solution, StudyError> {
         let (sol, counters) = match self.film_solver {
             FilmSolver::Uzawa => {
                 let options = CavitationUzawaOptions {
@@ -191,7 +192,7 @@ impl SubStokesFilm {
         disc: &Discretisation,
         system: &mut System,
         clock: &PhaseClock,
-    ) -> Result<Solution, String> {
+    ) -> Result<Solution, StudyError> {
         let solve = self.switch.begin_solve();
         self.lambda = None;
         if self.switch.is_on() {
@@ -223,13 +224,20 @@ impl SubStokesFilm {
         u: &[f64],
         lambda: &[f64],
         stabilisation: Stabilisation,
-    ) -> Result<SubStokesEstimate, String> {
+    ) -> Result<SubStokesEstimate, StudyError> {
         let options = CavitationOptions {
             stabilisation,
             ..CavitationOptions::new(&self.problem)
         };
         let lumped = lumped_multiplier(&disc.mesh, dofs, u, lambda);
-        estimate_cavitation(&disc.mesh, dofs, u, &lumped, &self.problem, options)
+        Ok(estimate_cavitation(
+            &disc.mesh,
+            dofs,
+            u,
+            &lumped,
+            &self.problem,
+            options,
+        )?)
     }
 }
 
@@ -240,7 +248,7 @@ impl Problem for SubStokesFilm {
         system
     }
 
-    fn assemble(&mut self, disc: &Discretisation, system: &mut System) -> Result<(), String> {
+    fn assemble(&mut self, disc: &Discretisation, system: &mut System) -> Result<(), StudyError> {
         self.assemble_form(disc, system);
         Ok(())
     }
@@ -250,7 +258,7 @@ impl Problem for SubStokesFilm {
         disc: &Discretisation,
         system: &mut System,
         clock: &PhaseClock,
-    ) -> Result<Solution, String> {
+    ) -> Result<Solution, StudyError> {
         let solution = self.solve_on_mesh(disc, system, clock);
         self.solver.release_pattern();
         solution
@@ -261,7 +269,7 @@ impl Problem for SubStokesFilm {
         disc: &Discretisation,
         dofs: &DofMap,
         solution: &Solution,
-    ) -> Result<Estimate, String> {
+    ) -> Result<Estimate, StudyError> {
         let u = &solution.u;
         let (eta, theorem) = match &self.lambda {
             None => {
@@ -322,7 +330,7 @@ impl Problem for SubStokesFilm {
         let cuts = match comparison.cuts(&disc.mesh, dofs, &solution.u, self.domain.x) {
             Ok(cuts) => Some(cuts),
             Err(e) => {
-                self.comparison_failure = Some(e);
+                self.comparison_failure = Some(e.to_string());
                 None
             }
         };

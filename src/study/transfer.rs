@@ -2,6 +2,7 @@
 //! of the contact active set, the initial active set of the cavitation solve. One transfer for
 //! every problem: the Q₁ field of the old mesh evaluated at the points of the new one.
 
+use super::error::StudyError;
 use super::problem::Discretisation;
 use rayon::prelude::*;
 
@@ -92,7 +93,7 @@ impl PreviousSolution {
         &self,
         boundaries: &[ContactBoundary],
         dofs: &DofMap,
-    ) -> Result<Vec<f64>, String> {
+    ) -> Result<Vec<f64>, StudyError> {
         let mut s0 = vec![0.0; dofs.n_dofs()];
         for cb in boundaries {
             for v in dofs.vertices.side_vertices(cb.side) {

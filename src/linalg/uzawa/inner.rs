@@ -31,7 +31,7 @@ impl<'a> Inner<'a> {
     pub(super) fn new(
         system: &'a SaddlePoint,
         options: &UzawaOptions,
-    ) -> Result<Inner<'a>, String> {
+    ) -> Result<Inner<'a>, UzawaError> {
         let f_norm = norm(&system.f);
         let floor = 1e-14
             * if f_norm > 0.0 {
@@ -44,6 +44,7 @@ impl<'a> Inner<'a> {
             InnerSolver::Cholesky => Some(RefCell::new(cholesky_of(
                 &system.a,
                 system.velocity_ordering.as_ref(),
+                options.variant.name(),
             )?)),
         };
         Ok(Inner {
@@ -117,14 +118,21 @@ impl Inner<'_> {
 
 /// The Cholesky factor of the symmetric `a` (full storage: its compressed rows are its
 /// compressed columns) in `ordering`.
-fn cholesky_of(a: &CsrMatrix, ordering: Option<&Ordering>) -> Result<CholeskyFactor, String> {
+fn cholesky_of(
+    a: &CsrMatrix,
+    ordering: Option<&Ordering>,
+    variant: &'static str,
+) -> Result<CholeskyFactor, UzawaError> {
     let diag = (0..a.n_rows)
         .map(|i| {
             (a.row_ptr[i]..a.row_ptr[i + 1])
                 .find(|&p| a.col_idx[p] == i)
-                .ok_or_else(|| format!("A has no diagonal entry in row {i}"))
+                .ok_or_else(|| UzawaError::Setup {
+                    variant,
+                    message: format!("A has no diagonal entry in row {i}"),
+                })
         })
-        .collect::<Result<Vec<usize>, String>>()?;
+        .collect::<Result<Vec<usize>, UzawaError>>()?;
     let col_idx: Vec<u32> = a.col_idx.iter().map(|&j| j as u32).collect();
     let matrix = Csc {
         col_ptr: &a.row_ptr,
@@ -132,7 +140,7 @@ fn cholesky_of(a: &CsrMatrix, ordering: Option<&Ordering>) -> Result<CholeskyFac
         diag: &diag,
         values: &a.values,
     };
-    CholeskyFactor::new(matrix, ordering).map_err(|e| format!("Cholesky factor of A: {e}"))
+    CholeskyFactor::new(matrix, ordering).map_err(|source| UzawaError::Factor { variant, source })
 }
 
 /// S w = Bᵀ A⁻¹ (B w) + C w with one inner solve (from zero) to the residual

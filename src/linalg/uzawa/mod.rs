@@ -126,6 +126,7 @@ use super::krylov::CgError;
 use super::saddle_point::{norm, SaddlePoint};
 #[cfg(doc)]
 use super::CholeskyFactor;
+use super::SolveError;
 use crate::results::UzawaRow;
 use inner::Inner;
 use iterate::Iterate;
@@ -168,6 +169,11 @@ pub enum UzawaError {
         variant: &'static str,
         message: String,
     },
+    #[error("Uzawa ({variant}): Cholesky factor of A: {source}")]
+    Factor {
+        variant: &'static str,
+        source: SolveError,
+    },
 }
 
 /// A residual this many times the initial one counts as divergence.
@@ -199,7 +205,7 @@ pub fn uzawa_from(
     let start = Instant::now();
     let variant = options.variant.name();
     let setup = |message: String| UzawaError::Setup { variant, message };
-    check_pressures(system, reference_pressure, initial_pressure).map_err(setup)?;
+    check_pressures(system, reference_pressure, initial_pressure, variant)?;
     let reference_norm = reference_pressure.map(norm);
     let d = approximate_schur_diagonal(system);
     if let Some(j) = d.iter().position(|&x| !(x > 0.0 && x.is_finite())) {
@@ -208,7 +214,7 @@ pub fn uzawa_from(
             d[j]
         )));
     }
-    let inner = Inner::new(system, options).map_err(setup)?;
+    let inner = Inner::new(system, options)?;
 
     let mut x = Iterate::new(system, initial_pressure, options.projected);
     let scale = match options.scale {
@@ -294,28 +300,30 @@ fn check_pressures(
     system: &SaddlePoint,
     reference: Option<&[f64]>,
     initial: Option<&[f64]>,
-) -> Result<(), String> {
+    variant: &'static str,
+) -> Result<(), UzawaError> {
+    let setup = |message: String| UzawaError::Setup { variant, message };
     let m = system.n_pressure();
     if let Some(reference) = reference {
         if reference.len() != m {
-            return Err(format!(
+            return Err(setup(format!(
                 "reference pressure has {} entries for {m} unknowns",
                 reference.len()
-            ));
+            )));
         }
     }
     if let Some(initial) = initial {
         if initial.len() != m {
-            return Err(format!(
+            return Err(setup(format!(
                 "initial pressure has {} entries for {m} unknowns",
                 initial.len()
-            ));
+            )));
         }
         if let Some(j) = initial.iter().position(|x| !x.is_finite()) {
-            return Err(format!(
+            return Err(setup(format!(
                 "initial pressure {} at unknown {j} is not finite",
                 initial[j]
-            ));
+            )));
         }
     }
     Ok(())
