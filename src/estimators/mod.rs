@@ -12,7 +12,7 @@ pub mod substokes;
 use rayon::prelude::*;
 
 use crate::fe::cell_values::CellValues;
-use crate::mesh::{BoundaryFace, CellId, Face, Mesh, Neighbor, Side};
+use crate::mesh::{BoundaryFace, CellId, Mesh};
 
 /// The loop of every residual estimator: `cell(k, c, values)` for each active cell (k its index
 /// in `mesh.active()`, c its id), Q₁ on the cell at the points of `rule`, in parallel; the
@@ -29,72 +29,7 @@ pub fn per_cell<T: Send, const N: usize>(
         .collect()
 }
 
-/// A straight piece of a cell face with what lies on its other side.
-#[derive(Clone, Copy, Debug)]
-pub struct FaceSegment {
-    pub a: [f64; 2],
-    pub b: [f64; 2],
-    /// Active index of the neighbouring cell, `None` on the boundary.
-    pub neighbor: Option<usize>,
-}
-
-impl FaceSegment {
-    pub fn length(&self) -> f64 {
-        (self.b[0] - self.a[0]).hypot(self.b[1] - self.a[1])
-    }
-
-    /// Point at parameter t ∈ [0, 1].
-    #[inline]
-    pub fn at(&self, t: f64) -> [f64; 2] {
-        [
-            self.a[0] + t * (self.b[0] - self.a[0]),
-            self.a[1] + t * (self.b[1] - self.a[1]),
-        ]
-    }
-}
-
-/// The pieces of face `face` of active cell `c`: one piece (boundary, same-level or coarser
-/// neighbour) or two (two finer neighbours; hanging faces are integrated over the fine
-/// sub-faces). Returns the boundary side if the face lies on one.
-pub fn face_segments(mesh: &Mesh, c: CellId, face: Face) -> (Option<Side>, Vec<FaceSegment>) {
-    let [pa, pb] = mesh.cell_shape(c).face_vertices(face);
-    match mesh.neighbor(c, face) {
-        Neighbor::Boundary(side) => (
-            Some(side),
-            vec![FaceSegment {
-                a: pa,
-                b: pb,
-                neighbor: None,
-            }],
-        ),
-        Neighbor::Same(n) | Neighbor::Coarser(n) => (
-            None,
-            vec![FaceSegment {
-                a: pa,
-                b: pb,
-                neighbor: Some(mesh.active_index(n)),
-            }],
-        ),
-        Neighbor::Finer([n0, n1]) => {
-            let mid = [(pa[0] + pb[0]) / 2.0, (pa[1] + pb[1]) / 2.0];
-            (
-                None,
-                vec![
-                    FaceSegment {
-                        a: pa,
-                        b: mid,
-                        neighbor: Some(mesh.active_index(n0)),
-                    },
-                    FaceSegment {
-                        a: mid,
-                        b: pb,
-                        neighbor: Some(mesh.active_index(n1)),
-                    },
-                ],
-            )
-        }
-    }
-}
+pub use crate::mesh::{face_segments, FaceSegment};
 
 /// √(Σ η_Q²).
 pub fn total(indicators_squared: &[f64]) -> f64 {

@@ -640,8 +640,10 @@ fn residual_parts(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::models::film_coupling::fixtures::{coupling, interface_meshes, scattered};
     use crate::models::substokes::fixtures::{problem, uniform, with_hanging, CAVITATING};
     use crate::models::substokes::DEFAULT_DELTA_EPS;
+    use crate::models::substokes::N_COMPONENTS;
     use crate::models::thin_film::{example, EXAMPLES};
 
     fn solve_and_estimate(eq: &str, mesh: &Mesh) -> SubStokesEstimate {
@@ -1063,6 +1065,55 @@ mod tests {
                 r[2],
                 r[3]
             );
+        }
+    }
+
+    /// With every cell SubStokes, the estimate on the region is Theorem III.23 on the mesh, bit
+    /// for bit.
+    #[test]
+    fn the_estimate_on_a_region_of_every_cell_is_theorem_iii23() {
+        let p = coupling();
+        for mesh in [uniform(3), with_hanging()] {
+            let all = vec![true; mesh.n_active()];
+            let plain = p.substokes.solve(&mesh).unwrap();
+            let options = Options::default();
+            let (dofs, u) = (&plain.dofs, &plain.u);
+            let region = cell_parts_in_region(&mesh, dofs, u, &p.substokes, options, &all);
+            assert_eq!(region, cell_parts(&mesh, dofs, u, &p.substokes, options));
+        }
+    }
+
+    /// On scattered SubStokes regions of meshes with hanging vertices, the region's estimate is
+    /// finite and vanishes off the region.
+    #[test]
+    fn the_estimate_on_a_scattered_region_vanishes_off_it() {
+        let p = coupling();
+        for mesh in interface_meshes() {
+            for seed in 0..6 {
+                let flags = scattered(&mesh, seed, 50);
+                let coupled = p.solve(&mesh, &flags).unwrap();
+                let u = &coupled.substokes.as_ref().unwrap().u;
+                let n = coupled.reynolds.dofs.vertices.len();
+                let dofs = DofMap {
+                    vertices: coupled.reynolds.dofs.vertices.clone(),
+                    n_components: N_COMPONENTS,
+                };
+                let on_mesh = coupled.region.on_mesh_vertices(u, n);
+                let parts = cell_parts_in_region(
+                    &mesh,
+                    &dofs,
+                    &on_mesh,
+                    &p.substokes,
+                    Options::default(),
+                    &flags,
+                );
+                for (k, part) in parts.iter().enumerate() {
+                    assert!(part.iter().all(|v| v.is_finite()));
+                    if !flags[k] {
+                        assert_eq!(*part, [0.0; 4]);
+                    }
+                }
+            }
         }
     }
 }

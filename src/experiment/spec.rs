@@ -288,7 +288,7 @@ pub enum Rise {
     Plateau,
 }
 
-/// Obstacle function b(x₁) (`crate::models::obstacle::Shape`, thesis §IV.2.1).
+/// Obstacle function b(x₁) (`models::obstacle::Shape`, thesis §IV.2.1).
 #[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
 #[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
 pub enum ObstacleShape {
@@ -344,7 +344,7 @@ impl ObstacleShape {
     }
 }
 
-/// How the printed saw formula of §IV.2.1.6 is read (`crate::models::obstacle::SawReading`).
+/// How the printed saw formula of §IV.2.1.6 is read (`models::obstacle::SawReading`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum SawReading {
@@ -355,7 +355,7 @@ pub enum SawReading {
     Literal,
 }
 
-/// Gap width g(x₁, x₂) of a fluid example, (IV.7)–(IV.20) (`crate::models::thin_film::Gap`).
+/// Gap width g(x₁, x₂) of a fluid example, (IV.7)–(IV.20) (`models::thin_film::Gap`).
 #[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
 #[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
 pub enum GapShape {
@@ -377,7 +377,7 @@ pub enum GapShape {
     },
 }
 
-/// Reading of the source term R₃c of (I.81) (`crate::models::thin_film::CavitationSource`).
+/// Reading of the source term R₃c of (I.81) (`models::thin_film::CavitationSource`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum CavitationSource {
@@ -496,10 +496,14 @@ pub enum PointCondition {
     Corner,
 }
 
-/// δ_ε when a file gives none ([`crate::models::substokes::DEFAULT_DELTA_EPS`]: a calibration
-/// on row 0 of IV.50, not a thesis value).
+/// Default stabilisation constant δ_ε of the pressure stabilisation Σ_Q δ_ε h_Q² ⟨∇ψ, ∇φ⟩_Q
+/// (§III.2.3), when a file gives none. The thesis only states the form ε = δ_ε h²
+/// (docs/models.md §15 item 13), not the value: 1.10e-3 is the value calibrated on row 0 of
+/// table IV.50, not a thesis number.
+pub const DEFAULT_DELTA_EPS: f64 = 1.10e-3;
+
 fn default_delta_eps() -> f64 {
-    crate::models::substokes::DEFAULT_DELTA_EPS
+    DEFAULT_DELTA_EPS
 }
 
 /// A SubStokes example of §IV.3.2 / §IV.3.6: the film of (IV.7)–(IV.20) as for Reynolds, the
@@ -520,7 +524,7 @@ pub struct SubStokesData {
     #[serde(default)]
     pub cavitation_source: CavitationSource,
     /// δ_ε of the pressure stabilisation Σ_Q δ_ε h_Q²⟨∇ψ, ∇φ⟩_Q (default
-    /// [`crate::models::substokes::DEFAULT_DELTA_EPS`]).
+    /// [`DEFAULT_DELTA_EPS`]).
     #[serde(default = "default_delta_eps")]
     pub delta_eps: f64,
     /// The point condition (I.56) (default none).
@@ -537,8 +541,8 @@ pub struct SubStokesData {
     pub compare_with: Option<FilmSolver>,
 }
 
-/// The solver of a SubStokes system (`crate::models::substokes`,
-/// `crate::models::substokes_uzawa`).
+/// The solver of a SubStokes system (`models::substokes`,
+/// `models::substokes_uzawa`).
 #[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
 #[serde(rename_all = "kebab-case")]
 pub enum FilmSolver {
@@ -561,7 +565,7 @@ impl FilmSolver {
 }
 
 /// The Uzawa comparison of Fig. III.6 on the test problem (III.88): [0, 4]², 32×32 cells
-/// (`crate::models::stokes_channel`).
+/// (`models::stokes_channel`).
 #[derive(Clone, Debug, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct StokesChannelData {

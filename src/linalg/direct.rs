@@ -103,7 +103,7 @@ impl SolveError {
 pub enum Cause {
     /// An entry is NaN or infinite: the data overflowed while assembling.
     NonFinite { dof: usize },
-    /// The diagonal spans more than [`ILL_CONDITIONED`]: rounding swamps the small pivots.
+    /// The diagonal spans more than `ILL_CONDITIONED`: rounding swamps the small pivots.
     IllConditioned { spread: f64 },
     /// A well-scaled matrix that is singular or indefinite.
     Singular,

@@ -31,7 +31,7 @@ mod refinement;
 use serde::Deserialize;
 
 pub use geometry::{bilinear, bilinear_gradients, cofactor, CellShape};
-pub use neighbors::{Face, FaceNeighbors, Neighbor, FACES};
+pub use neighbors::{face_segments, Face, FaceNeighbors, FaceSegment, Neighbor, FACES};
 pub use refinement::ActiveCells;
 use refinement::Lineage;
 

@@ -68,7 +68,7 @@ pub fn quadrature_points() -> [(f64, f64, f64); 4] {
 
 /// Per-cell data at the 2×2 Gauss points (order of [`quadrature_points`]): the load l, Δg/g
 /// and the squeeze part −12δv₃/g² of l (which the estimator's thesis-code reading leaves out,
-/// [`crate::estimators::reynolds::VolumeResidual`]).
+/// `estimators::reynolds::VolumeResidual`).
 pub struct CellData {
     pub load: Vec<[f64; 4]>,
     pub dg_over_g: Vec<[f64; 4]>,

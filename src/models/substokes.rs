@@ -61,10 +61,9 @@ use crate::mesh::{bilinear, CellId, Face, Mesh};
 use crate::models::thin_film::{CavitationSource, ThinFilm};
 use crate::models::ModelError;
 
-/// Default stabilisation constant δ_ε of the pressure stabilisation Σ_Q δ_ε h_Q² ⟨∇ψ, ∇φ⟩_Q
-/// (§III.2.3). The thesis only states the form ε = δ_ε h² (docs/models.md §15 item 13), not the value:
-/// 1.10e-3 is the value calibrated on row 0 of table IV.50, not a thesis number.
-pub const DEFAULT_DELTA_EPS: f64 = 1.10e-3;
+/// Default stabilisation constant δ_ε of the pressure stabilisation (the default of the
+/// experiment files' `delta_eps`, defined there).
+pub use crate::experiment::DEFAULT_DELTA_EPS;
 
 /// Number of components per vertex: χ₁, χ₂, ψ.
 pub const N_COMPONENTS: usize = 3;

@@ -22,14 +22,14 @@ use std::fmt;
 use super::adapt::{boundary_faces, Adaptation, KeepModels, ModelMarking};
 use super::error::StudyError;
 use super::model_contact::ModelAdaptiveContact;
-use super::problem::{Discretisation, Problem};
-use super::{PhaseClock, RunError};
+use super::problem::{Discretisation, Estimate, Problem, Solution};
+use super::{cycle_loop, CycleObserver, PhaseClock, RunError, Schedule, Solve};
 use crate::experiment::{self, Experiment, ModelAlgorithm, StudyKind};
 use crate::fe::quadrature::square_rule;
 use crate::fe::{CellValues, DofMap};
 use crate::mesh::{BoundaryFace, Mesh};
 use crate::models::elasticity::Elasticity;
-use crate::results::{columns, CostRow};
+use crate::results::{columns, CostRow, PhaseSeconds};
 
 /// A choice of the contact model per face, run through the table's cycles. Its printed name
 /// (`Display`) is the `variant` of the cost rows.
@@ -122,8 +122,8 @@ pub fn accuracy_costs(experiment: &Experiment) -> Result<Vec<CostRow>, RunError>
     // The reference s_S: every face Signorini.
     let mut reference_problem = new_problem();
     let all_signorini = CostVariant::Signorini.start(&disc, &all_faces);
-    let (dofs, s_s, ..) =
-        solve_cycle(&mut reference_problem, &all_signorini).map_err(|e| fail(0, e))?;
+    let (dofs, s_s) =
+        solve_reference(&mut reference_problem, &all_signorini).map_err(|e| fail(0, e))?;
     let s_s_norm = energy_norm(&model, &disc.mesh, &dofs, &s_s, None);
 
     let mut rows = Vec::new();
@@ -131,53 +131,95 @@ pub fn accuracy_costs(experiment: &Experiment) -> Result<Vec<CostRow>, RunError>
         let mut problem = new_problem();
         let mut disc = variant.start(&disc, &all_faces);
         let mut adaptation = variant.adaptation(&experiment.study);
-        let cycles = experiment.study.rows;
-        for cycle in 0..cycles {
-            let (dofs, u, seconds, iterations, estimate) =
-                solve_cycle(&mut problem, &disc).map_err(|e| fail(cycle, e))?;
-            let distance = energy_norm(&model, &disc.mesh, &dofs, &u, Some(&s_s)) / s_s_norm;
-            let column = |name: &str| estimate.value(name).unwrap_or(f64::NAN);
-            rows.push(CostRow {
-                variant: variant.to_string(),
-                cycle,
-                seconds_solve: seconds,
-                iterations,
-                penetration: column(columns::PENETRATION),
-                energy_distance: distance,
-                accurate_faces: disc.models.n_accurate(),
-                model_error: column(columns::MODEL_ERROR),
-                model_tolerance: experiment.study.model_tolerance(),
-            });
-            if cycle + 1 < cycles {
-                adaptation
-                    .adapt(&mut disc, &estimate)
-                    .map_err(|e| fail(cycle, e))?;
-            }
-        }
+        let cycles = Schedule {
+            unprinted: 0,
+            printed: experiment.study.rows,
+            per_row: 1,
+        };
+        let mut variant_rows = VariantCycles {
+            variant,
+            model: &model,
+            s_s: &s_s,
+            s_s_norm,
+            model_tolerance: experiment.study.model_tolerance(),
+            rows: &mut rows,
+        };
+        cycle_loop(
+            &mut problem,
+            &mut *adaptation,
+            &mut disc,
+            cycles.solves(),
+            &mut variant_rows,
+        )
+        .map_err(|(solve, cause)| fail(solve.index, cause))?;
     }
     Ok(rows)
 }
 
-type Cycle = (DofMap, Vec<f64>, f64, i64, super::Estimate);
+/// The rows of one variant: per cycle the energy distance to s_S, the active-set iterations of
+/// both solves, the penetration, the model error and, once the cycle is over, its solve
+/// seconds.
+struct VariantCycles<'a> {
+    variant: CostVariant,
+    model: &'a Elasticity,
+    s_s: &'a [f64],
+    s_s_norm: f64,
+    model_tolerance: f64,
+    rows: &'a mut Vec<CostRow>,
+}
 
-/// One cycle of the model-adaptive problem through the study loop's phases
-/// ([`super::solve_and_estimate`]): the solution, the seconds of the solve phase, the active-set
-/// iterations of both solves, and the estimate (face indicators, penetration).
-fn solve_cycle(
-    problem: &mut ModelAdaptiveContact,
-    disc: &Discretisation,
-) -> Result<Cycle, StudyError> {
-    let clock = PhaseClock::default();
-    let (dofs, solution, estimate) = super::solve_and_estimate(problem, disc, &clock)?;
-    let iterations = solution
+impl CycleObserver for VariantCycles<'_> {
+    fn solved(
+        &mut self,
+        solve: &Solve,
+        disc: &Discretisation,
+        dofs: &DofMap,
+        solution: &Solution,
+        estimate: &Estimate,
+        _problem: &mut dyn Problem,
+    ) {
+        let distance =
+            energy_norm(self.model, &disc.mesh, dofs, &solution.u, Some(self.s_s)) / self.s_s_norm;
+        let column = |name: &str| estimate.value(name).unwrap_or(f64::NAN);
+        self.rows.push(CostRow {
+            variant: self.variant.to_string(),
+            cycle: solve.index,
+            seconds_solve: 0.0,
+            iterations: active_set_iterations(solution),
+            penetration: column(columns::PENETRATION),
+            energy_distance: distance,
+            accurate_faces: disc.models.n_accurate(),
+            model_error: column(columns::MODEL_ERROR),
+            model_tolerance: self.model_tolerance,
+        });
+    }
+
+    fn finished(&mut self, _solve: &Solve, seconds: PhaseSeconds) {
+        if let Some(row) = self.rows.last_mut() {
+            row.seconds_solve = seconds.solve;
+        }
+    }
+}
+
+/// The active-set iterations of a cycle's solves (the counters named `…_iterations`).
+fn active_set_iterations(solution: &Solution) -> i64 {
+    solution
         .counters
         .iter()
         .filter(|(name, _)| name.ends_with("_iterations"))
         .map(|(_, n)| n)
-        .sum();
-    let u = solution.u.clone();
-    problem.finish_cycle(disc, dofs.clone(), solution);
-    Ok((dofs, u, clock.seconds().solve, iterations, estimate))
+        .sum()
+}
+
+/// The all-Signorini reference s_S on the first mesh: one solve through the study loop's phases
+/// ([`super::solve_and_estimate`]), its numbering and displacement.
+fn solve_reference(
+    problem: &mut ModelAdaptiveContact,
+    disc: &Discretisation,
+) -> Result<(DofMap, Vec<f64>), StudyError> {
+    let clock = PhaseClock::default();
+    let (dofs, solution, _) = super::solve_and_estimate(problem, disc, &clock)?;
+    Ok((dofs, solution.u))
 }
 
 /// ‖u − v‖_a = (∫_Ω σ(u − v) : ∇(u − v))^{1/2} (v = 0 when `minus` is None), with the 2×2

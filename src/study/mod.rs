@@ -38,7 +38,7 @@ pub use table::{run_table, TableHost, TableOptions, TableOutcome, TableRun};
 use crate::experiment::{self, Experiment, StudyKind};
 use crate::fe;
 use crate::linalg::SolverKind;
-use crate::results::RunResult;
+use crate::results::{PhaseSeconds, RunResult};
 use record::Recorder;
 
 /// Which rows to compute: the quick tier of the tests or the full thesis sizes of the report.
@@ -408,24 +408,107 @@ pub fn run_study(
             StudyError::from(e).context("the initial mesh cannot be built"),
         )
     })?;
-    let mut record = Recorder::new(experiment, tier, schedule.printed);
-    for solve in schedule.solves() {
-        let fail = |cause: StudyError| solve.error(&experiment.table, cause);
-        budget
-            .admit_cycle(experiment, disc.mesh.n_active())
-            .map_err(fail)?;
+    let mut table = TableCycles {
+        experiment,
+        budget,
+        progress,
+        solves: schedule.len(),
+        record: Recorder::new(experiment, tier, schedule.printed),
+    };
+    cycle_loop(
+        problem,
+        adaptation,
+        &mut disc,
+        schedule.solves(),
+        &mut table,
+    )
+    .map_err(|(solve, cause)| solve.error(&experiment.table, cause))?;
+    Ok(table.record.finish(problem))
+}
+
+/// What a loop over cycles does around each solve; the loop itself ([`cycle_loop`]) is the same
+/// for every run: a table's ([`run_study`]: memory budget, rows, progress) and the variants of
+/// the cost-of-accuracy study ([`cost`]).
+pub trait CycleObserver {
+    /// Before the solve on `disc`; an error stops the loop at this solve.
+    fn before(&mut self, _solve: &Solve, _disc: &Discretisation) -> Result<(), StudyError> {
+        Ok(())
+    }
+
+    /// The solve's result, before the problem keeps its solution.
+    fn solved(
+        &mut self,
+        solve: &Solve,
+        disc: &Discretisation,
+        dofs: &fe::DofMap,
+        solution: &Solution,
+        estimate: &Estimate,
+        problem: &mut dyn Problem,
+    );
+
+    /// The seconds of the solve's phases, after the adaptation that follows it.
+    fn finished(&mut self, _solve: &Solve, _seconds: PhaseSeconds) {}
+}
+
+/// The cycle loop, deal.II step-6 style: for each of `solves`, setup → assemble → solve →
+/// estimate on `disc` ([`solve_and_estimate`]), hand the result to `observer`, let the problem
+/// keep its solution (the next cycle's start), and adapt `disc` unless it is the last solve. An
+/// error names the solve it stopped at.
+pub fn cycle_loop(
+    problem: &mut dyn Problem,
+    adaptation: &mut dyn Adaptation,
+    disc: &mut Discretisation,
+    solves: impl Iterator<Item = Solve>,
+    observer: &mut dyn CycleObserver,
+) -> Result<(), (Solve, StudyError)> {
+    for solve in solves {
+        let fail = |cause: StudyError| (solve, cause);
+        observer.before(&solve, disc).map_err(fail)?;
         let clock = PhaseClock::default();
-        let (dofs, solution, estimate) =
-            solve_and_estimate(problem, &disc, &clock).map_err(fail)?;
-        record.cycle(&solve, &disc, &dofs, &solution, &estimate, problem);
-        problem.finish_cycle(&disc, dofs, solution);
+        let (dofs, solution, estimate) = solve_and_estimate(problem, disc, &clock).map_err(fail)?;
+        observer.solved(&solve, disc, &dofs, &solution, &estimate, problem);
+        problem.finish_cycle(disc, dofs, solution);
         if !solve.last {
             clock
-                .time(Phase::Refine, || adaptation.adapt(&mut disc, &estimate))
+                .time(Phase::Refine, || adaptation.adapt(disc, &estimate))
                 .map_err(fail)?;
         }
-        record.seconds(&solve, clock.seconds());
-        progress(&experiment.table, solve.index + 1, schedule.len());
+        observer.finished(&solve, clock.seconds());
     }
-    Ok(record.finish(problem))
+    Ok(())
+}
+
+/// The cycles of a table: each admitted by the memory budget, recorded as a row, counted for
+/// the progress bar.
+struct TableCycles<'a> {
+    experiment: &'a Experiment,
+    budget: Budget,
+    progress: Progress<'a>,
+    solves: usize,
+    record: Recorder<'a>,
+}
+
+impl CycleObserver for TableCycles<'_> {
+    fn before(&mut self, _solve: &Solve, disc: &Discretisation) -> Result<(), StudyError> {
+        self.budget
+            .admit_cycle(self.experiment, disc.mesh.n_active())
+    }
+
+    fn solved(
+        &mut self,
+        solve: &Solve,
+        disc: &Discretisation,
+        dofs: &fe::DofMap,
+        solution: &Solution,
+        estimate: &Estimate,
+        problem: &mut dyn Problem,
+    ) {
+        self.record
+            .cycle(solve, disc, dofs, solution, estimate, problem);
+    }
+
+    fn finished(&mut self, solve: &Solve, seconds: PhaseSeconds) {
+        self.record.seconds(solve, seconds);
+        (self.progress)(&self.experiment.table, solve.index + 1, self.solves);
+    }
 }

@@ -12,7 +12,7 @@ use crate::results::{columns, Arrow, CellBox, FieldPicture, Value};
 const PICTURE_CELLS: usize = 128;
 
 /// A film solution to draw: the field maps of the report sample it on a uniform grid of
-/// [`PICTURE_CELLS`]² cells of the domain.
+/// `PICTURE_CELLS`² cells of the domain.
 pub struct FieldSample<'a> {
     pub domain: Rectangle,
     pub mesh: &'a Mesh,
