@@ -9,6 +9,7 @@
 pub mod adaptivity;
 pub mod estimators;
 pub mod experiment;
+pub mod family;
 pub mod fe;
 pub mod heap;
 pub mod linalg;

@@ -1125,7 +1125,7 @@ fn model_adaptive_checks_name_file_and_field() {
     let dir = scratch_dir("ma-valid");
     let e = load(&write(&dir, "IV.1.toml", &base)).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(e.scene.side_refinements, 3);
-    assert_eq!(e.study.model_tolerance(), 1e-7);
+    assert_eq!(e.study.model().map(|m| m.tolerance), Some(1e-7));
     let with = |from: &str, to: &str| {
         assert!(base.contains(from), "test setup: `{from}`");
         base.replacen(from, to, 1)
@@ -1298,8 +1298,11 @@ fn model_and_grid_checks_name_file_and_field() {
     let base = model_and_grid();
     let dir = scratch_dir("mga-valid");
     let e = load(&write(&dir, "IV.1.toml", &base)).unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!(e.study.balance(), 0.5);
-    assert_eq!(e.study.model_fractions(), (0.02, 0.01));
+    assert_eq!(e.study.balance(), Some(0.5));
+    assert_eq!(
+        e.study.model().map(|m| (m.refine, m.coarsen)),
+        Some((0.02, 0.01))
+    );
     let with = |from: &str, to: &str| {
         assert!(base.contains(from), "test setup: `{from}`");
         base.replacen(from, to, 1)

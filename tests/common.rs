@@ -4,7 +4,7 @@ use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::sync::{Arc, Mutex, OnceLock};
 
-use tribo::experiment::{self, Experiment};
+use tribo::experiment::{self, Experiment, Plan};
 use tribo::mesh::Mesh;
 use tribo::report::convergence_order;
 use tribo::report::{self, Entry, ReportMeta, Section, Written};
@@ -129,7 +129,7 @@ pub fn full_tier(tables: &[&str], check: fn(&str, &RunResult)) {
 pub fn assert_convergence(table: &str, r: &RunResult) {
     let w = spec(table)
         .study
-        .convergence_window
+        .convergence_window()
         .unwrap_or_else(|| panic!("{table} has no convergence window"));
     if let Err(message) = convergence_rule(&r.rows, w) {
         panic!("{table}: {message}");
@@ -289,7 +289,10 @@ fn the_convergence_rule_judges_the_order_not_the_marking_fraction() {
 #[test]
 fn iv1_with_a_smaller_marking_fraction_passes_the_convergence_rule() {
     let mut e = spec("IV.1");
-    e.study.refine_fraction = Some(0.10);
+    let Plan::GridAdaptive { grid, .. } = &mut e.study.plan else {
+        panic!("IV.1 is grid-adaptive");
+    };
+    grid.refine = 0.10;
     e.study.rows = 9;
     let r = study::run(&e, Tier::Full, &|_, _, _| {}).unwrap();
     let ratios: Vec<f64> = r

@@ -3,7 +3,7 @@
 //! (ignored, `full_tier`) all 25.
 
 use crate::common::{quick, spec};
-use tribo::experiment::{ContactData, ObstacleShape, Problem, Rise};
+use tribo::experiment::{ContactData, ObstacleShape, Plan, Problem, Rise};
 use tribo::mesh::MeshError;
 use tribo::results::RunResult;
 use tribo::study::{Discretisation, Schedule, Solve, StudyError};
@@ -68,7 +68,13 @@ fn tools_rise_by_the_lift() {
     let Problem::Contact { contact, .. } = &e.problem else {
         panic!("the forming is a contact problem")
     };
-    let lift = e.study.lift_per_step.unwrap();
+    let Plan::LoadSteps {
+        lift_per_step: lift,
+        ..
+    } = e.study.plan
+    else {
+        panic!("fig-IV.54 is a load-step study");
+    };
     assert_eq!(lift, 10.0 / 24.0);
     let arc = |c: &ContactData, i: usize| match c.obstacles[i].shape {
         ObstacleShape::Arc {

@@ -5,7 +5,7 @@
 
 use std::fs;
 
-use tribo::experiment::{self, Experiment, Problem, Rectangle};
+use tribo::experiment::{self, Experiment, Plan, Problem, Rectangle};
 use tribo::mesh::{MeshError, Side};
 use tribo::results::RunResult;
 use tribo::study::{self, StudyError, Tier};
@@ -25,7 +25,10 @@ fn strip(coarse: [usize; 2], refinements: usize, turned: bool) -> Experiment {
     e.scene.coarse_cells = coarse;
     e.scene.global_refinements = refinements;
     e.study.quick_rows = 3;
-    e.study.coarsen_fraction = Some(0.0);
+    let Plan::GridAdaptive { grid, .. } = &mut e.study.plan else {
+        panic!("IV.1 is grid-adaptive");
+    };
+    grid.coarsen = 0.0;
     let Problem::Elasticity(data) = &mut e.problem else {
         panic!("IV.1 is an elasticity table");
     };

@@ -209,7 +209,7 @@ fn runs_warn_about_what_only_the_run_shows() {
 #[test]
 fn a_growing_estimate_warns_with_its_mean_growth() {
     let e = crate::common::spec("IV.1");
-    let [first, last] = e.study.convergence_window.unwrap();
+    let [first, last] = e.study.convergence_window().unwrap();
     let rows = |growth: f64| -> Vec<Row> {
         (0..=last)
             .map(|c| {

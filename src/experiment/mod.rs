@@ -19,8 +19,10 @@ mod warnings;
 
 pub use error::ExperimentError;
 pub use load::{load, load_dir, load_each, table_order, Loaded, MAX_FILE_BYTES};
+pub use load::{Checked, FileCheck as Check, Found};
 pub use printed::{fingerprints, PRINTED_LOCK};
 pub use spec::*;
+pub use warnings::Scope;
 pub use warnings::Warning;
 
 /// One experiment, loaded and checked: the scene's geometry, the typed problem, how to iterate,
@@ -35,6 +37,8 @@ pub struct Experiment {
     /// Human-readable title for the report.
     pub title: String,
     pub scene: Scene,
+    /// The family of runs the scene's effects and study kind make ([`crate::family`]).
+    pub family: crate::family::FamilyRef,
     pub problem: Problem,
     pub study: Study,
     pub probes: Probes,
@@ -92,8 +96,8 @@ pub struct Scene {
     pub refined_sides: Vec<Side>,
 }
 
-/// What a scene simulates — the effects it names, with their data. One variant per model; the
-/// study builds the model of a variant in one match arm.
+/// What a scene simulates — the effects it names, with their data. One variant per kind of data;
+/// the scene's family ([`crate::family`]) builds it from the sections and its model from it.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Problem {
     /// Linear elasticity (I.17), §IV.1.
@@ -147,17 +151,6 @@ impl Problem {
         match self {
             Problem::Contact { contact, .. } => Some(contact),
             _ => None,
-        }
-    }
-
-    /// The names of the fields the problem computes (the probe components).
-    pub fn components(&self) -> &'static [&'static str] {
-        match self {
-            Problem::Elasticity(_) | Problem::Contact { .. } => &["s1", "s2"],
-            Problem::Reynolds(_) => &["psi"],
-            Problem::SubStokes(_) => &["chi1", "chi2", "psi"],
-            Problem::StokesChannel(_) => &[],
-            Problem::FilmModels { .. } => &["psi"],
         }
     }
 }

@@ -28,7 +28,7 @@ pub struct ExperimentFile {
     /// Human-readable title for the report.
     pub title: String,
     pub scene: SceneFile,
-    pub study: Study,
+    pub study: StudyFile,
     #[serde(default)]
     pub probes: Probes,
     /// Readings of the thesis and known differences, shown in the report for this table.
@@ -648,9 +648,12 @@ pub const DEFAULT_MODEL_TOLERANCE: f64 = 1e-7;
 /// middle of (0, 1) (docs/estimators.md §7).
 pub const DEFAULT_BALANCE: f64 = 0.5;
 
+/// `[study]` as written: every field of every kind, each optional where a kind may leave it
+/// out. The loader checks it field by field (its messages name the dotted field) and turns it
+/// into the typed [`Study`], whose [`Plan`] holds exactly the fields of its kind.
 #[derive(Clone, Debug, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
-pub struct Study {
+pub struct StudyFile {
     pub kind: StudyKind,
     /// Number of printed rows (cycles 0 … rows−1).
     pub rows: usize,
@@ -663,12 +666,12 @@ pub struct Study {
     /// Grid-adaptive and model-and-grid-adaptive: the fraction of cells refined (θ_r).
     /// Model-adaptive: p_r, the fraction of the coarse (z) faces moved to the accurate
     /// (Signorini) model. Required by every kind but `solver-iterations` (the loader checks it;
-    /// read it through [`Study::refine`]).
+    /// typed in [`Study::grid`] or [`Study::model`]).
     #[serde(default)]
     pub refine_fraction: Option<f64>,
     /// Grid-adaptive and model-and-grid-adaptive: the fraction of cells coarsened (θ_c).
     /// Model-adaptive: p_c, the fraction of the accurate faces moved back. Required as
-    /// `refine_fraction` ([`Study::coarsen`]).
+    /// `refine_fraction`.
     #[serde(default)]
     pub coarsen_fraction: Option<f64>,
     /// Model-and-grid-adaptive: p_r of the model marking (the grid's θ_r is
@@ -721,45 +724,133 @@ pub enum Ties {
     Split,
 }
 
+/// How to iterate, checked and typed: what every kind has, and the [`Plan`] of its kind.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Study {
+    /// Number of printed rows (cycles 0 … rows−1; iterations of a solver study).
+    pub rows: usize,
+    /// Number of printed rows in the quick (test) tier.
+    pub quick_rows: usize,
+    /// Solves on coarser meshes that the thesis did not print ([`StudyFile::unprinted_cycles`]).
+    pub unprinted_cycles: usize,
+    /// How the fixed-number marking treats tied indicators at a cut.
+    pub ties: Ties,
+    /// The linear solver of the SPD systems, if the file names one ([`StudyFile::solver`]).
+    pub solver: Option<crate::linalg::SolverKind>,
+    /// What the kind iterates, with its fields.
+    pub plan: Plan,
+}
+
+/// The fixed-number grid marking of §IV.1: the fractions θ_r of cells refined and θ_c coarsened.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GridFractions {
+    pub refine: f64,
+    pub coarsen: f64,
+}
+
+/// The model marking of §IV.2.3 (Algorithm III.2 or III.3): p_r of the coarse units moved to the
+/// accurate model, p_c of the accurate ones moved back, and ε₀.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ModelFractions {
+    pub algorithm: ModelAlgorithm,
+    pub refine: f64,
+    pub coarsen: f64,
+    /// ε₀ (default [`DEFAULT_MODEL_TOLERANCE`]).
+    pub tolerance: f64,
+}
+
+/// What a study kind iterates, with the fields of that kind only (`[study] kind`).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Plan {
+    /// solve → estimate → mark (fixed number) → refine; the convergence rule applies over the
+    /// printed cycles `window` (inclusive).
+    GridAdaptive {
+        grid: GridFractions,
+        window: [usize; 2],
+    },
+    /// Model adaptivity on a fixed mesh (§IV.2.3).
+    ModelAdaptive { model: ModelFractions },
+    /// Model and grid adaptivity (Algorithm III.25, §IV.2.4; the model-adaptive film of
+    /// §IV.3.4), balanced by α of (III.93) (default [`DEFAULT_BALANCE`]).
+    ModelAndGridAdaptive {
+        grid: GridFractions,
+        model: ModelFractions,
+        balance: f64,
+        window: [usize; 2],
+    },
+    /// The load steps of the U-O forming (§IV.2.4.7): `cycles_per_step` cycles of model and
+    /// grid adaptivity per step, the rising tools lifted by `lift_per_step` between steps.
+    LoadSteps {
+        grid: GridFractions,
+        model: ModelFractions,
+        balance: f64,
+        cycles_per_step: usize,
+        lift_per_step: f64,
+    },
+    /// Iterations of a solver on one fixed problem (Fig. III.6).
+    SolverIterations,
+}
+
 impl Study {
-    /// `refine_fraction` (0 where the kind has none).
-    pub fn refine(&self) -> f64 {
-        self.refine_fraction.unwrap_or(0.0)
+    /// The kind, as `[study] kind` names it.
+    pub fn kind(&self) -> StudyKind {
+        match self.plan {
+            Plan::GridAdaptive { .. } => StudyKind::GridAdaptive,
+            Plan::ModelAdaptive { .. } => StudyKind::ModelAdaptive,
+            Plan::ModelAndGridAdaptive { .. } => StudyKind::ModelAndGridAdaptive,
+            Plan::LoadSteps { .. } => StudyKind::LoadSteps,
+            Plan::SolverIterations => StudyKind::SolverIterations,
+        }
     }
 
-    /// `coarsen_fraction` (0 where the kind has none).
-    pub fn coarsen(&self) -> f64 {
-        self.coarsen_fraction.unwrap_or(0.0)
+    /// The grid marking, where the kind refines the mesh.
+    pub fn grid(&self) -> Option<GridFractions> {
+        match self.plan {
+            Plan::GridAdaptive { grid, .. }
+            | Plan::ModelAndGridAdaptive { grid, .. }
+            | Plan::LoadSteps { grid, .. } => Some(grid),
+            Plan::ModelAdaptive { .. } | Plan::SolverIterations => None,
+        }
+    }
+
+    /// The model marking, where the kind moves units between models.
+    pub fn model(&self) -> Option<ModelFractions> {
+        match self.plan {
+            Plan::ModelAdaptive { model }
+            | Plan::ModelAndGridAdaptive { model, .. }
+            | Plan::LoadSteps { model, .. } => Some(model),
+            Plan::GridAdaptive { .. } | Plan::SolverIterations => None,
+        }
+    }
+
+    /// α of the balance (III.93), where the kind balances the two markings.
+    pub fn balance(&self) -> Option<f64> {
+        match self.plan {
+            Plan::ModelAndGridAdaptive { balance, .. } | Plan::LoadSteps { balance, .. } => {
+                Some(balance)
+            }
+            _ => None,
+        }
+    }
+
+    /// The printed cycles `[first, last]` where the convergence rule applies; none on a fixed
+    /// mesh, in the load steps (each restarts) and in a solver study.
+    pub fn convergence_window(&self) -> Option<[usize; 2]> {
+        match self.plan {
+            Plan::GridAdaptive { window, .. } | Plan::ModelAndGridAdaptive { window, .. } => {
+                Some(window)
+            }
+            _ => None,
+        }
     }
 
     /// The solves of one printed row: `cycles_per_step` in a load-step study, 1 otherwise.
     pub fn cycles_per_row(&self) -> usize {
-        match self.kind {
-            StudyKind::LoadSteps => self.cycles_per_step.unwrap_or(1),
+        match self.plan {
+            Plan::LoadSteps {
+                cycles_per_step, ..
+            } => cycles_per_step,
             _ => 1,
-        }
-    }
-
-    /// ε₀ of the model marking.
-    pub fn model_tolerance(&self) -> f64 {
-        self.model_tolerance.unwrap_or(DEFAULT_MODEL_TOLERANCE)
-    }
-
-    /// α of the balance (III.93).
-    pub fn balance(&self) -> f64 {
-        self.balance.unwrap_or(DEFAULT_BALANCE)
-    }
-
-    /// p_r and p_c of the model marking: `refine_fraction` and `coarsen_fraction` on a fixed
-    /// mesh, the `model_*` fractions when the grid adapts too (the loader ensures they are
-    /// given there).
-    pub fn model_fractions(&self) -> (f64, f64) {
-        match self.kind {
-            StudyKind::ModelAndGridAdaptive | StudyKind::LoadSteps => (
-                self.model_refine_fraction.unwrap_or(f64::NAN),
-                self.model_coarsen_fraction.unwrap_or(f64::NAN),
-            ),
-            _ => (self.refine(), self.coarsen()),
         }
     }
 }

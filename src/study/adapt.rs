@@ -12,7 +12,7 @@ use crate::adaptivity::model::{
 };
 use crate::adaptivity::{mark_fixed_number, mark_fixed_number_split, rounded_measure, split_order};
 use crate::estimators::FaceIndicators;
-use crate::experiment::{ModelAlgorithm, Scene, Ties};
+use crate::experiment::{self, ModelAlgorithm, Scene, Ties};
 use crate::mesh::{BoundaryFace, Mesh, Side};
 
 /// One adaptation step between two solves.
@@ -29,6 +29,17 @@ pub struct FixedNumber {
     pub refine: f64,
     pub coarsen: f64,
     pub ties: Ties,
+}
+
+impl FixedNumber {
+    /// The fixed-number marking of a study's grid fractions θ_r, θ_c.
+    pub fn of(grid: experiment::GridFractions, ties: Ties) -> FixedNumber {
+        FixedNumber {
+            refine: grid.refine,
+            coarsen: grid.coarsen,
+            ties,
+        }
+    }
 }
 
 impl Adaptation for FixedNumber {
@@ -99,6 +110,17 @@ pub struct ModelMarking {
     pub coarsen: f64,
     /// ε₀.
     pub tolerance: f64,
+}
+
+impl From<experiment::ModelFractions> for ModelMarking {
+    fn from(model: experiment::ModelFractions) -> ModelMarking {
+        ModelMarking {
+            algorithm: model.algorithm,
+            refine: model.refine,
+            coarsen: model.coarsen,
+            tolerance: model.tolerance,
+        }
+    }
 }
 
 impl Adaptation for ModelMarking {

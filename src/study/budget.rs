@@ -19,7 +19,7 @@
 //! IV.43), where it is far above.
 
 use super::{RunError, Schedule, Solve, StudyError};
-use crate::experiment::{Experiment, Problem, StudyKind};
+use crate::experiment::Experiment;
 
 /// Bytes of memory per active cell and squared solution component, measured (module docs).
 pub const BYTES_PER_CELL: f64 = 2000.0;
@@ -201,23 +201,17 @@ fn predicted_cells(
 
 /// Growth of the active cells per cycle (module docs).
 fn growth(experiment: &Experiment) -> f64 {
-    match experiment.study.kind {
-        StudyKind::GridAdaptive | StudyKind::ModelAndGridAdaptive | StudyKind::LoadSteps => {
-            CLOSURE * (1.0 + 3.0 * experiment.study.refine() - 0.75 * experiment.study.coarsen())
-        }
+    match experiment.study.grid() {
+        Some(grid) => CLOSURE * (1.0 + 3.0 * grid.refine - 0.75 * grid.coarsen),
         // The mesh is fixed; only the models of the contact faces change (or the solver
         // iterates on one mesh).
-        StudyKind::ModelAdaptive | StudyKind::SolverIterations => 1.0,
+        None => 1.0,
     }
 }
 
 /// Solution components per vertex of the experiment's problem.
 fn components(experiment: &Experiment) -> usize {
-    match experiment.problem {
-        Problem::Elasticity(_) | Problem::Contact { .. } => 2,
-        Problem::Reynolds(_) => 1,
-        Problem::SubStokes(_) | Problem::StokesChannel(_) | Problem::FilmModels { .. } => 3,
-    }
+    experiment.family.facts().unknowns_per_vertex
 }
 
 /// Active cells of the first mesh: the coarse grid refined globally, then at the contact sides

@@ -24,7 +24,7 @@ use super::error::StudyError;
 use super::model_contact::ModelAdaptiveContact;
 use super::problem::{Discretisation, Estimate, Problem, Solution};
 use super::{cycle_loop, CycleObserver, PhaseClock, RunError, Schedule, Solve};
-use crate::experiment::{self, Experiment, ModelAlgorithm, StudyKind};
+use crate::experiment::{self, Experiment, ModelAlgorithm, ModelFractions, Plan};
 use crate::fe::quadrature::square_rule;
 use crate::fe::{CellValues, DofMap};
 use crate::mesh::{BoundaryFace, Mesh};
@@ -66,13 +66,10 @@ impl CostVariant {
 
     /// What changes between the cycles: the partition by the variant's algorithm with the
     /// study's p_r, p_c and ε₀, or nothing (the fixed partitions).
-    fn adaptation(self, study: &experiment::Study) -> Box<dyn Adaptation> {
-        let (refine, coarsen) = study.model_fractions();
+    fn adaptation(self, fractions: ModelFractions) -> Box<dyn Adaptation> {
         let marking = |algorithm| ModelMarking {
             algorithm,
-            refine,
-            coarsen,
-            tolerance: study.model_tolerance(),
+            ..ModelMarking::from(fractions)
         };
         match self {
             CostVariant::Z | CostVariant::Signorini => Box::new(KeepModels),
@@ -93,12 +90,11 @@ impl fmt::Display for CostVariant {
     }
 }
 
-/// Whether the cost study applies to an experiment: a model-adaptive contact table on a fixed
-/// mesh with Algorithm III.3 (one study per scene; its III.2 twin shares the mesh).
+/// Whether the cost study applies to an experiment: its family says so
+/// ([`crate::family::Family::cost_study`]: a model-adaptive contact table on a fixed mesh with
+/// Algorithm III.3).
 pub fn applies(experiment: &Experiment) -> bool {
-    experiment.study.kind == StudyKind::ModelAdaptive
-        && experiment.study.algorithm == Some(ModelAlgorithm::SortedError)
-        && matches!(experiment.problem, experiment::Problem::Contact { .. })
+    experiment.family.cost_study(experiment)
 }
 
 /// The four variants of [`applies`]'s scene through the table's printed cycles.
@@ -108,6 +104,9 @@ pub fn accuracy_costs(experiment: &Experiment) -> Result<Vec<CostRow>, RunError>
         contact,
     } = &experiment.problem
     else {
+        return Ok(Vec::new());
+    };
+    let Plan::ModelAdaptive { model: fractions } = experiment.study.plan else {
         return Ok(Vec::new());
     };
     let fail = |cycle: usize, cause: StudyError| {
@@ -130,7 +129,7 @@ pub fn accuracy_costs(experiment: &Experiment) -> Result<Vec<CostRow>, RunError>
     for variant in CostVariant::ALL {
         let mut problem = new_problem();
         let mut disc = variant.start(&disc, &all_faces);
-        let mut adaptation = variant.adaptation(&experiment.study);
+        let mut adaptation = variant.adaptation(fractions);
         let cycles = Schedule {
             unprinted: 0,
             printed: experiment.study.rows,
@@ -141,7 +140,7 @@ pub fn accuracy_costs(experiment: &Experiment) -> Result<Vec<CostRow>, RunError>
             model: &model,
             s_s: &s_s,
             s_s_norm,
-            model_tolerance: experiment.study.model_tolerance(),
+            model_tolerance: fractions.tolerance,
             rows: &mut rows,
         };
         cycle_loop(

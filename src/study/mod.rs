@@ -1,8 +1,9 @@
 //! The study: one loop for every table (docs/architecture.md, "Data flow"), deal.II step-6 style —
 //! setup → assemble → solve → estimate → record → adapt. What differs between table families
 //! lives in two places: the [`Problem`] (what is assembled and solved, which columns it produces)
-//! and the [`Adaptation`] (what changes between cycles). A new family is a new problem or a new
-//! strategy, never a new branch inside the loop.
+//! and the [`Adaptation`] (what changes between cycles), both made by the experiment's family
+//! ([`crate::family`]). A new family is a new problem or a new strategy, never a new branch
+//! inside the loop.
 //!
 //! Only the effects a scene names are built: an elasticity scene never touches contact or
 //! thin-film code.
@@ -35,7 +36,7 @@ pub use problem::{Discretisation, Estimate, Models, Pictures, Problem, Solution}
 pub use readings::{alternative_readings, AlternativeReading};
 pub use table::{run_table, TableHost, TableOptions, TableOutcome, TableRun};
 
-use crate::experiment::{self, Experiment, StudyKind};
+use crate::experiment::{self, Experiment, Plan, StudyKind};
 use crate::fe;
 use crate::linalg::SolverKind;
 use crate::results::{PhaseSeconds, RunResult};
@@ -216,14 +217,16 @@ fn run_study_of_kind(
     budget: Budget,
     progress: Progress,
 ) -> Result<RunResult, RunError> {
-    if experiment.study.kind == StudyKind::SolverIterations {
+    if experiment.study.kind() == StudyKind::SolverIterations {
         return solver_iterations::run(experiment, tier, progress);
     }
     feasible(experiment)?;
     budget.admit_run(experiment, Schedule::of(experiment, tier))?;
-    let mut problem =
-        build_problem(experiment).map_err(|e| RunError::at_cycle(&experiment.table, 0, e))?;
-    let mut adaptation = adaptation_of(experiment);
+    let family = experiment.family;
+    let mut problem = family
+        .build(experiment)
+        .map_err(|e| RunError::at_cycle(&experiment.table, 0, e))?;
+    let mut adaptation = family.adaptation(experiment);
     run_study(
         experiment,
         tier,
@@ -235,21 +238,9 @@ fn run_study_of_kind(
 }
 
 /// Reject, before the first solve, a scene whose problem has no solution (contact: an obstacle
-/// reaching into the body where it is clamped). The loader checks what the file alone says;
-/// this needs the models.
+/// reaching into the body where it is clamped; [`crate::family::Family::infeasible`]).
 fn feasible(experiment: &Experiment) -> Result<(), RunError> {
-    let problem = match &experiment.problem {
-        experiment::Problem::Contact {
-            elasticity,
-            contact,
-        } => contact::infeasible_obstacle(elasticity, contact, &experiment.scene.domain),
-        experiment::Problem::Elasticity(_)
-        | experiment::Problem::Reynolds(_)
-        | experiment::Problem::SubStokes(_)
-        | experiment::Problem::StokesChannel(_)
-        | experiment::Problem::FilmModels { .. } => None,
-    };
-    match problem {
+    match experiment.family.infeasible(experiment) {
         Some(message) => Err(RunError::at_cycle(
             &experiment.table,
             0,
@@ -260,78 +251,12 @@ fn feasible(experiment: &Experiment) -> Result<(), RunError> {
 }
 
 /// The linear solver of an experiment's SPD systems: `[study] solver` (or `report --solver`),
-/// else the one measured faster for its family — multigrid for the Reynolds films, the direct
-/// solver for elasticity (its tables stay below 55 000 unknowns, where `cargo bench --bench
-/// solve` measured the two equally fast, 0.085 s at 54 904 unknowns: the reference solver
-/// wins the tie). The contact families always use
-/// the direct solver: with the dofs of the contact vertices rotated into normal and tangential
-/// components, the component-wise prolongation no longer fits and CG took 100–500 iterations,
-/// growing with the mesh (IV.6–IV.17, tried). With a prolongation that rotates too
-/// ([`crate::linalg::multigrid`], *Rotated frames*) it took 16–102 iterations on IV.14, still
-/// growing with the mesh, the solve phases of IV.6, IV.10 and IV.14 were 1.7–4 times the direct
-/// solver's, and IV.10 refined to 2 dofs more in cycle 1 (a marking tie decided otherwise; the
-/// cycle-0 estimates of the two solvers are 6.5e-12 apart).
+/// else the one measured faster for its family ([`crate::family::Family::default_solver`]).
 pub fn solver_of(experiment: &Experiment) -> SolverKind {
-    experiment.study.solver.unwrap_or(match experiment.problem {
-        experiment::Problem::Reynolds(_) => SolverKind::Multigrid,
-        _ => SolverKind::Direct,
-    })
-}
-
-/// The model of an experiment's problem: one match arm per model. A solver study
-/// ([`StudyKind::SolverIterations`]) has no model of the study loop ([`solver_iterations`]).
-pub fn build_problem(experiment: &Experiment) -> Result<Box<dyn Problem>, StudyError> {
-    let domain = &experiment.scene.domain;
-    Ok(match &experiment.problem {
-        experiment::Problem::Elasticity(data) => Box::new(elasticity::ElasticityProblem::new(
-            data,
-            domain,
-            solver_of(experiment),
-        )),
-        experiment::Problem::Contact {
-            elasticity,
-            contact,
-        } => match experiment.study.kind {
-            StudyKind::GridAdaptive => Box::new(contact::ContactProblem::new(elasticity, contact)),
-            StudyKind::ModelAdaptive => Box::new(model_contact::ModelAdaptiveContact::new(
-                elasticity, contact,
-            )),
-            StudyKind::ModelAndGridAdaptive => Box::new(
-                model_contact::ModelAdaptiveContact::with_grid(elasticity, contact),
-            ),
-            StudyKind::LoadSteps => Box::new(model_contact::ModelAdaptiveContact::forming(
-                elasticity,
-                contact,
-                experiment.study.lift_per_step.unwrap_or(0.0),
-            )),
-            StudyKind::SolverIterations => {
-                return Err("contact has no solver-iterations study".into())
-            }
-        },
-        experiment::Problem::Reynolds(data) => Box::new(reynolds::ReynoldsFilm::new(
-            data,
-            domain,
-            solver_of(experiment),
-        )),
-        experiment::Problem::SubStokes(data) => {
-            Box::new(substokes::SubStokesFilm::new(data, domain))
-        }
-        experiment::Problem::StokesChannel(_) => {
-            return Err("the Uzawa test problem runs as a solver-iterations study only".into())
-        }
-        experiment::Problem::FilmModels { substokes, .. } => {
-            Box::new(model_fluid::ModelAdaptiveFilm::new(substokes, domain))
-        }
-    })
-}
-
-/// The adaptation of an experiment: the model-adaptive film's marking ([`model_fluid::marking`]),
-/// else the strategy of its `[study] kind` ([`build_adaptation`]).
-pub fn adaptation_of(experiment: &Experiment) -> Box<dyn Adaptation> {
-    match experiment.problem {
-        experiment::Problem::FilmModels { .. } => Box::new(model_fluid::marking(&experiment.study)),
-        _ => build_adaptation(&experiment.study, &experiment.scene),
-    }
+    experiment
+        .study
+        .solver
+        .unwrap_or(experiment.family.default_solver())
 }
 
 /// The adaptation strategy of a study: one match arm per `[study] kind`.
@@ -339,35 +264,36 @@ pub fn build_adaptation(
     study: &experiment::Study,
     scene: &experiment::Scene,
 ) -> Box<dyn Adaptation> {
-    let grid = FixedNumber {
-        refine: study.refine(),
-        coarsen: study.coarsen(),
-        ties: study.ties,
-    };
-    // The loader requires `algorithm` in the studies that mark models; III.3 is the one the
-    // model-and-grid tables use.
-    let (refine, coarsen) = study.model_fractions();
-    let model = ModelMarking {
-        algorithm: study
-            .algorithm
-            .unwrap_or(experiment::ModelAlgorithm::SortedError),
-        refine,
-        coarsen,
-        tolerance: study.model_tolerance(),
-    };
-    let balanced = Balanced {
-        model,
-        grid,
-        alpha: study.balance(),
+    let grid = |grid| FixedNumber::of(grid, study.ties);
+    let balanced = |g, model: experiment::ModelFractions, alpha| Balanced {
+        model: model.into(),
+        grid: grid(g),
+        alpha,
         grid_indicator: GridIndicator::Eta,
     };
-    match study.kind {
-        StudyKind::GridAdaptive | StudyKind::SolverIterations => Box::new(balanced.grid),
-        StudyKind::ModelAdaptive => Box::new(balanced.model),
-        StudyKind::ModelAndGridAdaptive => Box::new(balanced),
-        StudyKind::LoadSteps => Box::new(LoadSteps::new(
-            study.cycles_per_row(),
-            balanced,
+    match study.plan {
+        Plan::GridAdaptive { grid: g, .. } => Box::new(grid(g)),
+        // A solver study has no adaptive loop ([`solver_iterations`]); nothing is marked.
+        Plan::SolverIterations => Box::new(grid(experiment::GridFractions {
+            refine: 0.0,
+            coarsen: 0.0,
+        })),
+        Plan::ModelAdaptive { model } => Box::new(ModelMarking::from(model)),
+        Plan::ModelAndGridAdaptive {
+            grid: g,
+            model,
+            balance,
+            ..
+        } => Box::new(balanced(g, model, balance)),
+        Plan::LoadSteps {
+            grid: g,
+            model,
+            balance,
+            cycles_per_step,
+            ..
+        } => Box::new(LoadSteps::new(
+            cycles_per_step,
+            balanced(g, model, balance),
             scene.clone(),
         )),
     }

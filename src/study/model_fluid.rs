@@ -68,7 +68,7 @@
 //! dominates the total (6293 in row 0, Theorem III.16 in the thesis-code reading) and the model
 //! error (0.106 → 1.6e-4) does not show in it.
 
-use super::adapt::{Balanced, FixedNumber, GridIndicator, ModelMarking};
+use super::adapt::{Balanced, FixedNumber, GridIndicator};
 use super::clock::{Phase, PhaseClock};
 use super::error::StudyError;
 use super::problem::{Discretisation, Estimate, Pictures, Problem, Solution};
@@ -77,7 +77,7 @@ use crate::adaptivity::model::{model_error, ModelUnit, Partition};
 use crate::estimators;
 use crate::estimators::reynolds::VolumeResidual;
 use crate::estimators::substokes::{cell_parts_in_region, Options};
-use crate::experiment::{self, ModelAlgorithm, Study, SubStokesData};
+use crate::experiment::{self, SubStokesData};
 use crate::fe::{DofMap, System};
 use crate::mesh::Mesh;
 use crate::models::film_comparison::pressure_cut;
@@ -137,20 +137,14 @@ impl ModelAdaptiveFilm {
 /// The adaptation of the model-adaptive film (steps 4 and 5 of the module docs): model and
 /// grid marking from the same indicators, without the balance (III.93) (α = 0 keeps every
 /// indicator), the grid ranked by η_Q².
-pub fn marking(study: &Study) -> Balanced {
-    let (refine, coarsen) = study.model_fractions();
+pub fn marking(
+    grid: experiment::GridFractions,
+    model: experiment::ModelFractions,
+    ties: experiment::Ties,
+) -> Balanced {
     Balanced {
-        model: ModelMarking {
-            algorithm: study.algorithm.unwrap_or(ModelAlgorithm::SortedError),
-            refine,
-            coarsen,
-            tolerance: study.model_tolerance(),
-        },
-        grid: FixedNumber {
-            refine: study.refine(),
-            coarsen: study.coarsen(),
-            ties: study.ties,
-        },
+        model: model.into(),
+        grid: FixedNumber::of(grid, ties),
         alpha: 0.0,
         grid_indicator: GridIndicator::EtaSquared,
     }
@@ -428,7 +422,7 @@ mod tests {
 
     /// The film's adaptation, handing each cycle's model marking to `observe` first.
     struct Observed<F: FnMut(Marked)> {
-        study: Study,
+        marking: Balanced,
         inner: Balanced,
         observe: F,
     }
@@ -441,7 +435,7 @@ mod tests {
         ) -> Result<(), StudyError> {
             // The model marking alone, on the solved mesh (α = 0: the same as the inner one's).
             let mut marked = disc.clone();
-            marking(&self.study).model.adapt(&mut marked, estimate)?;
+            self.marking.model.adapt(&mut marked, estimate)?;
             (self.observe)(Marked {
                 mesh: disc.mesh.clone(),
                 eps: estimate.models.iter().map(|&(_, e)| e).collect(),
@@ -458,9 +452,15 @@ mod tests {
             panic!("fig-IV.116 is the model-adaptive film");
         };
         let mut problem = ModelAdaptiveFilm::new(substokes, &experiment.scene.domain);
+        let crate::experiment::Plan::ModelAndGridAdaptive { grid, model, .. } =
+            experiment.study.plan
+        else {
+            panic!("fig-IV.116 is a model-and-grid-adaptive study");
+        };
+        let film_marking = || marking(grid, model, experiment.study.ties);
         let mut adaptation = Observed {
-            study: experiment.study.clone(),
-            inner: marking(&experiment.study),
+            marking: film_marking(),
+            inner: film_marking(),
             observe,
         };
         run_study(
@@ -531,7 +531,7 @@ mod tests {
     #[test]
     fn substokes_cells_follow_the_wide_gap_and_rise() {
         let experiment = fig_iv116(5);
-        let (p_r, _) = experiment.study.model_fractions();
+        let p_r = experiment.study.model().map_or(f64::NAN, |m| m.refine);
         let mut observed = 0;
         let r = run_observed(&experiment, |m| {
             observed += 1;

@@ -86,7 +86,7 @@ impl<'a> Recorder<'a> {
                 self.result.cuts = pictures.cuts;
             }
         }
-        if self.experiment.study.kind.adapts_model() && !marks_cells {
+        if self.experiment.study.kind().adapts_model() && !marks_cells {
             self.result
                 .partitions
                 .push(partition_picture(disc, estimate, cycle));

@@ -2,7 +2,7 @@
 //! never touched, an estimate that grows where the study expects convergence. Joined to the
 //! file's own warnings ([`Experiment::warnings`]) in the run's result.
 
-use crate::experiment::{Experiment, Problem, Warning};
+use crate::experiment::{Experiment, Warning};
 use crate::results::{columns, Row};
 
 /// The warnings of a finished run with printed `rows`: the experiment file's, then the run's.
@@ -19,17 +19,7 @@ pub fn of_run(experiment: &Experiment, rows: &[Row]) -> Vec<Warning> {
              every ratio is undefined",
         ));
     }
-    if matches!(experiment.problem, Problem::Contact { .. })
-        && rows
-            .iter()
-            .all(|r| r.count_of(columns::CONTACT_VERTICES) == Some(0))
-    {
-        out.push(Warning::new(
-            columns::CONTACT_VERTICES,
-            "no vertex touches an obstacle in any printed cycle: the table solves elasticity \
-             without contact",
-        ));
-    }
+    experiment.family.run_warnings(experiment, rows, &mut out);
     if let Some((first, last, growth)) = growth_over_window(experiment, rows) {
         out.push(Warning::new(
             "study.convergence_window",
@@ -45,7 +35,7 @@ pub fn of_run(experiment: &Experiment, rows: &[Row]) -> Vec<Warning> {
 /// The printed cycles of the convergence window the run reached and the geometric mean of the
 /// estimate ratios over them, when it is above 1.
 fn growth_over_window(experiment: &Experiment, rows: &[Row]) -> Option<(usize, usize, f64)> {
-    let [first, last] = experiment.study.convergence_window?;
+    let [first, last] = experiment.study.convergence_window()?;
     let ratios: Vec<(usize, f64)> = rows
         .iter()
         .filter(|r| first < r.cycle && r.cycle <= last)

@@ -10,31 +10,26 @@ use std::path::Path;
 use super::ids::{figure_number, is_thesis_id};
 use crate::experiment::spec::*;
 use crate::experiment::ExperimentError;
+use crate::family::{self, FamilyRef};
 
 /// Longest one-line text (title, section, names, column names), in characters.
 const MAX_TEXT_CHARS: usize = 1_000;
 /// Longest note, in characters (the longest shipped note has about 2 700).
 const MAX_NOTE_CHARS: usize = 20_000;
 
-pub(super) type Checked = Result<(), ExperimentError>;
+pub type Checked = Result<(), ExperimentError>;
 
 /// Semantic validation of one parsed file; `path` is only used in error messages.
-pub(super) struct Check<'p> {
+pub struct Check<'p> {
     pub(super) path: &'p Path,
 }
 
 impl Check<'_> {
-    pub(super) fn fail(&self, field: &str, expected: &str, found: impl Found) -> ExperimentError {
+    pub fn fail(&self, field: &str, expected: &str, found: impl Found) -> ExperimentError {
         ExperimentError::invalid(self.path, field, expected, found.text())
     }
 
-    pub(super) fn ensure(
-        &self,
-        ok: bool,
-        field: &str,
-        expected: &str,
-        found: impl Found,
-    ) -> Checked {
+    pub fn ensure(&self, ok: bool, field: &str, expected: &str, found: impl Found) -> Checked {
         if ok {
             Ok(())
         } else {
@@ -42,11 +37,11 @@ impl Check<'_> {
         }
     }
 
-    pub(super) fn finite(&self, field: &str, value: f64) -> Checked {
+    pub fn finite(&self, field: &str, value: f64) -> Checked {
         self.ensure(value.is_finite(), field, "a finite number", value)
     }
 
-    pub(super) fn positive(&self, field: &str, value: f64) -> Checked {
+    pub fn positive(&self, field: &str, value: f64) -> Checked {
         self.ensure(
             value.is_finite() && value > 0.0,
             field,
@@ -55,7 +50,7 @@ impl Check<'_> {
         )
     }
 
-    pub(super) fn non_negative(&self, field: &str, value: f64) -> Checked {
+    pub fn non_negative(&self, field: &str, value: f64) -> Checked {
         self.ensure(
             value.is_finite() && value >= 0.0,
             field,
@@ -64,47 +59,53 @@ impl Check<'_> {
         )
     }
 
-    pub(super) fn finite_all(&self, field: &str, values: &[f64]) -> Checked {
+    pub fn finite_all(&self, field: &str, values: &[f64]) -> Checked {
         for (i, &v) in values.iter().enumerate() {
             self.finite(&format!("{field}[{i}]"), v)?;
         }
         Ok(())
     }
 
-    pub(super) fn experiment(&self, spec: &ExperimentFile) -> Checked {
+    /// Every check of the file, in the order of its sections; the family of the scene
+    /// ([`crate::family::of_scene`]) once its effects are known to combine.
+    pub(super) fn experiment(&self, spec: &ExperimentFile) -> Result<FamilyRef, ExperimentError> {
         self.identity(spec)?;
         self.scene(&spec.scene)?;
-        if let Some(channel) = &spec.scene.stokes_channel {
-            self.stokes_channel(channel, &spec.study)?;
-        }
+        let family = family::of_scene(&spec.scene.effects, spec.study.kind).ok_or_else(|| {
+            self.fail(
+                "scene.effects",
+                "the effects of one family of runs",
+                format!("{:?}", names(&spec.scene.effects)),
+            )
+        })?;
+        family.check(self, spec)?;
         self.study(&spec.study, &spec.scene)?;
         self.rising_tools(&spec.scene, &spec.study)?;
-        self.probes(&spec.probes, &spec.scene)?;
+        self.probes(&spec.probes, &spec.scene, family.facts().components)?;
         let figure = figure_number(&spec.table).is_some();
         if !is_thesis_id(&spec.table) {
-            return self.ensure(
+            self.ensure(
                 spec.thesis.is_none(),
                 "thesis",
                 "no [thesis] in a scene of your own (an id that is not `IV.<n>` or `fig-…`): \
                  [thesis] holds a table the thesis printed; remove it, and the report shows \
                  tribo's rows alone",
                 "a [thesis] table",
-            );
+            )?;
+            return Ok(family);
         }
-        match &spec.thesis {
-            Some(thesis) => {
-                self.ensure(
-                    !figure,
-                    "thesis",
-                    "no printed table in a figure experiment (`fig-IV.<n>`: the thesis shows \
-                     the result as a figure only)",
-                    "a [thesis] table",
-                )?;
-                self.thesis(thesis, &spec.table)
-            }
-            // A table id without printed rows is refused by `identity`.
-            None => Ok(()),
+        // A table id without printed rows is refused by `identity`.
+        if let Some(thesis) = &spec.thesis {
+            self.ensure(
+                !figure,
+                "thesis",
+                "no printed table in a figure experiment (`fig-IV.<n>`: the thesis shows the \
+                 result as a figure only)",
+                "a [thesis] table",
+            )?;
+            self.thesis(thesis, &spec.table)?;
         }
+        Ok(family)
     }
 
     /// Text shown on the page and in file names: no control characters (a NUL or BEL would be
@@ -150,7 +151,7 @@ impl Check<'_> {
 }
 
 /// What a check found, as the error message shows it.
-pub(super) trait Found {
+pub trait Found {
     fn text(self) -> String;
 }
 

@@ -121,53 +121,6 @@ impl Check<'_> {
         )?;
         self.positive(&format!("{F}.delta_eps"), data.delta_eps)
     }
-
-    /// The two sections of a model-adaptive film describe one film, without cavitation (the
-    /// coupling of §IV.3.4 has none).
-    pub(super) fn same_film(&self, r: &ReynoldsData, s: &SubStokesData) -> Checked {
-        let pairs = [
-            (
-                "equation",
-                r.equation == s.equation,
-                format!("`{}` and `{}`", r.equation, s.equation),
-            ),
-            (
-                "gap",
-                r.gap == s.gap,
-                format!("{:?} and {:?}", r.gap, s.gap),
-            ),
-            (
-                "upper_wall_velocity",
-                r.upper_wall_velocity == s.upper_wall_velocity,
-                format!(
-                    "{:?} and {:?}",
-                    r.upper_wall_velocity, s.upper_wall_velocity
-                ),
-            ),
-            (
-                "boundary_pressure",
-                r.boundary_pressure == s.boundary_pressure,
-                format!("{:?} and {:?}", r.boundary_pressure, s.boundary_pressure),
-            ),
-        ];
-        for (field, same, found) in pairs {
-            self.ensure(
-                same,
-                &format!("scene.substokes.{field}"),
-                &format!("the same {field} as scene.reynolds (both models solve one film)"),
-                found,
-            )?;
-        }
-        for (section, cavitation) in [("reynolds", r.cavitation), ("substokes", s.cavitation)] {
-            self.ensure(
-                cavitation == Cavitation::Off,
-                &format!("scene.{section}.cavitation"),
-                "\"off\" in a model-adaptive film (the coupling of §IV.3.4 has no cavitation)",
-                format!("{cavitation:?}"),
-            )?;
-        }
-        Ok(())
-    }
 }
 
 /// Whether the scene is the model-adaptive film: `reynolds` and `substokes` together.

@@ -33,6 +33,7 @@ use super::printed::edited_fields;
 use super::spec::*;
 use super::{Comparison, Experiment, Scene};
 use check::Check;
+pub use check::{Check as FileCheck, Checked, Found};
 use position::toml_error;
 
 pub(super) use ids::is_thesis_id;
@@ -50,8 +51,9 @@ pub fn load(path: &Path) -> Result<Experiment, ExperimentError> {
     let file: ExperimentFile =
         toml::from_str(&text).map_err(|error| toml_error(path, &text, &error))?;
     let check = Check { path };
-    check.experiment(&file)?;
-    let problem = check.problem(&file.scene)?;
+    let family = check.experiment(&file)?;
+    let problem = check.problem(&file.scene, family)?;
+    let typed_study = check.typed_study(&file.study)?;
     let comparison = if is_thesis_id(&file.table) {
         edited_fields(&file.table, &text).map_or(Comparison::Printed, Comparison::Edited)
     } else {
@@ -62,7 +64,7 @@ pub fn load(path: &Path) -> Result<Experiment, ExperimentError> {
         section,
         title,
         scene,
-        study,
+        study: _,
         probes,
         notes,
         related,
@@ -86,8 +88,9 @@ pub fn load(path: &Path) -> Result<Experiment, ExperimentError> {
                 _ => Vec::new(),
             },
         },
+        family,
         problem,
-        study,
+        study: typed_study,
         probes,
         notes,
         related,

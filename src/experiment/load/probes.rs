@@ -10,8 +10,9 @@ use crate::experiment::spec::*;
 const MAX_PROBE_POINTS: usize = 10_000;
 
 impl Check<'_> {
-    /// Probe points inside the domain; components that the scene's effects compute.
-    pub(super) fn probes(&self, probes: &Probes, scene: &SceneFile) -> Checked {
+    /// Probe points inside the domain; components among the `allowed` ones that the scene's
+    /// family computes.
+    pub(super) fn probes(&self, probes: &Probes, scene: &SceneFile, allowed: &[&str]) -> Checked {
         let Rectangle { x, y } = scene.domain;
         let points = probes.x.len().saturating_mul(probes.y.len());
         self.ensure(
@@ -30,16 +31,6 @@ impl Check<'_> {
                 )?;
             }
         }
-        let has = |e| scene.effects.contains(&e);
-        let allowed: &[&str] = if has(Effect::Elasticity) {
-            &["s1", "s2"]
-        } else if has(Effect::Reynolds) {
-            &["psi"]
-        } else if has(Effect::SubStokes) {
-            &["chi1", "chi2", "psi"]
-        } else {
-            &[]
-        };
         let expected = if allowed.is_empty() {
             "no components (the scene computes no field)".to_owned()
         } else {

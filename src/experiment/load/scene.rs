@@ -6,6 +6,7 @@ use std::collections::BTreeSet;
 use super::check::{effect_name, names, side_name, Check, Checked};
 use crate::experiment::spec::*;
 use crate::experiment::{ExperimentError, Problem};
+use crate::family::FamilyRef;
 
 /// Most global refinements of the coarse grid (the size of the run is bounded by the memory
 /// budget of the study as well).
@@ -134,9 +135,6 @@ impl Check<'_> {
         if let Some(substokes) = &scene.substokes {
             self.substokes(substokes, &scene.domain)?;
         }
-        if let (Some(r), Some(s)) = (&scene.reynolds, &scene.substokes) {
-            self.same_film(r, s)?;
-        }
 
         Ok(())
     }
@@ -213,58 +211,20 @@ impl Check<'_> {
         Ok(())
     }
 
-    /// The typed problem of a checked scene: the effects and their sections (which
-    /// [`Check::effects`] has matched) as one variant.
-    pub(super) fn problem(&self, scene: &SceneFile) -> Result<Problem, ExperimentError> {
-        let has = |e: Effect| scene.effects.contains(&e);
-        let section = |name: &str| {
+    /// The typed problem of a checked scene, as its family builds it from the sections (which
+    /// [`Check::effects`] has matched to the effects).
+    pub(super) fn problem(
+        &self,
+        scene: &SceneFile,
+        family: FamilyRef,
+    ) -> Result<Problem, ExperimentError> {
+        family.problem(scene).map_err(|name| {
             self.fail(
                 &format!("scene.{name}"),
                 &format!("a [scene.{name}] section"),
                 "none",
             )
-        };
-        if has(Effect::Reynolds) && has(Effect::SubStokes) {
-            let reynolds = scene.reynolds.clone().ok_or_else(|| section("reynolds"))?;
-            let substokes = scene
-                .substokes
-                .clone()
-                .ok_or_else(|| section("substokes"))?;
-            return Ok(Problem::FilmModels {
-                reynolds,
-                substokes,
-            });
-        }
-        if has(Effect::Reynolds) {
-            let reynolds = scene.reynolds.clone().ok_or_else(|| section("reynolds"))?;
-            return Ok(Problem::Reynolds(reynolds));
-        }
-        if has(Effect::StokesChannel) {
-            let channel = scene
-                .stokes_channel
-                .clone()
-                .ok_or_else(|| section("stokes_channel"))?;
-            return Ok(Problem::StokesChannel(channel));
-        }
-        if has(Effect::SubStokes) {
-            let substokes = scene
-                .substokes
-                .clone()
-                .ok_or_else(|| section("substokes"))?;
-            return Ok(Problem::SubStokes(substokes));
-        }
-        let elasticity = scene
-            .elasticity
-            .clone()
-            .ok_or_else(|| section("elasticity"))?;
-        if has(Effect::Contact) {
-            let contact = scene.contact.clone().ok_or_else(|| section("contact"))?;
-            return Ok(Problem::Contact {
-                elasticity,
-                contact,
-            });
-        }
-        Ok(Problem::Elasticity(elasticity))
+        })
     }
 
     /// Material and loads of (I.17) / (IV.1).

@@ -1,13 +1,10 @@
 //! The study: how many rows, and how the cycles iterate — grid adaptivity (§IV.1), model
 //! adaptivity (§IV.2.3, §IV.2.4), load steps (§IV.2.4.7) or solver iterations (Fig. III.6).
 
-use std::collections::BTreeSet;
-
 use super::check::{names, Check, Checked};
 use super::film::is_film_models;
 use crate::experiment::spec::*;
 use crate::experiment::ExperimentError;
-use crate::linalg::uzawa::Variant;
 
 /// Most cycles of one load step (§IV.2.4.7 runs 4).
 const MAX_CYCLES_PER_STEP: usize = 12;
@@ -21,7 +18,7 @@ pub const MAX_UNPRINTED_CYCLES: usize = 200;
 impl Check<'_> {
     /// The printed cycles and how to iterate: fixed-fraction grid adaptivity (§IV.1: refine
     /// 30 %, coarsen 3 %) or model adaptivity (§IV.2.3: Algorithm III.2 or III.3).
-    pub(super) fn study(&self, study: &Study, scene: &SceneFile) -> Checked {
+    pub(super) fn study(&self, study: &StudyFile, scene: &SceneFile) -> Checked {
         self.ensure(study.rows >= 1, "study.rows", "at least 1", study.rows)?;
         self.ensure(
             !is_film_models(scene) || study.kind == StudyKind::ModelAndGridAdaptive,
@@ -144,8 +141,93 @@ impl Check<'_> {
         }
     }
 
+    /// The typed study of a checked `[study]`: the fields of its kind, with the defaults of
+    /// ε₀ and α. [`Check::study`] has checked every field read here; one that is missing all
+    /// the same is an error, never a default.
+    pub(super) fn typed_study(&self, study: &StudyFile) -> Result<Study, ExperimentError> {
+        let given = |field: &str, value: Option<f64>| {
+            value.ok_or_else(|| self.fail(field, "a fraction", "no such field"))
+        };
+        let grid = || -> Result<GridFractions, ExperimentError> {
+            let (refine, coarsen) = self.fractions(study)?;
+            Ok(GridFractions { refine, coarsen })
+        };
+        let model = |on_fixed_mesh: bool| -> Result<ModelFractions, ExperimentError> {
+            let algorithm = study.algorithm.ok_or_else(|| {
+                self.fail(
+                    "study.algorithm",
+                    "`III.2` (fixed fraction) or `III.3` (sorted error)",
+                    "no such field",
+                )
+            })?;
+            let (refine, coarsen) = if on_fixed_mesh {
+                self.fractions(study)?
+            } else {
+                (
+                    given("study.model_refine_fraction", study.model_refine_fraction)?,
+                    given("study.model_coarsen_fraction", study.model_coarsen_fraction)?,
+                )
+            };
+            Ok(ModelFractions {
+                algorithm,
+                refine,
+                coarsen,
+                tolerance: study.model_tolerance.unwrap_or(DEFAULT_MODEL_TOLERANCE),
+            })
+        };
+        let window = || {
+            study.convergence_window.ok_or_else(|| {
+                self.fail(
+                    "study.convergence_window",
+                    "[first, last]: the printed cycles where the convergence rule applies",
+                    "no such field",
+                )
+            })
+        };
+        let balance = study.balance.unwrap_or(DEFAULT_BALANCE);
+        let plan = match study.kind {
+            StudyKind::GridAdaptive => Plan::GridAdaptive {
+                grid: grid()?,
+                window: window()?,
+            },
+            StudyKind::ModelAdaptive => Plan::ModelAdaptive {
+                model: model(true)?,
+            },
+            StudyKind::ModelAndGridAdaptive => Plan::ModelAndGridAdaptive {
+                grid: grid()?,
+                model: model(false)?,
+                balance,
+                window: window()?,
+            },
+            StudyKind::LoadSteps => Plan::LoadSteps {
+                grid: grid()?,
+                model: model(false)?,
+                balance,
+                cycles_per_step: study.cycles_per_step.ok_or_else(|| {
+                    self.fail(
+                        "study.cycles_per_step",
+                        "a number of cycles",
+                        "no such field",
+                    )
+                })?,
+                lift_per_step: study
+                    .lift_per_step
+                    .ok_or_else(|| self.fail("study.lift_per_step", "a lift", "no such field"))?,
+            },
+            StudyKind::SolverIterations => Plan::SolverIterations,
+        };
+        Ok(Study {
+            rows: study.rows,
+            quick_rows: study.quick_rows,
+            unprinted_cycles: study.unprinted_cycles,
+            ties: study.ties,
+            solver: study.solver,
+            plan,
+        })
+    }
+
     /// A solver study (Fig. III.6): the Uzawa test problem and none of the adaptive fields.
-    fn solver_iterations(&self, study: &Study, scene: &SceneFile) -> Checked {
+    fn solver_iterations(&self, study: &StudyFile, scene: &SceneFile) -> Checked {
         self.ensure(
             scene.effects == [Effect::StokesChannel],
             "scene.effects",
@@ -168,42 +250,8 @@ impl Check<'_> {
         self.refused(study, "the adaptive kinds", &marking)
     }
 
-    /// The Uzawa test problem (III.88): δ_ε > 0 and a list of known, distinct variants.
-    pub(super) fn stokes_channel(&self, data: &StokesChannelData, study: &Study) -> Checked {
-        const F: &str = "scene.stokes_channel";
-        self.positive(&format!("{F}.delta_eps"), data.delta_eps)?;
-        self.ensure(
-            !data.variants.is_empty(),
-            &format!("{F}.variants"),
-            "at least one Uzawa variant",
-            "an empty list",
-        )?;
-        let mut seen = BTreeSet::new();
-        for (i, v) in data.variants.iter().enumerate() {
-            let field = format!("{F}.variants[{i}]");
-            self.ensure(
-                Variant::from_name(v).is_some(),
-                &field,
-                "one of `identity`, `jacobi`, `gauss-seidel`, `ssor`, `cg-ssor`",
-                format!("`{}`", v.escape_debug()),
-            )?;
-            self.ensure(
-                seen.insert(v.as_str()),
-                &field,
-                "each variant once",
-                format!("`{v}` twice"),
-            )?;
-        }
-        self.ensure(
-            study.kind == StudyKind::SolverIterations,
-            "study.kind",
-            "\"solver-iterations\" for the Uzawa test problem (it iterates a solver on one mesh)",
-            format!("`{}`", study.kind.name()),
-        )
-    }
-
     /// `rises` of an obstacle: only the `arc` tools of a load-step study rise (§IV.2.4.7).
-    pub(super) fn rising_tools(&self, scene: &SceneFile, study: &Study) -> Checked {
+    pub(super) fn rising_tools(&self, scene: &SceneFile, study: &StudyFile) -> Checked {
         let Some(contact) = &scene.contact else {
             return Ok(());
         };
@@ -232,7 +280,7 @@ impl Check<'_> {
 
     /// The load steps of a forming study (§IV.2.4.7): at least one cycle per step, a finite
     /// lift, and no convergence window (every step restarts from the coarse cells).
-    fn load_steps(&self, study: &Study) -> Checked {
+    fn load_steps(&self, study: &StudyFile) -> Checked {
         let Some(cycles) = study.cycles_per_step else {
             return Err(self.fail(
                 "study.cycles_per_step",
@@ -266,7 +314,7 @@ impl Check<'_> {
     }
 
     /// The fields of the model-and-grid and the load-step studies, in a study of another kind.
-    fn refused_model_and_grid_fields(&self, study: &Study) -> Checked {
+    fn refused_model_and_grid_fields(&self, study: &StudyFile) -> Checked {
         self.refused(
             study,
             "\"model-and-grid-adaptive\" or \"load-steps\"",
@@ -276,7 +324,7 @@ impl Check<'_> {
     }
 
     /// Fields a study kind does not have, each given or not; they belong to the kinds `owners`.
-    fn refused(&self, study: &Study, owners: &str, fields: &[(&str, bool)]) -> Checked {
+    fn refused(&self, study: &StudyFile, owners: &str, fields: &[(&str, bool)]) -> Checked {
         for &(field, given) in fields {
             self.ensure(
                 !given,
@@ -292,7 +340,7 @@ impl Check<'_> {
     }
 
     /// Fixed-number grid marking: the fractions and the convergence window.
-    fn grid_marking(&self, study: &Study) -> Checked {
+    fn grid_marking(&self, study: &StudyFile) -> Checked {
         self.grid_fractions(study)?;
         let Some([first, last]) = study.convergence_window else {
             return Err(self.fail(
@@ -319,7 +367,7 @@ impl Check<'_> {
     }
 
     /// The fractions θ_r, θ_c of fixed-number grid marking.
-    fn grid_fractions(&self, study: &Study) -> Checked {
+    fn grid_fractions(&self, study: &StudyFile) -> Checked {
         let (refine, coarsen) = self.fractions(study)?;
         self.non_negative("study.coarsen_fraction", coarsen)?;
         self.positive("study.refine_fraction", refine)?;
@@ -333,7 +381,7 @@ impl Check<'_> {
     }
 
     /// `refine_fraction` and `coarsen_fraction`, which every kind but `solver-iterations` needs.
-    fn fractions(&self, study: &Study) -> Result<(f64, f64), ExperimentError> {
+    fn fractions(&self, study: &StudyFile) -> Result<(f64, f64), ExperimentError> {
         let given = |field: &str, v: Option<f64>| {
             v.ok_or_else(|| {
                 self.fail(
@@ -355,7 +403,7 @@ impl Check<'_> {
     /// two `fraction_fields`), and ε₀ > 0.
     fn model_marking(
         &self,
-        study: &Study,
+        study: &StudyFile,
         scene: &SceneFile,
         fraction_fields: [&str; 2],
     ) -> Checked {
@@ -401,7 +449,7 @@ impl Check<'_> {
                 "no such field",
             ));
         };
-        let (p_r, p_c) = study.model_fractions();
+        let (p_r, p_c) = file_model_fractions(study);
         for (field, p) in fraction_fields.into_iter().zip([p_r, p_c]) {
             match algorithm {
                 ModelAlgorithm::FixedFraction => self.ensure(
@@ -425,8 +473,24 @@ impl Check<'_> {
     }
 }
 
+/// p_r and p_c of the model marking as written: `refine_fraction` and `coarsen_fraction` on a
+/// fixed mesh, the `model_*` fractions when the grid adapts too (NaN where missing, which the
+/// checks of the fraction refuse).
+fn file_model_fractions(study: &StudyFile) -> (f64, f64) {
+    match study.kind {
+        StudyKind::ModelAndGridAdaptive | StudyKind::LoadSteps => (
+            study.model_refine_fraction.unwrap_or(f64::NAN),
+            study.model_coarsen_fraction.unwrap_or(f64::NAN),
+        ),
+        _ => (
+            study.refine_fraction.unwrap_or(f64::NAN),
+            study.coarsen_fraction.unwrap_or(f64::NAN),
+        ),
+    }
+}
+
 /// The fields of a load-step study, each given or not.
-fn load_step_fields(study: &Study) -> [(&'static str, bool); 2] {
+fn load_step_fields(study: &StudyFile) -> [(&'static str, bool); 2] {
     [
         ("study.cycles_per_step", study.cycles_per_step.is_some()),
         ("study.lift_per_step", study.lift_per_step.is_some()),
@@ -434,7 +498,7 @@ fn load_step_fields(study: &Study) -> [(&'static str, bool); 2] {
 }
 
 /// The fields only a model-and-grid-adaptive study has, each given or not.
-fn balance_fields(study: &Study) -> [(&'static str, bool); 3] {
+fn balance_fields(study: &StudyFile) -> [(&'static str, bool); 3] {
     [
         (
             "study.model_refine_fraction",

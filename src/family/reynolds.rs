@@ -1,0 +1,97 @@
+//! Reynolds thin-film flow (I.79), with or without cavitation (I.82), §IV.3.1 and §IV.3.5,
+//! Tables IV.36–IV.49 and IV.64–IV.69.
+
+use super::{Facts, Family};
+use crate::experiment::{
+    Effect, Experiment, GapShape, Problem, SceneFile, Scope, StudyKind, Warning,
+};
+use crate::linalg::SolverKind;
+use crate::study::thin_film::source_readings;
+use crate::study::{self, reynolds::ReynoldsFilm, AlternativeReading, StudyError};
+
+pub struct Reynolds;
+
+impl Family for Reynolds {
+    fn facts(&self) -> &'static Facts {
+        &Facts {
+            id: "reynolds",
+            effects: &[Effect::Reynolds],
+            kinds: &[StudyKind::GridAdaptive],
+            report_family: Some("family-reynolds"),
+            components: &["psi"],
+            unknowns_per_vertex: 1,
+        }
+    }
+
+    fn problem(&self, scene: &SceneFile) -> Result<Problem, &'static str> {
+        Ok(Problem::Reynolds(scene.reynolds.clone().ok_or("reynolds")?))
+    }
+
+    /// Walls at rest (nothing drives the flow), a gap whose oscillation no mesh of the run
+    /// resolves.
+    fn warnings(&self, experiment: &Experiment, scope: &Scope, out: &mut Vec<Warning>) {
+        let Problem::Reynolds(r) = &experiment.problem else {
+            return;
+        };
+        if r.upper_wall_velocity == [0.0; 3] {
+            out.push(Warning::new(
+                "scene.reynolds.upper_wall_velocity",
+                format!(
+                    "both walls at rest: nothing drives the flow, ψ ≡ boundary_pressure = {} is \
+                     the exact solution on every mesh, every estimate is 0 up to rounding and \
+                     the ratios mean nothing",
+                    r.boundary_pressure
+                ),
+            ));
+        }
+        let half_period = match r.gap {
+            GapShape::WaveHorizontal { frequency, .. } => 0.5 / frequency.abs(),
+            // sin²(2π f x) has period 1/(2f).
+            GapShape::Hill { frequency, .. } => 0.25 / frequency.abs(),
+            GapShape::Plain { .. } | GapShape::Linear { .. } => f64::INFINITY,
+        };
+        scope.resolves("scene.reynolds.gap.frequency", half_period, out);
+    }
+
+    /// With cavitation and the printed γ₃c of (I.61), two readings of the source term R₃c
+    /// ([`source_readings`]).
+    fn readings(&self, experiment: &Experiment) -> Vec<AlternativeReading> {
+        let Problem::Reynolds(data) = &experiment.problem else {
+            return Vec::new();
+        };
+        source_readings(data.cavitation, data.cavitation_source)
+            .into_iter()
+            .map(|reading| {
+                let mut alt = experiment.clone();
+                if let Some(r) = alt.problem.reynolds_mut() {
+                    r.cavitation_source = reading.source;
+                }
+                AlternativeReading {
+                    label: reading.label.into(),
+                    suffix: reading.suffix.into(),
+                    experiment: alt,
+                    needs_cavitation: true,
+                }
+            })
+            .collect()
+    }
+
+    /// Multigrid: measured faster than the direct solver on the Reynolds tables (the report's
+    /// Performance section shows their solve seconds).
+    fn default_solver(&self) -> SolverKind {
+        SolverKind::Multigrid
+    }
+
+    fn build(&self, experiment: &Experiment) -> Result<Box<dyn study::Problem>, StudyError> {
+        let Problem::Reynolds(data) = &experiment.problem else {
+            return Err(StudyError::Failed(
+                "a Reynolds run needs Reynolds data".into(),
+            ));
+        };
+        Ok(Box::new(ReynoldsFilm::new(
+            data,
+            &experiment.scene.domain,
+            study::solver_of(experiment),
+        )))
+    }
+}
