@@ -24,6 +24,7 @@ mod own_scenes;
 mod properties;
 mod report_failures;
 mod reynolds;
+mod settings;
 mod solvers;
 mod substokes;
 mod table;

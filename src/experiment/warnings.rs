@@ -59,7 +59,7 @@ pub struct Scope {
     /// Adaptations before the last solve; each refines a cell at most once.
     adaptations: usize,
     /// Width of the finest cell the run can reach, `first / 2^adaptations`.
-    finest: f64,
+    pub finest: f64,
 }
 
 impl Scope {

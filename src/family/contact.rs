@@ -1,7 +1,7 @@
 //! Contact of an elastic body with rigid obstacles, z-contact (I.20) or Signorini (I.21),
 //! §IV.2.1–§IV.2.2, Tables IV.6–IV.17: grid-adaptive cycles, one contact model on every face.
 
-use super::{elasticity, Facts, Family};
+use super::{elasticity, Facts, Family, Infeasible};
 use crate::experiment::{
     ContactData, ContactEstimator, ContactModel, Effect, Experiment, ObstacleShape, Problem,
     SceneFile, Scope, StudyKind, Warning,
@@ -20,6 +20,8 @@ impl Family for Contact {
             report_family: Some("family-contact"),
             components: &["s1", "s2"],
             unknowns_per_vertex: 2,
+            solver_choice: false,
+            related: &[],
         }
     }
 
@@ -35,8 +37,14 @@ impl Family for Contact {
         untouched_obstacles(rows, out);
     }
 
-    fn infeasible(&self, experiment: &Experiment) -> Option<String> {
-        infeasible(experiment)
+    fn infeasible(&self, experiment: &Experiment, _rows: usize) -> Option<Infeasible> {
+        let (elasticity, contact) = contact_data(experiment).ok()?;
+        let message =
+            study::contact::infeasible_obstacle(elasticity, contact, &experiment.scene.domain)?;
+        Some(Infeasible {
+            step: None,
+            message,
+        })
     }
 
     /// The contact families always use the direct solver: with the dofs of the contact
@@ -82,12 +90,6 @@ pub(super) fn contact_data(
     }
 }
 
-/// An obstacle reaching into the body where it is clamped ([`study::contact::infeasible_obstacle`]).
-pub(super) fn infeasible(experiment: &Experiment) -> Option<String> {
-    let (elasticity, contact) = contact_data(experiment).ok()?;
-    study::contact::infeasible_obstacle(elasticity, contact, &experiment.scene.domain)
-}
-
 /// The warnings of the elasticity data and of the obstacles: an estimator meant for the other
 /// contact model, a jump or an oscillation no mesh of the run resolves.
 pub(super) fn data_warnings(experiment: &Experiment, scope: &Scope, out: &mut Vec<Warning>) {
@@ -129,6 +131,16 @@ pub(super) fn data_warnings(experiment: &Experiment, scope: &Scope, out: &mut Ve
                 "the obstacle is (up to the smoothing θ_s) constant on the contact face",
                 out,
             ),
+            // A circle narrower than any cell: the tool acts as its plateau.
+            ObstacleShape::Arc { radius, .. } if radius < scope.finest => out.push(Warning::new(
+                format!("{F}.obstacles[{i}].shape.radius"),
+                format!(
+                    "an arc of radius {radius:e} is narrower than the finest cell this run \
+                         can reach ({:.3e} wide): no mesh resolves the circle, and the tool acts \
+                         as its plateau",
+                    scope.finest
+                ),
+            )),
             // sin(periods·2π(x₁+16)/32): half period 16/|periods|.
             ObstacleShape::Periodic { periods, .. } if periods != 0.0 => scope.resolves(
                 &format!("{F}.obstacles[{i}].shape.periods"),

@@ -23,6 +23,8 @@ impl Family for Elasticity {
             report_family: Some("family-elasticity"),
             components: &["s1", "s2"],
             unknowns_per_vertex: 2,
+            solver_choice: true,
+            related: &[],
         }
     }
 

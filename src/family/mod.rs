@@ -50,6 +50,12 @@ pub struct Facts {
     /// Solution components per vertex, for the memory budget of a cycle
     /// ([`crate::study::budget`]).
     pub unknowns_per_vertex: usize,
+    /// Whether `[study] solver` chooses the linear solver of its systems (elsewhere the field
+    /// is refused: it would be accepted and ignored).
+    pub solver_choice: bool,
+    /// The families whose tables the report can draw beside this one (`related` of the file);
+    /// empty where it draws none.
+    pub related: &'static [&'static str],
 }
 
 /// One family of tables (module docs): its [`Facts`], and what it does at each stage. The
@@ -83,10 +89,17 @@ pub trait Family: Sync {
         SolverKind::Direct
     }
 
-    /// Why the scene has no solution, if it has none (checked before the first solve; the
-    /// loader checks what the file alone says, this needs the models).
-    fn infeasible(&self, _experiment: &Experiment) -> Option<String> {
+    /// Why the scene has no solution in one of its first `rows` printed rows (the load steps of
+    /// a load-step study), if it has none: checked before the first solve (the loader checks
+    /// what the file alone says, this needs the models).
+    fn infeasible(&self, _experiment: &Experiment, _rows: usize) -> Option<Infeasible> {
         None
+    }
+
+    /// Whether `other`, a table of a family in [`Facts::related`], solves the same scene and
+    /// can be drawn beside `own`; else what the check of `related` expects.
+    fn related_to(&self, _own: &Experiment, _other: &Experiment) -> Result<(), String> {
+        Ok(())
     }
 
     /// Whether the report runs the cost-of-accuracy study ([`crate::study::cost`]) beside the
@@ -102,6 +115,13 @@ pub trait Family: Sync {
     fn adaptation(&self, experiment: &Experiment) -> Box<dyn Adaptation> {
         study::build_adaptation(&experiment.study, &experiment.scene)
     }
+}
+
+/// Why a scene has no solution, and in which load step (`None` outside a load-step study).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Infeasible {
+    pub step: Option<usize>,
+    pub message: String,
 }
 
 /// Every family, in the order of Chapter IV.

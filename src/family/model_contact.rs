@@ -4,7 +4,7 @@
 //! forming.
 
 use super::contact::{contact_data, data_warnings, elastic_body_with_contact, untouched_obstacles};
-use super::{Facts, Family};
+use super::{Facts, Family, Infeasible};
 use crate::experiment::{
     ContactModel, Effect, Experiment, ModelAlgorithm, ModelErrorSolution, Plan, Problem, SceneFile,
     Scope, StudyKind, Warning,
@@ -27,6 +27,8 @@ impl Family for ModelContact {
             report_family: Some("family-model-contact"),
             components: &["s1", "s2"],
             unknowns_per_vertex: 2,
+            solver_choice: false,
+            related: &[],
         }
     }
 
@@ -78,8 +80,27 @@ impl Family for ModelContact {
         )
     }
 
-    fn infeasible(&self, experiment: &Experiment) -> Option<String> {
-        super::contact::infeasible(experiment)
+    /// An obstacle reaching into the body where it is clamped, at the start or, in a load-step
+    /// study, in any of the first `rows` steps: the rising tools of step j are raised by
+    /// j · lift_per_step, and the clamped ends do not move.
+    fn infeasible(&self, experiment: &Experiment, rows: usize) -> Option<Infeasible> {
+        let (elasticity, contact) = contact_data(experiment).ok()?;
+        let domain = &experiment.scene.domain;
+        let Plan::LoadSteps { lift_per_step, .. } = experiment.study.plan else {
+            let message = study::contact::infeasible_obstacle(elasticity, contact, domain)?;
+            return Some(Infeasible {
+                step: None,
+                message,
+            });
+        };
+        (0..rows.max(1)).find_map(|step| {
+            let tools = contact.raised(step as f64 * lift_per_step);
+            let message = study::contact::infeasible_obstacle(elasticity, &tools, domain)?;
+            Some(Infeasible {
+                step: Some(step),
+                message,
+            })
+        })
     }
 
     fn build(&self, experiment: &Experiment) -> Result<Box<dyn study::Problem>, StudyError> {

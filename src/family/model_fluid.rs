@@ -3,8 +3,8 @@
 
 use super::{Facts, Family};
 use crate::experiment::{
-    Cavitation, Check, Checked, Effect, Experiment, ExperimentFile, Plan, Problem, ReynoldsData,
-    SceneFile, StudyKind, SubStokesData,
+    Cavitation, Check, Checked, Effect, Experiment, ExperimentFile, FilmSolver, Plan, Problem,
+    ReynoldsData, SceneFile, Scope, StudyKind, SubStokesData, Warning,
 };
 use crate::study::{self, model_fluid, Adaptation, StudyError};
 
@@ -19,13 +19,82 @@ impl Family for ModelFluid {
             report_family: Some("family-model-fluid"),
             components: &["psi"],
             unknowns_per_vertex: 3,
+            solver_choice: false,
+            related: &["reynolds", "substokes"],
         }
     }
 
+    /// One film in both sections, and none of the SubStokes solver fields: the coupled solve
+    /// of the film always factors the SubStokes system with the LDLᵀ (they would be printed and
+    /// never run).
     fn check(&self, check: &Check, file: &ExperimentFile) -> Checked {
-        match (&file.scene.reynolds, &file.scene.substokes) {
-            (Some(r), Some(s)) => same_film(check, r, s),
-            _ => Ok(()),
+        let (Some(r), Some(s)) = (&file.scene.reynolds, &file.scene.substokes) else {
+            return Ok(());
+        };
+        same_film(check, r, s)?;
+        check.ensure(
+            s.solver == FilmSolver::Ldlt,
+            "scene.substokes.solver",
+            "`ldlt` (or left out) in a model-adaptive film: its coupled solve factors the \
+             SubStokes system with the LDLᵀ",
+            format!("`{}`", s.solver.name()),
+        )?;
+        check.ensure(
+            s.compare_with.is_none(),
+            "scene.substokes.compare_with",
+            "no such field in a model-adaptive film (the report runs no second solver beside \
+             it)",
+            format!("{:?}", s.compare_with.map(FilmSolver::name)),
+        )
+    }
+
+    /// A pure Reynolds or pure SubStokes table of the same film on the same domain: the runs
+    /// the film's figures set beside it (Figs. IV.117, IV.118).
+    fn related_to(&self, own: &Experiment, other: &Experiment) -> Result<(), String> {
+        let Problem::FilmModels { reynolds: film, .. } = &own.problem else {
+            return Ok(());
+        };
+        let same = |equation: &str, gap, velocity: &[f64; 3], pressure| {
+            equation == film.equation
+                && gap == film.gap
+                && *velocity == film.upper_wall_velocity
+                && pressure == film.boundary_pressure
+        };
+        let same_film = match &other.problem {
+            Problem::Reynolds(r) => same(
+                &r.equation,
+                r.gap,
+                &r.upper_wall_velocity,
+                r.boundary_pressure,
+            ),
+            Problem::SubStokes(s) => same(
+                &s.equation,
+                s.gap,
+                &s.upper_wall_velocity,
+                s.boundary_pressure,
+            ),
+            _ => false,
+        };
+        if same_film && other.scene.domain == own.scene.domain {
+            Ok(())
+        } else {
+            Err(format!(
+                "a table of the same film (equation `{}`, the same gap, wall velocity and \
+                 boundary pressure) on the same domain",
+                film.equation
+            ))
+        }
+    }
+
+    /// The warnings of both models' data on the one film.
+    fn warnings(&self, experiment: &Experiment, scope: &Scope, out: &mut Vec<Warning>) {
+        if let Problem::FilmModels {
+            reynolds,
+            substokes,
+        } = &experiment.problem
+        {
+            super::reynolds::film_warnings(reynolds, scope, out);
+            super::substokes::film_warnings(substokes, &experiment.scene.domain, scope, out);
         }
     }
 

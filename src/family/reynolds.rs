@@ -3,7 +3,7 @@
 
 use super::{Facts, Family};
 use crate::experiment::{
-    Effect, Experiment, GapShape, Problem, SceneFile, Scope, StudyKind, Warning,
+    Effect, Experiment, GapShape, Problem, ReynoldsData, SceneFile, Scope, StudyKind, Warning,
 };
 use crate::linalg::SolverKind;
 use crate::study::thin_film::source_readings;
@@ -20,6 +20,8 @@ impl Family for Reynolds {
             report_family: Some("family-reynolds"),
             components: &["psi"],
             unknowns_per_vertex: 1,
+            solver_choice: true,
+            related: &[],
         }
     }
 
@@ -27,30 +29,12 @@ impl Family for Reynolds {
         Ok(Problem::Reynolds(scene.reynolds.clone().ok_or("reynolds")?))
     }
 
-    /// Walls at rest (nothing drives the flow), a gap whose oscillation no mesh of the run
-    /// resolves.
+    /// Walls at rest over a gap with Δg = 0 (nothing drives the flow), a gap whose oscillation
+    /// no mesh of the run resolves.
     fn warnings(&self, experiment: &Experiment, scope: &Scope, out: &mut Vec<Warning>) {
-        let Problem::Reynolds(r) = &experiment.problem else {
-            return;
-        };
-        if r.upper_wall_velocity == [0.0; 3] {
-            out.push(Warning::new(
-                "scene.reynolds.upper_wall_velocity",
-                format!(
-                    "both walls at rest: nothing drives the flow, ψ ≡ boundary_pressure = {} is \
-                     the exact solution on every mesh, every estimate is 0 up to rounding and \
-                     the ratios mean nothing",
-                    r.boundary_pressure
-                ),
-            ));
+        if let Problem::Reynolds(r) = &experiment.problem {
+            film_warnings(r, scope, out);
         }
-        let half_period = match r.gap {
-            GapShape::WaveHorizontal { frequency, .. } => 0.5 / frequency.abs(),
-            // sin²(2π f x) has period 1/(2f).
-            GapShape::Hill { frequency, .. } => 0.25 / frequency.abs(),
-            GapShape::Plain { .. } | GapShape::Linear { .. } => f64::INFINITY,
-        };
-        scope.resolves("scene.reynolds.gap.frequency", half_period, out);
     }
 
     /// With cavitation and the printed γ₃c of (I.61), two readings of the source term R₃c
@@ -93,5 +77,36 @@ impl Family for Reynolds {
             &experiment.scene.domain,
             study::solver_of(experiment),
         )))
+    }
+}
+
+/// The warnings of a Reynolds film (alone or as the Reynolds model of the model-adaptive film):
+/// both walls at rest over a gap with Δg = 0, where ψ ≡ ψ₀ is the exact solution (the form of
+/// [`crate::models::reynolds`] reproduces constants exactly when Δg = 0, and the load vanishes
+/// with the velocities; over a wave or hill gap the term ψΔg/g drives ψ away from ψ₀ even at
+/// rest), and a gap whose oscillation no mesh of the run resolves.
+pub(super) fn film_warnings(r: &ReynoldsData, scope: &Scope, out: &mut Vec<Warning>) {
+    let flat = matches!(r.gap, GapShape::Plain { .. } | GapShape::Linear { .. });
+    if r.upper_wall_velocity == [0.0; 3] && flat {
+        out.push(Warning::new(
+            "scene.reynolds.upper_wall_velocity",
+            format!(
+                "both walls at rest over a gap with Δg = 0: nothing drives the flow, ψ ≡ \
+                 boundary_pressure = {} is the exact solution on every mesh, every estimate is \
+                 0 up to rounding and the ratios mean nothing",
+                r.boundary_pressure
+            ),
+        ));
+    }
+    scope.resolves("scene.reynolds.gap.frequency", half_period(r.gap), out);
+}
+
+/// Half the period of a gap's oscillation (infinite for the plain and linear gaps).
+pub(super) fn half_period(gap: GapShape) -> f64 {
+    match gap {
+        GapShape::WaveHorizontal { frequency, .. } => 0.5 / frequency.abs(),
+        // sin²(2π f x) has period 1/(2f).
+        GapShape::Hill { frequency, .. } => 0.25 / frequency.abs(),
+        GapShape::Plain { .. } | GapShape::Linear { .. } => f64::INFINITY,
     }
 }

@@ -5,9 +5,11 @@ use std::collections::BTreeSet;
 
 use super::{Facts, Family};
 use crate::experiment::{
-    Check, Checked, Effect, Experiment, ExperimentFile, Problem, SceneFile, StudyKind,
+    Check, Checked, Effect, Experiment, ExperimentFile, Problem, SceneFile, Scope, StudyKind,
+    Warning,
 };
 use crate::linalg::uzawa::Variant;
+use crate::models::stokes_channel::{CELLS_PER_SIDE, SIDE};
 use crate::study::{self, StudyError};
 
 pub struct StokesChannel;
@@ -21,6 +23,8 @@ impl Family for StokesChannel {
             report_family: None,
             components: &[],
             unknowns_per_vertex: 3,
+            solver_choice: false,
+            related: &[],
         }
     }
 
@@ -29,6 +33,7 @@ impl Family for StokesChannel {
         let Some(data) = &file.scene.stokes_channel else {
             return Ok(());
         };
+        geometry(check, &file.scene)?;
         const F: &str = "scene.stokes_channel";
         check.positive(&format!("{F}.delta_eps"), data.delta_eps)?;
         check.ensure(
@@ -62,6 +67,29 @@ impl Family for StokesChannel {
         )
     }
 
+    /// A stabilisation far from the (III.88)'s δ_ε = 1.
+    fn warnings(&self, experiment: &Experiment, _scope: &Scope, out: &mut Vec<Warning>) {
+        let Problem::StokesChannel(data) = &experiment.problem else {
+            return;
+        };
+        if !(1e-3..=1e3).contains(&data.delta_eps) {
+            out.push(Warning::new(
+                "scene.stokes_channel.delta_eps",
+                format!(
+                    "δ_ε = {:e}, three orders of magnitude or more from the 1 of (III.88): the \
+                     stabilisation Σ δ_ε h_Q²⟨∇p, ∇q⟩ {} the pressure, and the iteration counts \
+                     are not comparable with Fig. III.6",
+                    data.delta_eps,
+                    if data.delta_eps > 1.0 {
+                        "dominates"
+                    } else {
+                        "hardly stabilises"
+                    }
+                ),
+            ));
+        }
+    }
+
     fn problem(&self, scene: &SceneFile) -> Result<Problem, &'static str> {
         Ok(Problem::StokesChannel(
             scene.stokes_channel.clone().ok_or("stokes_channel")?,
@@ -74,4 +102,32 @@ impl Family for StokesChannel {
             "the Uzawa test problem runs as a solver-iterations study only".into(),
         ))
     }
+}
+
+/// The test problem (III.88) is one mesh: Ω = [0, 4]² in 32×32 cells ([`crate::models::stokes_channel::StokesChannel`]
+/// fixes both). A scene that writes another domain or mesh would print it on the page
+/// beside the numbers of this one.
+fn geometry(check: &Check, scene: &SceneFile) -> Checked {
+    let square = [0.0, SIDE];
+    check.ensure(
+        scene.domain.x == square && scene.domain.y == square,
+        "scene.domain",
+        "x = [0, 4], y = [0, 4]: the domain of the test problem (III.88)",
+        format!("x = {:?}, y = {:?}", scene.domain.x, scene.domain.y),
+    )?;
+    let [nx, ny] = scene.coarse_cells;
+    let cells = nx.checked_shl(scene.global_refinements as u32);
+    check.ensure(
+        nx == ny && cells == Some(CELLS_PER_SIDE),
+        "scene.coarse_cells",
+        &format!(
+            "a square coarse grid that global_refinements refine to {0}×{0} cells, e.g. [1, 1] \
+             with global_refinements = 5: the mesh of the test problem (III.88)",
+            CELLS_PER_SIDE
+        ),
+        format!(
+            "[{nx}, {ny}] with global_refinements = {}",
+            scene.global_refinements
+        ),
+    )
 }

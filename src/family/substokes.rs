@@ -1,8 +1,12 @@
 //! SubStokes thin-film flow (I.58), with or without cavitation (I.66), §IV.3.2 and §IV.3.6,
 //! Tables IV.50–IV.63 and IV.70–IV.75.
 
+use super::reynolds::half_period;
 use super::{Facts, Family};
-use crate::experiment::{Effect, Experiment, Problem, SceneFile, StudyKind};
+use crate::experiment::{
+    Effect, Experiment, Problem, Rectangle, SceneFile, Scope, StudyKind, SubStokesData, Warning,
+};
+use crate::models::thin_film::Gap;
 use crate::study::{self, substokes::SubStokesFilm, AlternativeReading, StudyError};
 
 pub struct SubStokes;
@@ -16,6 +20,8 @@ impl Family for SubStokes {
             report_family: Some("family-substokes"),
             components: &["chi1", "chi2", "psi"],
             unknowns_per_vertex: 3,
+            solver_choice: false,
+            related: &[],
         }
     }
 
@@ -23,6 +29,12 @@ impl Family for SubStokes {
         Ok(Problem::SubStokes(
             scene.substokes.clone().ok_or("substokes")?,
         ))
+    }
+
+    fn warnings(&self, experiment: &Experiment, scope: &Scope, out: &mut Vec<Warning>) {
+        if let Problem::SubStokes(s) = &experiment.problem {
+            film_warnings(s, &experiment.scene.domain, scope, out);
+        }
     }
 
     /// With `compare_with` another solver than `solver`: the same table solved by that one
@@ -59,5 +71,48 @@ impl Family for SubStokes {
             ));
         };
         Ok(Box::new(SubStokesFilm::new(data, &experiment.scene.domain)))
+    }
+}
+
+/// The warnings of a SubStokes film (alone or as the SubStokes model of the model-adaptive
+/// film): a gap whose oscillation no mesh of the run resolves; a gap so thin that the film's
+/// conductance g³/12 underflows (the pressure block is then zero in double precision and the
+/// solve fails for a reason the file does not show); a pressure stabilisation δ_ε h² larger than
+/// g³/12 even on the finest cell the run can reach, where the stabilisation, not the film, sets
+/// the pressure (the Reynolds limit of the film is lost).
+pub(super) fn film_warnings(
+    s: &SubStokesData,
+    domain: &Rectangle,
+    scope: &Scope,
+    out: &mut Vec<Warning>,
+) {
+    const F: &str = "scene.substokes";
+    scope.resolves(&format!("{F}.gap.frequency"), half_period(s.gap), out);
+    let (g_min, _) =
+        Gap::from(s.gap).range_on_box([domain.x[0], domain.y[0], domain.x[1], domain.y[1]]);
+    let conductance = g_min.powi(3) / 12.0;
+    if conductance < f64::MIN_POSITIVE {
+        out.push(Warning::new(
+            format!("{F}.gap"),
+            format!(
+                "the thinnest gap g = {g_min:e} makes the film's conductance g³/12 = \
+                 {conductance:e} underflow double precision: the pressure is not determined by \
+                 the film, and the solve fails or returns the stabilisation's pressure"
+            ),
+        ));
+        return;
+    }
+    let stabilisation = s.delta_eps * scope.finest * scope.finest;
+    if stabilisation > conductance {
+        out.push(Warning::new(
+            format!("{F}.delta_eps"),
+            format!(
+                "the pressure stabilisation δ_ε h² = {stabilisation:.3e} exceeds the film's \
+                 conductance g³/12 = {conductance:.3e} (thinnest gap {g_min:e}) even on the \
+                 finest cell this run can reach ({:.3e} wide): the stabilisation, not the film, \
+                 sets the pressure",
+                scope.finest
+            ),
+        ));
     }
 }

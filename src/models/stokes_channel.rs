@@ -78,6 +78,12 @@ pub enum CellSize {
     Side,
 }
 
+/// The side of the square Ω = [0, 4]² of (III.88).
+pub const SIDE: f64 = 4.0;
+
+/// Cells per side of the thesis's mesh (h = 1/8).
+pub const CELLS_PER_SIDE: usize = 32;
+
 /// The test problem (III.88) on a uniform grid.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct StokesChannel {
@@ -150,7 +156,7 @@ impl StokesChannel {
     /// (III.88) as the thesis states it: 32×32 cells, δ_ε = 1, h_Q the cell diameter.
     pub fn thesis() -> StokesChannel {
         StokesChannel {
-            cells_per_side: 32,
+            cells_per_side: CELLS_PER_SIDE,
             delta_eps: 1.0,
             cell_size: CellSize::Diameter,
         }
@@ -159,8 +165,8 @@ impl StokesChannel {
     /// The uniform grid of [0, 4]².
     pub fn mesh(&self) -> Mesh {
         Mesh::new(
-            [0.0, 4.0],
-            [0.0, 4.0],
+            [0.0, SIDE],
+            [0.0, SIDE],
             self.cells_per_side,
             self.cells_per_side,
         )

@@ -220,7 +220,7 @@ fn run_study_of_kind(
     if experiment.study.kind() == StudyKind::SolverIterations {
         return solver_iterations::run(experiment, tier, progress);
     }
-    feasible(experiment)?;
+    feasible(experiment, tier)?;
     budget.admit_run(experiment, Schedule::of(experiment, tier))?;
     let family = experiment.family;
     let mut problem = family
@@ -239,13 +239,18 @@ fn run_study_of_kind(
 
 /// Reject, before the first solve, a scene whose problem has no solution (contact: an obstacle
 /// reaching into the body where it is clamped; [`crate::family::Family::infeasible`]).
-fn feasible(experiment: &Experiment) -> Result<(), RunError> {
-    match experiment.family.infeasible(experiment) {
-        Some(message) => Err(RunError::at_cycle(
-            &experiment.table,
-            0,
-            StudyError::InfeasibleObstacle(message).context("before the first solve"),
-        )),
+fn feasible(experiment: &Experiment, tier: Tier) -> Result<(), RunError> {
+    let rows = printed_rows(experiment, tier);
+    match experiment.family.infeasible(experiment, rows) {
+        Some(infeasible) => Err(RunError {
+            step: infeasible.step,
+            ..RunError::at_cycle(
+                &experiment.table,
+                0,
+                StudyError::InfeasibleObstacle(infeasible.message)
+                    .context("before the first solve"),
+            )
+        }),
         None => Ok(()),
     }
 }

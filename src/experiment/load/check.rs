@@ -80,8 +80,10 @@ impl Check<'_> {
         })?;
         family.check(self, spec)?;
         self.study(&spec.study, &spec.scene)?;
+        self.marks_cells(&spec.study, &spec.scene)?;
         self.rising_tools(&spec.scene, &spec.study)?;
         self.probes(&spec.probes, &spec.scene, family.facts().components)?;
+        self.family_fields(spec, family)?;
         let figure = figure_number(&spec.table).is_some();
         if !is_thesis_id(&spec.table) {
             self.ensure(
@@ -106,6 +108,30 @@ impl Check<'_> {
             self.thesis(thesis, &spec.table)?;
         }
         Ok(family)
+    }
+
+    /// The fields whose meaning depends on the family: `[study] solver` only where it chooses
+    /// the linear solver, `related` only where the report draws related tables.
+    fn family_fields(&self, spec: &ExperimentFile, family: FamilyRef) -> Checked {
+        if let Some(solver) = spec.study.solver {
+            let choosing: Vec<&str> = family::FAMILIES
+                .iter()
+                .filter(|f| f.facts().solver_choice)
+                .map(|f| f.facts().id)
+                .collect();
+            self.ensure(
+                family.facts().solver_choice,
+                "study.solver",
+                &format!(
+                    "no such field in a {} scene: its systems are solved by the direct solver \
+                     whatever the field says (only the families {} choose)",
+                    family.facts().id,
+                    choosing.join(", ")
+                ),
+                format!("`{}`", solver.name()),
+            )?;
+        }
+        self.related(spec, family)
     }
 
     /// Text shown on the page and in file names: no control characters (a NUL or BEL would be

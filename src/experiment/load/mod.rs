@@ -21,6 +21,7 @@ mod ids;
 mod listing;
 mod position;
 mod probes;
+mod related;
 mod scene;
 mod study;
 mod thesis;
@@ -35,6 +36,7 @@ use super::{Comparison, Experiment, Scene};
 use check::Check;
 pub use check::{Check as FileCheck, Checked, Found};
 use position::toml_error;
+use related::related_tables;
 
 pub(super) use ids::is_thesis_id;
 pub use ids::table_order;
@@ -127,7 +129,8 @@ pub type Loaded = (String, Result<Experiment, ExperimentError>);
 /// the directory itself are errors of the whole call: it cannot be listed, or `only` names a
 /// table without an entry.
 pub fn load_each(dir: &Path, only: Option<&[String]>) -> Result<Vec<Loaded>, ExperimentError> {
-    let mut files = experiment_entries(dir)?;
+    let all = experiment_entries(dir)?;
+    let mut files = all.clone();
     if let Some(only) = only {
         let mut wanted = BTreeSet::new();
         for id in only {
@@ -135,15 +138,33 @@ pub fn load_each(dir: &Path, only: Option<&[String]>) -> Result<Vec<Loaded>, Exp
                 return Err(ExperimentError::UnknownTable {
                     dir: dir.to_path_buf(),
                     id: id.clone(),
-                    available: files.iter().map(|(stem, _)| stem.clone()).collect(),
+                    available: all.iter().map(|(stem, _)| stem.clone()).collect(),
                 });
             }
             wanted.insert(id.as_str());
         }
         files.retain(|(stem, _)| wanted.contains(stem.as_str()));
     }
-    Ok(files
+    let loaded: Vec<Loaded> = files
+        .iter()
+        .map(|(stem, path)| (stem.clone(), load(path)))
+        .collect();
+    // The related ids need the other files: a table whose related ids do not hold is a failed
+    // entry like a file that does not load.
+    let related: Vec<Option<ExperimentError>> = files
+        .iter()
+        .zip(&loaded)
+        .map(|((_, path), (_, outcome))| match outcome {
+            Ok(experiment) => related_tables(path, experiment, &all, &loaded).err(),
+            Err(_) => None,
+        })
+        .collect();
+    Ok(loaded
         .into_iter()
-        .map(|(stem, path)| (stem, load(&path)))
+        .zip(related)
+        .map(|((stem, outcome), refused)| match refused {
+            Some(error) => (stem, Err(error)),
+            None => (stem, outcome),
+        })
         .collect())
 }

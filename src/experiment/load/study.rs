@@ -141,6 +141,33 @@ impl Check<'_> {
         }
     }
 
+    /// A grid marking that refines at least one cell of the first mesh: the fixed-number
+    /// marking refines ⌊θ_r · N⌋ of N cells, and with none refined the mesh never changes — an
+    /// "adaptive" study whose ratios are all 1. Checked where the first mesh is the coarse
+    /// grid refined globally (N = n_x n_y 4^global_refinements); refinements at the contact
+    /// sides only add cells.
+    pub(super) fn marks_cells(&self, study: &StudyFile, scene: &SceneFile) -> Checked {
+        let (Some(refine), true) = (study.refine_fraction, study.kind.adapts_grid()) else {
+            return Ok(());
+        };
+        if scene.contact_refinements > 0 {
+            return Ok(());
+        }
+        let [nx, ny] = scene.coarse_cells;
+        let cells = nx as f64 * ny as f64 * 4f64.powi(scene.global_refinements as i32);
+        let marked = (refine * cells).floor();
+        self.ensure(
+            marked >= 1.0,
+            "study.refine_fraction",
+            &format!(
+                "a fraction that refines at least one of the {cells} cells of the first mesh \
+                 (the marking refines ⌊refine_fraction · N⌋ cells; with none the mesh never \
+                 changes)"
+            ),
+            format!("{refine:e}, which refines ⌊{:e}⌋ = 0", refine * cells),
+        )
+    }
+
     /// The typed study of a checked `[study]`: the fields of its kind, with the defaults of
     /// ε₀ and α. [`Check::study`] has checked every field read here; one that is missing all
     /// the same is an error, never a default.
