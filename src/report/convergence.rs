@@ -418,22 +418,20 @@ impl Figures for Convergence {
 
 /// The caption of the convergence plot ([`convergence_curves`]): which estimate of tribo's it
 /// draws, and the thesis only where a printed curve is drawn.
-fn convergence_caption(run: &RunResult, thesis: &ThesisTable, eta: &str) -> String {
+pub(super) fn convergence_caption(run: &RunResult, thesis: &ThesisTable, eta: &str) -> String {
     let curves = convergence_curves(run, thesis);
-    let tribo = if pairs_previous_estimate(run, thesis) {
-        "tribo's estimate of the solve before each printed mesh (estimate_previous_mesh) at \
-         that mesh's degrees of freedom, the pairs the thesis prints and the table compares \
-         (solid)"
+    let what = if !curves.iter().any(|c| c.dashed) {
+        "tribo's, with a slope −1/2 guide".to_string()
+    } else if pairs_previous_estimate(run, thesis) {
+        "tribo's estimate of the solve before each printed mesh (estimate_previous_mesh) at that \
+         mesh's degrees of freedom, the pairs the thesis prints and the table compares (solid), \
+         and the thesis (dashed)"
+            .to_string()
     } else {
-        "tribo (solid)"
-    };
-    let printed = if curves.iter().any(|c| c.dashed) {
-        " and the thesis (dashed)"
-    } else {
-        ""
+        "tribo (solid) and the thesis (dashed)".to_string()
     };
     format!(
-        "{}: {eta} against the degrees of freedom, log–log: {tribo}{printed}",
+        "{}: {eta} against the degrees of freedom, log–log: {what}",
         run.table
     )
 }

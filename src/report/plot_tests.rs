@@ -7,7 +7,7 @@
 
 use std::path::{Path, PathBuf};
 
-use super::convergence::{accuracy, convergence, convergence_curves, cost};
+use super::convergence::{accuracy, convergence, convergence_caption, convergence_curves, cost};
 use super::film::{cuts, uzawa};
 use super::forming::steps;
 use super::legend::Placed;
@@ -163,6 +163,10 @@ fn convergence_plot_of_other_tables_draws_the_estimate() {
     let estimates: Vec<f64> = fluid.rows.iter().map(|r| r.estimate().unwrap()).collect();
     let plotted: Vec<f64> = curves[0].points.iter().map(|p| p.1).collect();
     assert_eq!(plotted, estimates);
+    let caption = convergence_caption(&fluid, &ThesisTable::of_rows(&[]), "η");
+    assert!(!caption.contains("thesis"), "{caption}");
+    let caption = convergence_caption(&fluid, &printed("IV.36"), "η");
+    assert!(caption.contains("estimate_previous_mesh") && caption.contains("thesis (dashed)"));
 }
 
 impl ThesisTable {
