@@ -171,7 +171,9 @@ impl Ranged for NiceLog {
         let max = hint.max_num_points().max(2);
         let all: Vec<f64> = (1..=9).map(f64::from).collect();
         let candidates: [&[f64]; 3] = match hint.weight() {
-            plotters::coord::ranged1d::KeyPointWeight::Bold => [&[1.0, 2.0, 5.0], &[1.0], &[1.0]],
+            // Every mantissa last: a range inside one decade that holds at most one of 1, 2, 5
+            // (a constant series, padded) still gets labels.
+            plotters::coord::ranged1d::KeyPointWeight::Bold => [&[1.0, 2.0, 5.0], &[1.0], &all],
             plotters::coord::ranged1d::KeyPointWeight::Any => [&all, &[1.0, 2.0, 5.0], &[1.0]],
         };
         let decades = (self.hi / self.lo).log10().ceil().max(1.0) as usize;
@@ -694,7 +696,12 @@ mod tests {
     fn log_axis_labels_a_range_without_a_power_of_ten() {
         let axis = NiceLog::new((0.11, 0.8));
         let ticks = axis.key_points(plotters::coord::ranged1d::BoldPoints(12));
-        assert_eq!(ticks.len(), 2, "{ticks:?}"); // 0.2 and 0.5
+        // 0.2 and 0.5.
+        assert_eq!(ticks.len(), 2, "{ticks:?}");
+        // A constant 6.01e-10, padded by 1.25: labelled 5e-10, 6e-10, 7e-10.
+        let narrow = NiceLog::new((6.01e-10 / 1.25, 6.01e-10 * 1.25))
+            .key_points(plotters::coord::ranged1d::BoldPoints(12));
+        assert_eq!(narrow.len(), 3, "{narrow:?}");
         let wide = NiceLog::new((1e-9, 1e9)).key_points(plotters::coord::ranged1d::BoldPoints(6));
         assert!(!wide.is_empty() && wide.len() <= 6, "{wide:?}");
     }
