@@ -303,18 +303,57 @@ fn cost_accuracy(
             TRIBO.stroke_width(2),
         ))
         .map_err(plot_err)?;
-    let label_font = ("sans-serif", 14).into_font().color(&BLACK);
     chart
-        .draw_series(points.iter().map(|&(t, e, dofs)| {
-            EmptyElement::at((t, e))
-                + Circle::new((0, 0), 3, TRIBO.filled())
-                + Text::new(format!("{dofs} dofs"), (6, -14), label_font.clone())
-        }))
+        .draw_series(
+            points
+                .iter()
+                .map(|&(t, e, _)| Circle::new((t, e), 3, TRIBO.filled())),
+        )
         .map_err(plot_err)?;
+    let pixels = legend::pixels(&chart, points.iter().map(|p| (p.0, p.1)));
+    let labels: Vec<String> = points.iter().map(|p| format!("{} dofs", p.2)).collect();
+    let boxes = label_boxes(&pixels, &labels);
+    let label_font = ("sans-serif", 14).into_font().color(&BLACK);
+    let (x0, y0) = area.get_base_pixel();
+    for (label, b) in labels.into_iter().zip(&boxes) {
+        if let Some((left, top, ..)) = b {
+            area.draw(&Text::new(label, (left - x0, top - y0), label_font.clone()))
+                .map_err(plot_err)?;
+        }
+    }
+    // The dofs labels are checked like legends: no point under them.
     Ok(Placed {
-        points: legend::pixels(&chart, points.iter().map(|p| (p.0, p.1))),
-        ..Placed::default()
+        points: pixels,
+        legends: boxes.into_iter().flatten().collect(),
     })
+}
+
+/// Where the dofs labels of the cost plot go: above right of their points, each one only where
+/// it covers no other point and no label already placed, from the last point back (so the
+/// largest mesh is always named). Crowded points, as the last cycles of a stalling run, would
+/// otherwise print their labels over each other. `None` for a label left out.
+pub(super) fn label_boxes(
+    pixels: &[(i32, i32)],
+    labels: &[String],
+) -> Vec<Option<legend::PixelBox>> {
+    // 14 (plotters' size) is about 11.3 px; 0.6 em per character.
+    let (height, per_char) = (12, 6.8);
+    let mut boxes: Vec<Option<legend::PixelBox>> = vec![None; pixels.len()];
+    for i in (0..pixels.len()).rev() {
+        let (x, y) = pixels[i];
+        let width = (labels[i].chars().count() as f64 * per_char).ceil() as i32;
+        let b = (x + 6, y - 14, x + 6 + width, y - 14 + height);
+        let hits = |&(l, t, r, bottom): &legend::PixelBox| {
+            l <= b.2 + 2 && b.0 <= r + 2 && t <= b.3 + 2 && b.1 <= bottom + 2
+        };
+        let covers = pixels
+            .iter()
+            .any(|&(px, py)| px >= b.0 - 3 && px <= b.2 + 3 && py >= b.1 - 3 && py <= b.3 + 3);
+        if !covers && !boxes.iter().flatten().any(hits) {
+            boxes[i] = Some(b);
+        }
+    }
+    boxes
 }
 
 /// Lower panel of [`cost`]: stacked bars of the phase seconds, one bar per printed cycle (the

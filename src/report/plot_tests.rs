@@ -7,7 +7,9 @@
 
 use std::path::{Path, PathBuf};
 
-use super::convergence::{accuracy, convergence, convergence_caption, convergence_curves, cost};
+use super::convergence::{
+    accuracy, convergence, convergence_caption, convergence_curves, cost, label_boxes,
+};
 use super::film::{cuts, uzawa};
 use super::forming::steps;
 use super::legend::Placed;
@@ -346,6 +348,19 @@ fn legends_cover_no_plotted_point() {
         assert!(problems.is_empty(), "{name}: {problems:?}");
     }
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// The dofs labels of the cost plot: crowded points (a stall) keep the last label and drop
+/// those that would cover it or a point; points far apart keep every label.
+#[test]
+fn cost_labels_do_not_cover_each_other() {
+    let labels: Vec<String> = ["24992 dofs", "40256 dofs", "88550 dofs"]
+        .map(String::from)
+        .to_vec();
+    let crowded = label_boxes(&[(470, 750), (490, 746), (520, 743)], &labels);
+    assert!(crowded[2].is_some() && crowded[1].is_none() && crowded[0].is_none());
+    let apart = label_boxes(&[(100, 100), (300, 200), (500, 300)], &labels);
+    assert!(apart.iter().all(Option::is_some), "{apart:?}");
 }
 
 /// The uzawa chart labels its iterations as whole numbers, the last one inside the picture
