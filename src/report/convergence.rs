@@ -13,27 +13,62 @@ use plotters::prelude::*;
 
 use super::figures::{Drawing, Figure, Figures};
 use super::html::fmt_short;
+use super::legend::{self, Entry, Placed, Swatch};
 use super::plots::*;
 use super::MAX_SHOWN_THESIS_ROWS;
+use super::{compared_value, compares_previous_estimate};
 use crate::results::{columns, RunResult};
 use crate::thesis::ThesisTable;
 
 /// Log–log convergence plot: the estimate η against dofs for tribo (solid) and the thesis
 /// (dashed), the axis naming η's theorem and norm ([`super::estimate_name`]),
 /// with a slope −1/2 guide (the optimal rate of Q1 in 2-D, error ∝ N^(−1/2)).
+pub fn convergence(path: &Path, run: &RunResult, thesis: &ThesisTable) -> io::Result<Placed> {
+    let curves = convergence_curves(run, thesis);
+    let guide_pts = slope_guide(&curves);
+    write_log_log(
+        path,
+        &format!("{} — convergence", run.table),
+        ("degrees of freedom", &super::estimate_name(run).axis),
+        &curves,
+        (&guide_pts, "slope −1/2"),
+        "no positive estimates to plot",
+    )
+}
+
+/// The curves of the convergence plot: tribo's estimate and the printed one, each against its
+/// row's dofs; those without a drawable point left out.
+///
+/// tribo's curve holds the value the section's table compares with the printed estimate
+/// ([`compared_value`]): in the fluid tables, whose printed rows set the mesh after refinement
+/// beside the estimate of the solve before it, that is `estimate_previous_mesh`, drawn at the
+/// dofs of the row the thesis prints it in — so the plot and the table show the same pairs.
 ///
 /// Model-adaptive tables print `model_error` instead of `estimate`; when the thesis has that
 /// column it is plotted too, against tribo's `model_error` quantity.
-pub fn convergence(path: &Path, run: &RunResult, thesis: &ThesisTable) -> io::Result<()> {
+pub(super) fn convergence_curves(run: &RunResult, thesis: &ThesisTable) -> Vec<Curve> {
+    let tribo_label = if pairs_previous_estimate(run, thesis) {
+        "tribo η of the solve before (as printed)"
+    } else {
+        "tribo η"
+    };
     let mut curves = vec![
         Curve {
-            label: "tribo η".into(),
+            label: tribo_label.into(),
             color: TRIBO,
             dashed: false,
             points: run
                 .rows
                 .iter()
-                .filter_map(|r| Some((r.value("dofs")?, r.estimate()?)))
+                .enumerate()
+                .filter_map(|(i, r)| {
+                    let estimate = if pairs_previous_estimate(run, thesis) {
+                        compared_value(&run.rows, i, "estimate")?
+                    } else {
+                        r.estimate()?
+                    };
+                    Some((r.value("dofs")?, estimate))
+                })
                 .filter(loggable)
                 .collect(),
         },
@@ -89,8 +124,19 @@ pub fn convergence(path: &Path, run: &RunResult, thesis: &ThesisTable) -> io::Re
         });
     }
     curves.retain(|c| !c.points.is_empty());
+    curves
+}
 
-    // The guide passes below every point: c = min y·√x, drawn at 0.6·c/√x.
+/// Whether the convergence plot draws tribo's `estimate_previous_mesh` (the fluid tables
+/// compared with printed rows) instead of its estimate on each mesh (every other run, and a
+/// fluid scene without printed rows, which is compared with nothing).
+fn pairs_previous_estimate(run: &RunResult, thesis: &ThesisTable) -> bool {
+    compares_previous_estimate(run) && !thesis.is_empty()
+}
+
+/// The slope −1/2 guide under every point of `curves`: c = min y·√x, drawn at 0.6·c/√x; none
+/// for fewer than two points.
+fn slope_guide(curves: &[Curve]) -> Vec<(f64, f64)> {
     let all: Vec<(f64, f64)> = curves
         .iter()
         .flat_map(|c| c.points.iter().copied())
@@ -99,28 +145,20 @@ pub fn convergence(path: &Path, run: &RunResult, thesis: &ThesisTable) -> io::Re
         .iter()
         .map(|(x, y)| y * x.sqrt())
         .fold(f64::INFINITY, f64::min);
-    let guide_pts: Vec<(f64, f64)> = if guide.is_finite() && all.len() > 1 {
+    if guide.is_finite() && all.len() > 1 {
         let (a, b) = log_range(all.iter().map(|p| p.0));
         let (a, b) = (a * 1.1, b / 1.1);
         vec![(a, 0.6 * guide / a.sqrt()), (b, 0.6 * guide / b.sqrt())]
     } else {
         Vec::new()
-    };
-    write_log_log(
-        path,
-        &format!("{} — convergence", run.table),
-        ("degrees of freedom", &super::estimate_name(run).axis),
-        &curves,
-        (&guide_pts, "slope −1/2"),
-        "no positive estimates to plot",
-    )
+    }
 }
 
 /// Cost of accuracy of a model-adaptive scene (`<table>.cost.csv`): per variant (z, Signorini on
 /// every face, III.2, III.3) the energy distance to the all-Signorini solution and the true
 /// penetration against the cumulative solve seconds over the cycles, log–log. The all-Signorini
 /// variant is the reference (distance 0) and appears in the penetration panel only.
-pub fn accuracy(path: &Path, run: &RunResult) -> io::Result<()> {
+pub fn accuracy(path: &Path, run: &RunResult) -> io::Result<Placed> {
     const COLORS: [RGBColor; 4] = [
         RGBColor(31, 119, 180),
         RGBColor(0, 0, 0),
@@ -153,30 +191,37 @@ pub fn accuracy(path: &Path, run: &RunResult) -> io::Result<()> {
             .filter(|c| !c.points.is_empty())
             .collect()
     };
-    // Two 760×520 charts side by side.
+    // Two charts, one above the other: side by side they would be shrunk to half their size on
+    // the page.
+    let (distance, penetration) = (panel(|c| c.energy_distance), panel(|c| c.penetration));
+    let none: (&[(f64, f64)], &str) = (&[], "");
+    let upper = log_log_height(&distance, none);
     let mut svg = String::new();
+    let mut placed = Placed::default();
     {
-        let root = SVGBackend::with_string(&mut svg, (1520, 520)).into_drawing_area();
-        let (left, right) = root.split_horizontally(760);
-        log_log_chart(
-            &left,
+        let size = (760, upper + log_log_height(&penetration, none));
+        let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
+        let (top, bottom) = root.split_vertically(upper);
+        placed.extend(log_log_chart(
+            &top,
             &format!("{} — accuracy: energy distance to all-Signorini", run.table),
             ("cumulative solve seconds", "‖s − s_S‖_a / ‖s_S‖_a"),
-            &panel(|c| c.energy_distance),
-            (&[], ""),
+            &distance,
+            none,
             "no positive distances",
-        )?;
-        log_log_chart(
-            &right,
+        )?);
+        placed.extend(log_log_chart(
+            &bottom,
             &format!("{} — true penetration into the obstacle", run.table),
             ("cumulative solve seconds", "penetration"),
-            &panel(|c| c.penetration),
-            (&[], ""),
+            &penetration,
+            none,
             "no penetration",
-        )?;
+        )?);
         root.present().map_err(plot_err)?;
     }
-    fs::write(path, svg)
+    fs::write(path, svg)?;
+    Ok(placed)
 }
 
 /// The five phases in drawing order, with their colours.
@@ -190,7 +235,7 @@ const PHASES: [(&str, RGBColor); 5] = [
 
 /// Cost of accuracy: the estimate against cumulative wall seconds (log–log, each point labelled
 /// with its dofs), and below it the seconds of each cycle stacked by phase — where the time goes.
-pub fn cost(path: &Path, run: &RunResult) -> io::Result<()> {
+pub fn cost(path: &Path, run: &RunResult) -> io::Result<Placed> {
     let cumulative = run.cumulative_seconds();
     let points: Vec<(f64, f64, usize)> = run
         .rows
@@ -200,16 +245,30 @@ pub fn cost(path: &Path, run: &RunResult) -> io::Result<()> {
         .filter(|(t, e, _)| loggable(&(*t, *e)))
         .collect();
 
+    let phases: Vec<Entry> = PHASES
+        .iter()
+        .map(|(name, color)| Entry::new(*name, Swatch::Bar(*color)))
+        .collect();
     let mut svg = String::new();
+    let mut placed = Placed::default();
     {
-        let root = SVGBackend::with_string(&mut svg, (760, 720)).into_drawing_area();
+        let size = (760, 720 + legend::height(&phases, 760));
+        let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
         root.fill(&WHITE).map_err(plot_err)?;
         let (top, bottom) = root.split_vertically(420);
-        cost_accuracy(&top, &run.table, &super::estimate_name(run).axis, &points)?;
-        phase_bars(&bottom, run)?;
+        placed.extend(cost_accuracy(
+            &top,
+            &run.table,
+            &super::estimate_name(run).axis,
+            &points,
+        )?);
+        let (bars, strip) = legend::split(&bottom, &phases);
+        placed.extend(phase_bars(&bars, run)?);
+        placed.legends.extend(legend::draw(&strip, &phases)?);
         root.present().map_err(plot_err)?;
     }
-    fs::write(path, svg)
+    fs::write(path, svg)?;
+    Ok(placed)
 }
 
 /// Upper panel of [`cost`].
@@ -218,7 +277,7 @@ fn cost_accuracy(
     table: &str,
     estimate: &str,
     points: &[(f64, f64, usize)],
-) -> io::Result<()> {
+) -> io::Result<Placed> {
     let (x_lo, x_hi) = log_range(points.iter().map(|p| p.0));
     let (y_lo, y_hi) = log_range(points.iter().map(|p| p.1));
     // Extra room on the right for the dofs labels of the last point.
@@ -236,7 +295,7 @@ fn cost_accuracy(
             "no positive timings and estimates to plot",
             (200, 200),
         )?;
-        return Ok(());
+        return Ok(Placed::default());
     }
     chart
         .draw_series(LineSeries::new(
@@ -244,19 +303,62 @@ fn cost_accuracy(
             TRIBO.stroke_width(2),
         ))
         .map_err(plot_err)?;
-    let label_font = ("sans-serif", 14).into_font().color(&BLACK);
     chart
-        .draw_series(points.iter().map(|&(t, e, dofs)| {
-            EmptyElement::at((t, e))
-                + Circle::new((0, 0), 3, TRIBO.filled())
-                + Text::new(format!("{dofs} dofs"), (6, -14), label_font.clone())
-        }))
+        .draw_series(
+            points
+                .iter()
+                .map(|&(t, e, _)| Circle::new((t, e), 3, TRIBO.filled())),
+        )
         .map_err(plot_err)?;
-    Ok(())
+    let pixels = legend::pixels(&chart, points.iter().map(|p| (p.0, p.1)));
+    let labels: Vec<String> = points.iter().map(|p| format!("{} dofs", p.2)).collect();
+    let boxes = label_boxes(&pixels, &labels);
+    let label_font = ("sans-serif", 14).into_font().color(&BLACK);
+    let (x0, y0) = area.get_base_pixel();
+    for (label, b) in labels.into_iter().zip(&boxes) {
+        if let Some((left, top, ..)) = b {
+            area.draw(&Text::new(label, (left - x0, top - y0), label_font.clone()))
+                .map_err(plot_err)?;
+        }
+    }
+    // The dofs labels are checked like legends: no point under them.
+    Ok(Placed {
+        points: pixels,
+        legends: boxes.into_iter().flatten().collect(),
+    })
 }
 
-/// Lower panel of [`cost`]: stacked bars of the phase seconds, one bar per printed cycle.
-fn phase_bars(area: &DrawingArea<SVGBackend, Shift>, run: &RunResult) -> io::Result<()> {
+/// Where the dofs labels of the cost plot go: above right of their points, each one only where
+/// it covers no other point and no label already placed, from the last point back (so the
+/// largest mesh is always named). Crowded points, as the last cycles of a stalling run, would
+/// otherwise print their labels over each other. `None` for a label left out.
+pub(super) fn label_boxes(
+    pixels: &[(i32, i32)],
+    labels: &[String],
+) -> Vec<Option<legend::PixelBox>> {
+    // 14 (plotters' size) is about 11.3 px; 0.6 em per character.
+    let (height, per_char) = (12, 6.8);
+    let mut boxes: Vec<Option<legend::PixelBox>> = vec![None; pixels.len()];
+    for i in (0..pixels.len()).rev() {
+        let (x, y) = pixels[i];
+        let width = (labels[i].chars().count() as f64 * per_char).ceil() as i32;
+        let b = (x + 6, y - 14, x + 6 + width, y - 14 + height);
+        let hits = |&(l, t, r, bottom): &legend::PixelBox| {
+            l <= b.2 + 2 && b.0 <= r + 2 && t <= b.3 + 2 && b.1 <= bottom + 2
+        };
+        let covers = pixels
+            .iter()
+            .any(|&(px, py)| px >= b.0 - 3 && px <= b.2 + 3 && py >= b.1 - 3 && py <= b.3 + 3);
+        if !covers && !boxes.iter().flatten().any(hits) {
+            boxes[i] = Some(b);
+        }
+    }
+    boxes
+}
+
+/// Lower panel of [`cost`]: stacked bars of the phase seconds, one bar per printed cycle (the
+/// legend of the phases is under it). The points placed are the bars' corners.
+fn phase_bars(area: &DrawingArea<SVGBackend, Shift>, run: &RunResult) -> io::Result<Placed> {
     let n = run.rows.len().max(1);
     let finite = |v: f64| if v.is_finite() && v > 0.0 { v } else { 0.0 };
     let max_total = run
@@ -278,6 +380,7 @@ fn phase_bars(area: &DrawingArea<SVGBackend, Shift>, run: &RunResult) -> io::Res
     let mut chart = ChartBuilder::on(area)
         .caption("seconds per phase and cycle", ("sans-serif", 16))
         .margin(12)
+        .margin_right(RIGHT_MARGIN)
         .x_label_area_size(40)
         .y_label_area_size(70)
         .build_cartesian_2d(-0.5..(n as f64 - 0.5), 0.0..y_hi)
@@ -309,7 +412,8 @@ fn phase_bars(area: &DrawingArea<SVGBackend, Shift>, run: &RunResult) -> io::Res
         .axis_desc_style(("sans-serif", 17))
         .draw()
         .map_err(plot_err)?;
-    for (p, (name, color)) in PHASES.iter().enumerate() {
+    let mut corners = Vec::new();
+    for (p, (_, color)) in PHASES.iter().enumerate() {
         let bars: Vec<Rectangle<(f64, f64)>> = run
             .rows
             .iter()
@@ -318,20 +422,17 @@ fn phase_bars(area: &DrawingArea<SVGBackend, Shift>, run: &RunResult) -> io::Res
                 let s = r.seconds.named();
                 let below: f64 = s[..p].iter().map(|(_, v)| finite(*v)).sum();
                 let x = i as f64;
-                Rectangle::new(
-                    [(x - 0.35, below), (x + 0.35, below + finite(s[p].1))],
-                    color.filled(),
-                )
+                let corner = [(x - 0.35, below), (x + 0.35, below + finite(s[p].1))];
+                corners.extend(corner);
+                Rectangle::new(corner, color.filled())
             })
             .collect();
-        let color = *color;
-        chart
-            .draw_series(bars)
-            .map_err(plot_err)?
-            .label(*name)
-            .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 12, y + 5)], color.filled()));
+        chart.draw_series(bars).map_err(plot_err)?;
     }
-    series_legend(&mut chart, SeriesLabelPosition::UpperLeft, 17)
+    Ok(Placed {
+        points: legend::pixels(&chart, corners),
+        ..Placed::default()
+    })
 }
 
 /// The estimate against the degrees of freedom beside the printed one: the headline of a
@@ -347,15 +448,31 @@ impl Figures for Convergence {
         let run = at.run;
         let (figure, path) = at.figure(
             "convergence",
-            format!(
-                "{}: {} against the degrees of freedom, tribo (solid) and thesis (dashed), \
-                 log–log",
-                run.table, at.eta.caption
-            ),
+            convergence_caption(run, at.thesis, &at.eta.caption),
         );
         convergence(&path, run, at.thesis)?;
         Ok(vec![figure])
     }
+}
+
+/// The caption of the convergence plot ([`convergence_curves`]): which estimate of tribo's it
+/// draws, and the thesis only where a printed curve is drawn.
+pub(super) fn convergence_caption(run: &RunResult, thesis: &ThesisTable, eta: &str) -> String {
+    let curves = convergence_curves(run, thesis);
+    let what = if !curves.iter().any(|c| c.dashed) {
+        "tribo's, with a slope −1/2 guide".to_string()
+    } else if pairs_previous_estimate(run, thesis) {
+        "tribo's estimate of the solve before each printed mesh (estimate_previous_mesh) at that \
+         mesh's degrees of freedom, the pairs the thesis prints and the table compares (solid), \
+         and the thesis (dashed)"
+            .to_string()
+    } else {
+        "tribo (solid) and the thesis (dashed)".to_string()
+    };
+    format!(
+        "{}: {eta} against the degrees of freedom, log–log: {what}",
+        run.table
+    )
 }
 
 /// The cost of accuracy of the model-adaptive variants on a scene's fixed mesh.

@@ -217,13 +217,22 @@ pub fn write_frames(dir: &Path, run: &RunResult) -> PolarsResult<()> {
     Ok(())
 }
 
+/// Whether the printed `column` is compared with another tribo value than the column of the
+/// same name: the `estimate` and `ratio` of the fluid tables, compared with
+/// `estimate_previous_mesh` and its ratio ([`super::compared_value`]).
+fn pairs_other_column(run: &RunResult, column: &str) -> bool {
+    super::compares_previous_estimate(run) && matches!(column, "estimate" | "ratio")
+}
+
 /// tribo's rows beside the printed table: the columns of [`rows_frame`], then for each printed
 /// column `c` (other than `cycle`) `thesis_c`, the printed value of the row's cycle (reference
 /// data from the thesis, never computed), and `c_rel_diff`, tribo/thesis − 1 with the tribo
-/// value the page compares it with (in the fluid tables the printed `estimate` and `ratio`
-/// against `estimate_previous_mesh`). One row per cycle tribo computed; a value that is not
-/// printed, printed as `inf`, or a difference to a printed 0 is empty. `None` for a run without
-/// printed rows (a figure experiment, a solver study).
+/// value the page compares it with. Where that value is not tribo's column `c` (in the fluid
+/// tables the printed `estimate` and `ratio` are compared with `estimate_previous_mesh` and its
+/// ratio), it is written as `c_compared` before `thesis_c`, so each pair sits side by side.
+/// One row per cycle tribo computed; a value that is not printed, printed as `inf`, or a
+/// difference to a printed 0 is empty. `None` for a run without printed rows (a figure
+/// experiment, a solver study).
 pub fn joined_frame(run: &RunResult, thesis: &ThesisTable) -> PolarsResult<Option<DataFrame>> {
     if thesis.is_empty() || run.rows.is_empty() || !run.uzawa.is_empty() {
         return Ok(None);
@@ -239,6 +248,12 @@ pub fn joined_frame(run: &RunResult, thesis: &ThesisTable) -> PolarsResult<Optio
             .iter()
             .any(|r| matches!(r.get(column), Some(Value::Count(_))))
             && printed.iter().flatten().all(|v| v.fract() == 0.0);
+        if pairs_other_column(run, column) {
+            let compared: Vec<Option<f64>> = (0..rows.len())
+                .map(|i| super::compared_value(rows, i, column))
+                .collect();
+            frame.with_column(Column::new(format!("{column}_compared").into(), compared))?;
+        }
         let name = format!("thesis_{column}");
         let printed_column = if integral {
             let v: Vec<Option<i64>> = printed.iter().map(|v| v.map(|v| v as i64)).collect();

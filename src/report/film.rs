@@ -12,9 +12,11 @@ use plotters::prelude::*;
 
 use super::figures::{Drawing, Figure, Figures};
 use super::html::fmt_short;
+use super::legend::{self, Entry, Placed};
 use super::plots::{
-    log_range, log_tick, loggable, plot_err, series_legend, write_log_log, Curve, NiceLog,
+    log_range, log_tick, loggable, plot_err, write_log_log, Curve, NiceLog, RIGHT_MARGIN,
 };
+use crate::experiment::Comparison;
 use crate::results::{Cuts, RunResult};
 
 const SUBSTOKES: RGBColor = RGBColor(31, 90, 180);
@@ -38,7 +40,7 @@ fn cut_curve(cuts: &Cuts, column: &str, label: String, color: RGBColor, dashed: 
 }
 
 /// Write the comparison figure of `run`'s cuts to `path`.
-pub(super) fn cuts(path: &Path, run: &RunResult, cuts: &Cuts) -> io::Result<()> {
+pub(super) fn cuts(path: &Path, run: &RunResult, cuts: &Cuts) -> io::Result<Placed> {
     let curve = |column: &str, label: &str, color: RGBColor, dashed: bool| {
         cut_curve(cuts, column, label.to_string(), color, dashed)
     };
@@ -52,34 +54,44 @@ pub(super) fn cuts(path: &Path, run: &RunResult, cuts: &Cuts) -> io::Result<()> 
     ];
     let y = fmt_short(cuts.y);
     let mut svg = String::new();
+    let mut placed = Placed::default();
     {
-        let root = SVGBackend::with_string(&mut svg, (760, 700)).into_drawing_area();
+        let lower = 350 + panel_legend_height(&flow);
+        let size = (760, 350 + panel_legend_height(&pressure) + lower);
+        let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
         root.fill(&WHITE).map_err(plot_err)?;
-        let panels = root.split_evenly((2, 1));
-        panel(
-            &panels[0],
+        let (top, bottom) = root.split_vertically(size.1 - lower);
+        placed.extend(panel(
+            &top,
             &format!("{} — pressure p ≈ ψ/g along x₂ = {y}", run.table),
             "p",
             &pressure,
-        )?;
-        panel(
-            &panels[1],
+        )?);
+        placed.extend(panel(
+            &bottom,
             &format!("flow rate χ₁ along x₂ = {y}"),
             "χ₁",
             &flow,
-        )?;
+        )?);
         root.present().map_err(plot_err)?;
     }
-    fs::write(path, svg)
+    fs::write(path, svg)?;
+    Ok(placed)
 }
 
-/// One panel: the curves against x₁ on linear axes.
+/// Pixels the legend of a [`panel`] of `curves` needs under it.
+fn panel_legend_height(curves: &[Curve]) -> u32 {
+    legend::height(&curves.iter().map(Entry::line).collect::<Vec<_>>(), 760)
+}
+
+/// One panel: the curves against x₁ on linear axes, their legend under it
+/// ([`panel_legend_height`] pixels of `area`).
 fn panel(
     area: &DrawingArea<SVGBackend<'_>, Shift>,
     title: &str,
     y_desc: &str,
     curves: &[Curve],
-) -> io::Result<()> {
+) -> io::Result<Placed> {
     let points = || curves.iter().flat_map(|c| c.points.iter());
     let (x0, x1) = points().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
         (a.min(p.0), b.max(p.0))
@@ -88,12 +100,15 @@ fn panel(
         (a.min(p.1), b.max(p.1))
     });
     if !(x0.is_finite() && x1 > x0 && y0.is_finite() && y1.is_finite()) {
-        return Ok(());
+        return Ok(Placed::default());
     }
+    let entries: Vec<Entry> = curves.iter().map(Entry::line).collect();
+    let (area, strip) = legend::split(area, &entries);
     let pad = 0.05 * (y1 - y0).max(1e-9 * y1.abs().max(1.0));
-    let mut chart = ChartBuilder::on(area)
+    let mut chart = ChartBuilder::on(&area)
         .caption(title, ("sans-serif", 19))
         .margin(12)
+        .margin_right(RIGHT_MARGIN)
         .x_label_area_size(40)
         .y_label_area_size(70)
         .build_cartesian_2d(x0..x1, (y0 - pad)..(y1 + pad))
@@ -110,22 +125,21 @@ fn panel(
         .draw()
         .map_err(plot_err)?;
     for c in curves {
-        let color = c.color;
-        let style = color.stroke_width(2);
-        let series = if c.dashed {
+        let style = c.color.stroke_width(2);
+        if c.dashed {
             chart
                 .draw_series(DashedLineSeries::new(c.points.iter().copied(), 8, 5, style))
-                .map_err(plot_err)?
+                .map_err(plot_err)?;
         } else {
             chart
                 .draw_series(LineSeries::new(c.points.iter().copied(), style))
-                .map_err(plot_err)?
-        };
-        series.label(c.label.clone()).legend(move |(x, y)| {
-            PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2))
-        });
+                .map_err(plot_err)?;
+        }
     }
-    series_legend(&mut chart, SeriesLabelPosition::UpperRight, 14)
+    Ok(Placed {
+        points: legend::pixels(&chart, points().copied()),
+        legends: legend::draw(&strip, &entries)?.into_iter().collect(),
+    })
 }
 
 /// Colours of the Uzawa variants, in the order of Fig. III.6.
@@ -138,7 +152,7 @@ const VARIANTS: [RGBColor; 5] = [
 ];
 
 /// The relative residual of every Uzawa variant against the iteration, log scale (Fig. III.6).
-pub(super) fn uzawa(path: &Path, run: &RunResult) -> io::Result<()> {
+pub(super) fn uzawa(path: &Path, run: &RunResult) -> io::Result<Placed> {
     let mut curves: Vec<Curve> = Vec::new();
     for r in &run.uzawa {
         if curves.last().is_none_or(|c| c.label != r.variant) {
@@ -165,16 +179,21 @@ pub(super) fn uzawa(path: &Path, run: &RunResult) -> io::Result<()> {
     let y = NiceLog::new(log_range(
         curves.iter().flat_map(|c| c.points.iter().map(|p| p.1)),
     ));
+    let entries: Vec<Entry> = curves.iter().map(Entry::line).collect();
     let mut svg = String::new();
+    let placed;
     {
-        let root = SVGBackend::with_string(&mut svg, (760, 480)).into_drawing_area();
+        let size = (760, 480 + legend::height(&entries, 760));
+        let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
         root.fill(&WHITE).map_err(plot_err)?;
-        let mut chart = ChartBuilder::on(&root)
+        let (area, strip) = legend::split(&root, &entries);
+        let mut chart = ChartBuilder::on(&area)
             .caption(
                 format!("{} — Uzawa's algorithm, relative residual", run.table),
                 ("sans-serif", 19),
             )
             .margin(12)
+            .margin_right(RIGHT_MARGIN)
             .x_label_area_size(40)
             .y_label_area_size(70)
             .build_cartesian_2d(0.0..last, y)
@@ -183,6 +202,7 @@ pub(super) fn uzawa(path: &Path, run: &RunResult) -> io::Result<()> {
             .configure_mesh()
             .x_desc("Uzawa iteration k")
             .y_desc("r_k / r_0")
+            .x_label_formatter(&|v| fmt_short(*v))
             .y_label_formatter(&log_tick)
             .light_line_style(RGBColor(240, 240, 240))
             .bold_line_style(RGBColor(215, 215, 215))
@@ -191,22 +211,21 @@ pub(super) fn uzawa(path: &Path, run: &RunResult) -> io::Result<()> {
             .draw()
             .map_err(plot_err)?;
         for c in &curves {
-            let color = c.color;
             chart
                 .draw_series(LineSeries::new(
                     c.points.iter().copied(),
-                    color.stroke_width(2),
+                    c.color.stroke_width(2),
                 ))
-                .map_err(plot_err)?
-                .label(c.label.clone())
-                .legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2))
-                });
+                .map_err(plot_err)?;
         }
-        series_legend(&mut chart, SeriesLabelPosition::UpperRight, 14)?;
+        placed = Placed {
+            points: legend::pixels(&chart, curves.iter().flat_map(|c| c.points.clone())),
+            legends: legend::draw(&strip, &entries)?.into_iter().collect(),
+        };
         root.present().map_err(plot_err)?;
     }
-    fs::write(path, svg)
+    fs::write(path, svg)?;
+    Ok(placed)
 }
 
 /// The model of a run the model-adaptive film is compared with: a SubStokes table (its cuts
@@ -246,7 +265,7 @@ pub(super) fn estimate_vs_substokes_cells(
     path: &Path,
     run: &RunResult,
     related: &[&RunResult],
-) -> io::Result<()> {
+) -> io::Result<Placed> {
     let points = |f: &dyn Fn(&crate::results::Row) -> Option<(f64, f64)>, r: &RunResult| {
         r.rows
             .iter()
@@ -300,9 +319,13 @@ pub(super) fn estimate_vs_substokes_cells(
 /// Fig. IV.118: the pressure ψ along the cut of the model-adaptive run beside the last solutions
 /// of the related runs (ψ^S of a SubStokes table, ψ of a Reynolds table) along the same cut;
 /// a related run cut at another height is left out.
-pub(super) fn related_cuts(path: &Path, run: &RunResult, related: &[&RunResult]) -> io::Result<()> {
+pub(super) fn related_cuts(
+    path: &Path,
+    run: &RunResult,
+    related: &[&RunResult],
+) -> io::Result<Placed> {
     let Some(cuts) = &run.cuts else {
-        return Ok(());
+        return Ok(Placed::default());
     };
     let mut curves = vec![cut_curve(
         cuts,
@@ -329,10 +352,12 @@ pub(super) fn related_cuts(path: &Path, run: &RunResult, related: &[&RunResult])
         ));
     }
     let mut svg = String::new();
+    let placed;
     {
-        let root = SVGBackend::with_string(&mut svg, (760, 420)).into_drawing_area();
+        let size = (760, 420 + panel_legend_height(&curves));
+        let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
         root.fill(&WHITE).map_err(plot_err)?;
-        panel(
+        placed = panel(
             &root,
             &format!("{} — ψ along x₂ = {}", run.table, fmt_short(cuts.y)),
             "ψ",
@@ -340,14 +365,19 @@ pub(super) fn related_cuts(path: &Path, run: &RunResult, related: &[&RunResult])
         )?;
         root.present().map_err(plot_err)?;
     }
-    fs::write(path, svg)
+    fs::write(path, svg)?;
+    Ok(placed)
 }
 
 /// The cost of accuracy of one scene solved three ways: each run's estimate against its
 /// cumulative wall seconds, log–log. Each estimate is in its own norm (Theorem III.16's for
 /// Reynolds, III.23's for SubStokes, their combination with the model error for the
 /// model-adaptive film), so the curves compare slopes and seconds, not levels.
-pub(super) fn related_cost(path: &Path, run: &RunResult, related: &[&RunResult]) -> io::Result<()> {
+pub(super) fn related_cost(
+    path: &Path,
+    run: &RunResult,
+    related: &[&RunResult],
+) -> io::Result<Placed> {
     let curve = |r: &RunResult, label: String, color: RGBColor| Curve {
         label,
         color,
@@ -415,10 +445,16 @@ impl Figures for ModelCuts {
         let Some(c) = run.cuts.as_ref() else {
             return Ok(Vec::new());
         };
+        // The thesis figures show its own scenes, not a scene of the user's.
+        let cited = if matches!(at.thesis.comparison, Comparison::OwnScene) {
+            ""
+        } else {
+            " (thesis Figs IV.112–IV.115, IV.143)"
+        };
         let mut caption = format!(
             "{}: SubStokes (solid) and Reynolds (dashed) on the last mesh along x₂ = {} — \
-             pressure ψ/g and flow rate χ₁, the latter rebuilt by (I.86) for Reynolds \
-             (thesis Figs IV.112–IV.115, IV.143); max|ψ^S − ψ^R| is {} of max|ψ^R − ψ₀|",
+             pressure ψ/g and flow rate χ₁, the latter rebuilt by (I.86) for Reynolds{cited}; \
+             max|ψ^S − ψ^R| is {} of max|ψ^R − ψ₀|",
             run.table,
             fmt_short(c.y),
             c.relative_pressure_difference()

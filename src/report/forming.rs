@@ -25,9 +25,10 @@ use plotters::prelude::*;
 use super::deformed::{self, deformed_clip, deformed_drawing, deformed_window, DeformedCanvas};
 use super::figures::{cf, Drawing, Figure, Figures};
 use super::html::fmt_short;
+use super::legend::{self, Entry, Placed};
 use super::plots::{
-    self, bbox, log_range, log_tick, plot_err, series_legend, solid_curve, svg_open, text, Curve,
-    NiceLog,
+    self, bbox, log_range, log_tick, plot_err, solid_curve, svg_open, text, Curve, NiceLog,
+    RIGHT_MARGIN,
 };
 use crate::experiment::ThesisFigures;
 use crate::results::{columns, DeformedPicture, RunResult};
@@ -196,7 +197,7 @@ const MODEL_ERROR: RGBColor = plots::TRIBO_ME;
 /// against the load step, the tip's position (`tip_x`, `tip_y`), the contact faces on the z- and
 /// the Signorini model (`z_faces`, `s_faces`), and on a log axis the penetration and the model
 /// error (values ≤ 0 or undefined are not drawn, so a step without penetration leaves a gap).
-pub(super) fn steps(path: &Path, run: &RunResult) -> io::Result<()> {
+pub(super) fn steps(path: &Path, run: &RunResult) -> io::Result<Placed> {
     let curve = |column: &str, color: RGBColor| Curve {
         label: column.to_string(),
         color,
@@ -225,14 +226,17 @@ pub(super) fn steps(path: &Path, run: &RunResult) -> io::Result<()> {
     let x = -0.5..(last + 0.5);
 
     let mut svg = String::new();
+    let mut placed = Placed::default();
     {
-        let root = SVGBackend::with_string(&mut svg, (760, 960)).into_drawing_area();
+        // Each panel 320 pixels and its legend of two entries.
+        let strip = legend::height(&tip.iter().map(Entry::curve).collect::<Vec<_>>(), 760);
+        let root = SVGBackend::with_string(&mut svg, (760, 3 * (320 + strip))).into_drawing_area();
         root.fill(&WHITE).map_err(plot_err)?;
         let panels = root.split_evenly((3, 1));
         let linear = |curves: &[Curve]| -> RangedCoordf64 {
             linear_range(curves.iter().flat_map(|c| &c.points)).into()
         };
-        step_panel(
+        placed.extend(step_panel(
             &panels[0],
             &format!(
                 "{} — the tip (the lower right corner of the undeformed body)",
@@ -242,29 +246,30 @@ pub(super) fn steps(path: &Path, run: &RunResult) -> io::Result<()> {
             (x.clone(), linear(&tip)),
             &tip,
             &|v| fmt_short(*v),
-        )?;
-        step_panel(
+        )?);
+        placed.extend(step_panel(
             &panels[1],
             "contact faces: z-model and Signorini",
             "faces",
             (x.clone(), linear(&faces)),
             &faces,
             &|v| fmt_short(*v),
-        )?;
+        )?);
         let log = NiceLog::new(log_range(
             errors.iter().flat_map(|c| c.points.iter().map(|p| p.1)),
         ));
-        step_panel(
+        placed.extend(step_panel(
             &panels[2],
             "penetration and model error (log; zeros not drawn)",
             "value",
             (x, log),
             &errors,
             &log_tick,
-        )?;
+        )?);
         root.present().map_err(plot_err)?;
     }
-    fs::write(path, svg)
+    fs::write(path, svg)?;
+    Ok(placed)
 }
 
 /// A linear axis range around the finite values, padded; a single value or none still gives a
@@ -302,7 +307,7 @@ fn consecutive_runs(points: &[(f64, f64)]) -> Vec<&[(f64, f64)]> {
 }
 
 /// One panel of [`steps`]: `curves` as lines with dots against the load step, x ticks at whole
-/// steps, a legend, and a note where there is nothing to draw.
+/// steps, the legend under it, and a note where there is nothing to draw.
 fn step_panel<Y>(
     area: &DrawingArea<SVGBackend<'_>, Shift>,
     title: &str,
@@ -310,14 +315,20 @@ fn step_panel<Y>(
     (x, y): (std::ops::Range<f64>, Y),
     curves: &[Curve],
     y_format: &dyn Fn(&f64) -> String,
-) -> io::Result<()>
+) -> io::Result<Placed>
 where
     Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
 {
     let steps = (x.end - x.start).round().max(1.0) as usize;
-    let mut chart = ChartBuilder::on(area)
+    let drawn: Vec<&Curve> = curves.iter().filter(|c| !c.points.is_empty()).collect();
+    let entries: Vec<Entry> = drawn.iter().map(|c| Entry::curve(c)).collect();
+    // The strip is kept when there is nothing to draw, so the panels stay aligned.
+    let all: Vec<Entry> = curves.iter().map(Entry::curve).collect();
+    let (area, strip) = legend::split(area, &all);
+    let mut chart = ChartBuilder::on(&area)
         .caption(title, ("sans-serif", 20))
         .margin(12)
+        .margin_right(RIGHT_MARGIN)
         .x_label_area_size(44)
         .y_label_area_size(70)
         .build_cartesian_2d(x, y)
@@ -344,7 +355,6 @@ where
         .axis_desc_style(("sans-serif", 15))
         .draw()
         .map_err(plot_err)?;
-    let drawn: Vec<&Curve> = curves.iter().filter(|c| !c.points.is_empty()).collect();
     if drawn.is_empty() {
         area.draw(&Text::new(
             "nothing to plot",
@@ -352,13 +362,16 @@ where
             ("sans-serif", 18).into_font().color(&plots::GUIDE),
         ))
         .map_err(plot_err)?;
-        return Ok(());
+        return Ok(Placed::default());
     }
-    for c in drawn {
+    for c in &drawn {
         // A step without a value (0 on the log axis) breaks the line instead of being bridged.
         solid_curve(&mut chart, c, &consecutive_runs(&c.points))?;
     }
-    series_legend(&mut chart, SeriesLabelPosition::UpperLeft, 15)
+    Ok(Placed {
+        points: legend::pixels(&chart, drawn.iter().flat_map(|c| c.points.clone())),
+        legends: legend::draw(&strip, &entries)?.into_iter().collect(),
+    })
 }
 
 /// The per-step chart of a load-step run: tip, contact faces, penetration and model error.

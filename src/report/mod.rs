@@ -24,9 +24,12 @@ mod figures;
 mod film;
 mod forming;
 mod html;
+mod legend;
 mod meshes;
 mod model_plots;
 mod performance;
+#[cfg(test)]
+mod plot_tests;
 mod plots;
 pub mod provenance;
 pub mod record;

@@ -8,6 +8,7 @@ use std::io;
 use std::path::Path;
 
 use super::figures::{cf, Drawing, Figure, Figures};
+use super::html::fmt_short;
 use super::plots::{svg_open, text};
 use crate::results::{columns, PartitionPicture, RunResult};
 use crate::thesis::ThesisTable;
@@ -71,7 +72,8 @@ impl Panel {
             (0..=n)
                 .map(|k| {
                     let v = self.y.0 + k as f64 * step;
-                    (v, format!("{v}"))
+                    // Rounded: k·step carries floating noise (0.30000000000000004).
+                    (v, fmt_short(v))
                 })
                 .collect()
         };
@@ -204,45 +206,47 @@ pub fn model_adaptivity(path: &Path, run: &RunResult, thesis: &ThesisTable) -> i
     } else {
         (-1.0, 1.0)
     };
-    let (width, height) = (1000.0, 400.0);
+    // One panel above the other, 760 pixels wide: the width the page shows a plot at, so the
+    // text keeps its size.
+    let (width, height) = (760.0, 660.0);
     let mut svg = svg_open(width, height);
-    let left = Panel {
-        left: 70.0,
-        top: 60.0,
-        width: 380.0,
-        height: 270.0,
+    let panel = |top: f64, y: (f64, f64), log: bool| Panel {
+        left: 80.0,
+        top,
+        width: 640.0,
+        height: 220.0,
         cycles,
-        y: (
+        y,
+        log,
+    };
+    let upper = panel(
+        70.0,
+        (
             0.0,
             nice_step(max_faces) * (max_faces / nice_step(max_faces)).ceil(),
         ),
-        log: false,
-    };
-    let right = Panel {
-        left: 580.0,
-        top: 60.0,
-        width: 380.0,
-        height: 270.0,
-        cycles,
-        y: (lo, hi),
-        log: true,
-    };
-    left.frame(&mut svg, "Signorini faces |𝕋_a|");
-    right.frame(&mut svg, "model error (Σ over z-faces)^½ — open circles: 0");
-    for (panel, [tribo, printed]) in [(&left, &faces), (&right, &errors)] {
+        false,
+    );
+    let lower = panel(380.0, (lo, hi), true);
+    upper.frame(&mut svg, "Signorini faces |𝕋_a|");
+    lower.frame(&mut svg, "model error (Σ over z-faces)^½ — open circles: 0");
+    for (panel, [tribo, printed]) in [(&upper, &faces), (&lower, &errors)] {
         panel.curve(&mut svg, printed, THESIS, true);
         panel.curve(&mut svg, tribo, TRIBO, false);
     }
+    let printed = faces[1].len() + errors[1].len() > 0;
+    let what = if printed {
+        "tribo (solid, dots), thesis (dashed, squares)"
+    } else {
+        "tribo"
+    };
     text(
         &mut svg,
         width / 2.0,
-        24.0,
-        18.0,
+        26.0,
+        17.0,
         "middle",
-        &format!(
-            "{} — model adaptivity: tribo (solid, dots) and thesis (dashed, squares)",
-            run.table
-        ),
+        &format!("{} — model adaptivity: {what}", run.table),
     );
     svg.push_str("</svg>\n");
     fs::write(path, svg)
@@ -267,21 +271,26 @@ pub fn partitions(path: &Path, run: &RunResult, domain: [f64; 4]) -> io::Result<
     let strip = 12.0;
     let gap = 10.0;
     let row = strip * sides.len() as f64 + gap;
-    let (left, right) = (150.0, 1560.0);
-    let top = 50.0;
-    let height = top + row * run.partitions.len() as f64 + 50.0;
-    let mut svg = svg_open(right + 30.0, height);
+    // 760 pixels wide, the width the page shows a plot at: wider, its text would shrink.
+    let (left, right, width) = (120.0, 720.0, 760.0);
+    let top = 70.0;
+    let height = top + row * run.partitions.len() as f64 + 40.0;
+    let mut svg = svg_open(width, height);
     text(
         &mut svg,
-        (left + right) / 2.0,
+        width / 2.0,
         24.0,
-        18.0,
+        17.0,
         "middle",
-        &format!(
-            "{} — contact faces per cycle: Signorini black, z light grey ({})",
-            run.table,
-            sides.join(" above ")
-        ),
+        &format!("{} — contact faces per cycle", run.table),
+    );
+    text(
+        &mut svg,
+        width / 2.0,
+        48.0,
+        13.0,
+        "middle",
+        &format!("Signorini black, z light grey ({})", sides.join(" above ")),
     );
     let px = |x: f64| left + (right - left) * (x - x0) / (x1 - x0);
     for (k, picture) in run.partitions.iter().enumerate() {
@@ -347,9 +356,14 @@ impl Figures for ModelAdaptivity {
         let (figure, path) = at.figure(
             "model",
             format!(
-                "{}: Signorini faces and model error per cycle, tribo (solid) and thesis \
-                 (dashed); the partitions are in the next figure{}",
+                "{}: Signorini faces and model error per cycle, {}; the partitions are in the \
+                 next figure{}",
                 run.table,
+                if at.thesis.is_empty() {
+                    "tribo"
+                } else {
+                    "tribo (solid) and thesis (dashed)"
+                },
                 cf(&at.cited().model)
             ),
         );

@@ -18,10 +18,10 @@ use std::io;
 use std::path::Path;
 
 use plotters::coord::Shift;
-use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 
 use super::html::{escape, fmt_short};
+use super::legend::{self, Entry, Placed, Swatch};
 use super::MAX_SHOWN_THESIS_ROWS;
 use crate::results::CellBox;
 use crate::thesis::ThesisTable;
@@ -55,8 +55,13 @@ fn log_log_grid<DB: DrawingBackend>(
     Ok(())
 }
 
+/// Margin right of a chart's plotting area, pixels: room for half the last x tick label
+/// ("300", "1e5"), which is centred on the right edge.
+pub(super) const RIGHT_MARGIN: u32 = 30;
+
 /// A log–log chart on `area`: the caption, the axes of the ranges `x` and `y` (margin 12,
-/// `x_label_area` pixels under the axis, 70 left of it) and the grid ([`log_log_grid`]).
+/// [`RIGHT_MARGIN`] on the right, `x_label_area` pixels under the axis, 70 left of it) and the
+/// grid ([`log_log_grid`]).
 pub(super) fn log_log_axes<'a, DB: DrawingBackend + 'a>(
     area: &'a DrawingArea<DB, Shift>,
     (caption, caption_size): (&str, u32),
@@ -67,6 +72,7 @@ pub(super) fn log_log_axes<'a, DB: DrawingBackend + 'a>(
     let mut chart = ChartBuilder::on(area)
         .caption(caption, ("sans-serif", caption_size))
         .margin(12)
+        .margin_right(RIGHT_MARGIN)
         .x_label_area_size(x_label_area)
         .y_label_area_size(70)
         .build_cartesian_2d(NiceLog::new(x), NiceLog::new(y))
@@ -165,7 +171,9 @@ impl Ranged for NiceLog {
         let max = hint.max_num_points().max(2);
         let all: Vec<f64> = (1..=9).map(f64::from).collect();
         let candidates: [&[f64]; 3] = match hint.weight() {
-            plotters::coord::ranged1d::KeyPointWeight::Bold => [&[1.0, 2.0, 5.0], &[1.0], &[1.0]],
+            // Every mantissa last: a range inside one decade that holds at most one of 1, 2, 5
+            // (a constant series, padded) still gets labels.
+            plotters::coord::ranged1d::KeyPointWeight::Bold => [&[1.0, 2.0, 5.0], &[1.0], &all],
             plotters::coord::ranged1d::KeyPointWeight::Any => [&all, &[1.0, 2.0, 5.0], &[1.0]],
         };
         let decades = (self.hi / self.lo).log10().ceil().max(1.0) as usize;
@@ -239,7 +247,24 @@ pub(super) fn thesis_pairs(thesis: &ThesisTable, x: &str, y: &str) -> Vec<(f64, 
         .collect()
 }
 
-/// Write one 760×520 [`log_log_chart`] as an SVG file.
+/// The legend of a log–log chart: the guide (when it has one), then the curves.
+fn log_log_entries(
+    curves: &[Curve],
+    (guide_pts, guide_label): (&[(f64, f64)], &str),
+) -> Vec<Entry> {
+    let guide = (!guide_pts.is_empty()).then(|| Entry::new(guide_label, Swatch::Guide));
+    guide
+        .into_iter()
+        .chain(curves.iter().map(Entry::curve))
+        .collect()
+}
+
+/// Height of a [`log_log_chart`] of `curves` and `guide`: 520 pixels and its legend strip.
+pub(super) fn log_log_height(curves: &[Curve], guide: (&[(f64, f64)], &str)) -> u32 {
+    520 + legend::height(&log_log_entries(curves, guide), 760)
+}
+
+/// Write one 760-pixel wide [`log_log_chart`] as an SVG file.
 pub(super) fn write_log_log(
     path: &Path,
     title: &str,
@@ -247,19 +272,22 @@ pub(super) fn write_log_log(
     curves: &[Curve],
     guide: (&[(f64, f64)], &str),
     empty: &str,
-) -> io::Result<()> {
+) -> io::Result<Placed> {
     let mut svg = String::new();
+    let placed;
     {
-        let root = SVGBackend::with_string(&mut svg, (760, 520)).into_drawing_area();
-        log_log_chart(&root, title, labels, curves, guide, empty)?;
+        let size = (760, log_log_height(curves, guide));
+        let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
+        placed = log_log_chart(&root, title, labels, curves, guide, empty)?;
         root.present().map_err(plot_err)?;
     }
-    fs::write(path, svg)
+    fs::write(path, svg)?;
+    Ok(placed)
 }
 
 /// A log–log chart of `curves` (solid with dots, or dashed with hollow triangles) on `root`
-/// (760×520 pixels) with an optional dashed grey guide line, a legend, and `empty` written where
-/// there is nothing to draw.
+/// (760 pixels wide, [`log_log_height`] high) with an optional dashed grey guide line, its
+/// legend under it ([`legend`]), and `empty` written where there is nothing to draw.
 pub(super) fn log_log_chart(
     root: &DrawingArea<SVGBackend<'_>, Shift>,
     title: &str,
@@ -267,7 +295,7 @@ pub(super) fn log_log_chart(
     curves: &[Curve],
     (guide_pts, guide_label): (&[(f64, f64)], &str),
     empty: &str,
-) -> io::Result<()> {
+) -> io::Result<Placed> {
     let all: Vec<(f64, f64)> = curves
         .iter()
         .flat_map(|c| c.points.iter().copied())
@@ -275,8 +303,14 @@ pub(super) fn log_log_chart(
     let (x_lo, x_hi) = log_range(all.iter().map(|p| p.0));
     let (y_lo, y_hi) = log_range(all.iter().chain(guide_pts).map(|p| p.1));
     root.fill(&WHITE).map_err(plot_err)?;
+    let entries = if curves.is_empty() {
+        Vec::new()
+    } else {
+        log_log_entries(curves, (guide_pts, guide_label))
+    };
+    let (area, strip) = legend::split(root, &entries);
     let mut chart = log_log_axes(
-        root,
+        &area,
         (title, 24),
         48,
         ((x_lo, x_hi), (y_lo, y_hi)),
@@ -284,15 +318,13 @@ pub(super) fn log_log_chart(
     )?;
 
     if curves.is_empty() {
-        empty_note(root, empty, (280, 250))?;
+        empty_note(&area, empty, (280, 250))?;
     }
     if !guide_pts.is_empty() {
         let style = GUIDE.stroke_width(1);
         chart
             .draw_series(DashedLineSeries::new(guide_pts.to_vec(), 2, 4, style))
-            .map_err(plot_err)?
-            .label(guide_label)
-            .legend(move |(x, y)| DashedPathElement::new(vec![(x, y), (x + 22, y)], 2, 4, style));
+            .map_err(plot_err)?;
     }
     for c in curves {
         let style = c.color.stroke_width(2);
@@ -300,11 +332,7 @@ pub(super) fn log_log_chart(
         if c.dashed {
             chart
                 .draw_series(DashedLineSeries::new(c.points.clone(), 7, 4, style))
-                .map_err(plot_err)?
-                .label(c.label.as_str())
-                .legend(move |(x, y)| {
-                    DashedPathElement::new(vec![(x, y), (x + 22, y)], 7, 4, style)
-                });
+                .map_err(plot_err)?;
             // Hollow triangles, so thesis markers stay visible under coinciding tribo ones.
             chart
                 .draw_series(
@@ -317,14 +345,16 @@ pub(super) fn log_log_chart(
             solid_curve(&mut chart, c, &[&c.points])?;
         }
     }
-    if !curves.is_empty() {
-        series_legend(&mut chart, SeriesLabelPosition::UpperRight, 16)?;
-    }
-    Ok(())
+    let mut placed = Placed {
+        points: legend::pixels(&chart, all.iter().chain(guide_pts).copied()),
+        ..Placed::default()
+    };
+    placed.legends.extend(legend::draw(&strip, &entries)?);
+    Ok(placed)
 }
 
-/// A solid curve: a line through each of `runs` (pieces of the curve's points; the legend
-/// entry is the first piece's) and a dot at every point of the curve.
+/// A solid curve: a line through each of `runs` (pieces of the curve's points) and a dot at
+/// every point of the curve.
 pub(super) fn solid_curve<X, Y>(
     chart: &mut ChartContext<'_, SVGBackend<'_>, Cartesian2d<X, Y>>,
     c: &Curve,
@@ -335,36 +365,14 @@ where
     Y: Ranged<ValueType = f64>,
 {
     let style = c.color.stroke_width(2);
-    for (k, run) in runs.iter().enumerate() {
-        let series = chart
+    for run in runs {
+        chart
             .draw_series(LineSeries::new(run.iter().copied(), style))
             .map_err(plot_err)?;
-        if k == 0 {
-            series
-                .label(c.label.as_str())
-                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 22, y)], style));
-        }
     }
     let color = c.color;
     chart
         .draw_series(c.points.iter().map(|p| Circle::new(*p, 3, color.filled())))
-        .map_err(plot_err)?;
-    Ok(())
-}
-
-/// The legend of a chart's labelled series: a framed, nearly opaque box at `position`.
-pub(super) fn series_legend<'a, DB: DrawingBackend + 'a, CT: CoordTranslate>(
-    chart: &mut ChartContext<'a, DB, CT>,
-    position: SeriesLabelPosition,
-    font_size: u32,
-) -> io::Result<()> {
-    chart
-        .configure_series_labels()
-        .position(position)
-        .background_style(WHITE.mix(0.9))
-        .border_style(RGBColor(160, 160, 160))
-        .label_font(("sans-serif", font_size))
-        .draw()
         .map_err(plot_err)?;
     Ok(())
 }
@@ -688,7 +696,12 @@ mod tests {
     fn log_axis_labels_a_range_without_a_power_of_ten() {
         let axis = NiceLog::new((0.11, 0.8));
         let ticks = axis.key_points(plotters::coord::ranged1d::BoldPoints(12));
-        assert_eq!(ticks.len(), 2, "{ticks:?}"); // 0.2 and 0.5
+        // 0.2 and 0.5.
+        assert_eq!(ticks.len(), 2, "{ticks:?}");
+        // A constant 6.01e-10, padded by 1.25: labelled 5e-10, 6e-10, 7e-10.
+        let narrow = NiceLog::new((6.01e-10 / 1.25, 6.01e-10 * 1.25))
+            .key_points(plotters::coord::ranged1d::BoldPoints(12));
+        assert_eq!(narrow.len(), 3, "{narrow:?}");
         let wide = NiceLog::new((1e-9, 1e9)).key_points(plotters::coord::ranged1d::BoldPoints(6));
         assert!(!wide.is_empty() && wide.len() <= 6, "{wide:?}");
     }
