@@ -19,7 +19,7 @@ use std::fmt::Write as _;
 
 use super::errata::{self, Erratum};
 use super::families::{self, Family};
-use super::verdict::{self, KnownReason, Verdict};
+use super::verdict::{self, KnownReason, Score, Verdict};
 use super::{
     compared_value, compares_previous_estimate, estimate_ratio, rel_diff, thesis_figure, tolerance,
     Entry, Failure, FailureKind, Figure, ReportMeta, Section, Summary, MAX_SHOWN_THESIS_ROWS,
@@ -195,9 +195,14 @@ tbody tr:hover td { background: #eef3fb; }
 .params td.key { text-align: left; font-family: ui-monospace, monospace; white-space: nowrap; }
 .params td.value { text-align: left; font-family: ui-monospace, monospace; white-space: normal; word-break: break-word; }
 .verdict.ok { color: var(--ok); font-weight: 600; }
-.verdict.known { color: #8a5a00; }
+.verdict.near { color: #7a5a00; background: #fff3cd; }
 .verdict.off { color: var(--offink); background: var(--off); font-weight: 600; }
+td.worst { text-align: left; }
 .verdict.neutral { color: var(--muted); }
+p.verdict-line { font-size: 16px; padding: 6px 12px; border-radius: 3px; margin: 8px 0 4px; }
+p.verdict-line .known { font-weight: normal; color: var(--ink); }
+details.readings { margin: 6px 0 10px; }
+details.readings summary { cursor: pointer; color: var(--muted); }
 tr.absent td { color: var(--muted); }
 .warning { border: 1px solid #e0a800; border-left: 6px solid #e0a800; background: #fff8e1; padding: 8px 14px; margin: 10px 0; border-radius: 3px; }
 .family { border: 1px solid var(--rule); border-left: 6px solid #5b7db1; background: #f5f8fc; padding: 4px 16px 10px; margin: 24px 0; border-radius: 3px; }
@@ -459,6 +464,7 @@ fn table_section(h: &mut String, s: &Section, figs: &SectionFigures) {
         escape(&run.section),
         escape(&run.tier),
     );
+    verdict_and_readings(h, s, &section_verdict(s));
     parameters(h, &run.parameters);
     if let Some(orig) = &thesis.duplicate_of {
         let _ = writeln!(
@@ -501,8 +507,6 @@ fn table_section(h: &mut String, s: &Section, figs: &SectionFigures) {
         cost_table(h, &run.costs);
         claim_paragraph(h, &run.costs);
     }
-
-    readings(h, &run.table, &run.notes);
 
     if let Some(error) = &figs.error {
         let _ = writeln!(
