@@ -28,4 +28,5 @@ mod solvers;
 mod substokes;
 mod table;
 mod uzawa;
+mod verdicts;
 mod warnings;
