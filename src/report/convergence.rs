@@ -348,9 +348,14 @@ impl Figures for Convergence {
         let (figure, path) = at.figure(
             "convergence",
             format!(
-                "{}: {} against the degrees of freedom, tribo (solid) and thesis (dashed), \
-                 log–log",
-                run.table, at.eta.caption
+                "{}: {} against the degrees of freedom, {}log–log",
+                run.table,
+                at.eta.caption,
+                if at.thesis.is_empty() {
+                    ""
+                } else {
+                    "tribo (solid) and thesis (dashed), "
+                }
             ),
         );
         convergence(&path, run, at.thesis)?;

@@ -169,23 +169,60 @@ pub(super) fn family_box(h: &mut String, family: &Family) {
     h.push_str("</section>\n");
 }
 
-/// The errata section: every thesis defect tribo found, with its evidence and the reading used,
-/// and links to the affected tables that are on the page.
-pub(super) fn errata_section(h: &mut String, entries: &[Entry]) {
-    let on_page: BTreeSet<&str> = entries
+/// The tables and figures of the page, by id.
+fn on_page<'a>(entries: &'a [Entry]) -> BTreeSet<&'a str> {
+    entries
         .iter()
         .map(|e| match e {
             Entry::Done(s) => s.run.table.as_str(),
             Entry::Failed(f) => f.table.as_str(),
         })
+        .collect()
+}
+
+/// The thesis errata that affect a table of the page run as printed (an own or edited scene
+/// has none), in the order of the thesis.
+pub(super) fn errata_on_page(entries: &[Entry]) -> Vec<&'static Erratum> {
+    let printed: BTreeSet<&str> = entries
+        .iter()
+        .filter_map(|e| match e {
+            Entry::Done(s) if s.thesis.comparison.is_printed() => Some(s.run.table.as_str()),
+            Entry::Done(_) => None,
+            Entry::Failed(f) => Some(f.table.as_str()),
+        })
         .collect();
-    h.push_str(
+    errata::errata()
+        .iter()
+        .filter(|e| e.tables.iter().any(|t| printed.contains(t.as_str())))
+        .collect()
+}
+
+/// The errata section: every thesis defect tribo found that affects a table of the page, with
+/// its evidence and the reading used, and links to the affected tables that are on the page;
+/// nothing on a page without such a table (a page of own scenes).
+pub(super) fn errata_section(h: &mut String, entries: &[Entry]) {
+    let shown = errata_on_page(entries);
+    if shown.is_empty() {
+        return;
+    }
+    let on_page = on_page(entries);
+    let all = errata::errata().len();
+    let how_many = if shown.len() == all {
+        String::new()
+    } else {
+        format!(
+            " This page shows the {} of {all} that affect its tables.",
+            shown.len()
+        )
+    };
+    let _ = writeln!(
+        h,
         "<section id=\"errata\">\n<h2>Thesis errata</h2>\n<p>Defects of the printed thesis \
          found while reproducing Chapter IV — duplicated tables, spikes and noise, contradictions \
          between text and tables, garbled or missing formulas — with the evidence and the reading \
-         tribo uses.</p>\n",
+         tribo uses.{how_many}</p>"
     );
-    for e in errata::errata() {
+    for e in shown {
         erratum_entry(h, e, &on_page);
     }
     h.push_str("</section>\n");
