@@ -267,9 +267,18 @@ pub enum Verdict {
 }
 
 /// A deviation as the verdict names it: a signed percentage, with two decimals below 10 % so
-/// that a value just outside its band does not read as on it (`+3.04 %`).
+/// that a value just outside its band does not read as on it (`+3.04 %`); from a hundredfold
+/// on, the factor (`×2369`, `×6.81e7`).
 pub fn fmt_deviation(d: f64) -> String {
     let p = d * 100.0;
+    let factor = d + 1.0;
+    if factor >= 100.0 {
+        return if factor < 1e5 {
+            format!("×{factor:.0}")
+        } else {
+            format!("×{factor:.2e}")
+        };
+    }
     if p == 0.0 {
         "0 %".into()
     } else if p.abs() >= 1000.0 {
@@ -588,6 +597,8 @@ mod tests {
         assert_eq!(deviation(f64::NAN, 2.0, 0.0), None);
         assert_eq!(fmt_deviation(-0.878), "−87.8 %");
         assert_eq!(fmt_deviation(0.0304), "+3.04 %");
+        assert_eq!(fmt_deviation(2369.4), "×2370");
+        assert_eq!(fmt_deviation(68_081_557.19), "×6.81e7");
         assert_eq!(fmt_deviation(30.3), "+3030 %");
     }
 
