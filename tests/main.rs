@@ -29,4 +29,5 @@ mod solvers;
 mod substokes;
 mod table;
 mod uzawa;
+mod verdicts;
 mod warnings;

@@ -150,7 +150,8 @@ fn hard_cases_write_no_non_finite_value() {
 }
 
 /// Every section states the problem it solved from its experiment file: IV.52's section shows
-/// its gap, wall velocity, boundary value and marking fraction as the file writes them.
+/// its gap, wall velocity, boundary value and marking fraction as the file writes them, each key
+/// with its meaning; no list is cut short.
 #[test]
 fn each_section_states_the_scene_and_the_study() {
     let page = fs::read_to_string(whole_quick_report().join("index.html")).unwrap();
@@ -160,14 +161,27 @@ fn each_section_states_the_scene_and_the_study() {
         .and_then(|s| s.split("</section>").next())
         .expect("IV.52 section");
     for line in [
-        "<td class=\"group\" colspan=\"2\">[scene.substokes]</td>",
+        "<td class=\"group\" colspan=\"3\">[scene.substokes]</td>",
         "<td class=\"key\">gap</td><td class=\"value\">{ kind = &quot;plain&quot;, g0 = 0.1 }</td>",
         "<td class=\"key\">upper_wall_velocity</td><td class=\"value\">[10.0, 0.0, 0.0]</td>",
         "<td class=\"key\">boundary_pressure</td><td class=\"value\">200.0</td>",
         "<td class=\"key\">refine_fraction</td><td class=\"value\">0.3</td>",
+        "<td class=\"key\">ties</td><td class=\"value\">split</td><td class=\"meaning\">tied \
+         indicators at a cut",
     ] {
         assert!(section.contains(line), "IV.52 lacks {line}");
     }
+    assert!(!page.contains(" entries)"), "a list cut short");
+    // A solver study counts its iterations and seconds, not cycles.
+    let uzawa = page
+        .split("<section id=\"t-fig-III.6\">")
+        .nth(1)
+        .expect("fig-III.6 section");
+    assert!(
+        uzawa.contains("5 variants, 300 iterations computed in "),
+        "{}",
+        &uzawa[..400]
+    );
     let boxes = page.matches("<details class=\"params\" open>").count();
     assert_eq!(
         boxes,

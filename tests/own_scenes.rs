@@ -289,7 +289,8 @@ fn shipped_experiments_match_their_fingerprints() {
     );
 }
 
-/// The page of an own scene and of an edited thesis table: status, notice, no Δ coloured.
+/// The page of an own scene and of an edited thesis table: status, notice, no Δ coloured, and
+/// neither the thesis errata nor captions or header that speak of a printed table.
 #[test]
 fn the_report_says_what_is_not_compared() {
     let dir = scratch("report");
@@ -335,6 +336,11 @@ fn the_report_says_what_is_not_compared() {
     ));
     assert!(!html.contains("class=\"diff off\""), "no Δ coloured");
     assert!(!html.contains("The thesis prints no table for this result"));
+    // Nothing of the thesis's framing where nothing is compared with it.
+    assert!(!html.contains("<section id=\"errata\">"), "no errata");
+    assert!(!html.contains("beside the printed one"));
+    assert!(!html.contains("thesis (dashed)"));
+    assert!(html.contains("<h1>tribo — scenes of your own</h1>"));
     assert!(out.join("data/my-elastic-strip.csv").exists());
     let _ = fs::remove_dir_all(&dir);
 }

@@ -30,6 +30,34 @@ pub struct FamilyNote {
     pub text: String,
 }
 
+/// A column the verdict on a table is decided on, with its band: the table is *reproduced*
+/// only when this column of every printed row lies within `band` of the printed value.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Primary {
+    /// The printed column (`dofs`, `accurate_faces`, `est_z_boundary`, …).
+    pub column: String,
+    /// How the verdict names it (`Signorini faces`).
+    pub name: String,
+    /// The largest |tribo/thesis − 1| that counts as reproduced.
+    pub band: f64,
+    /// Values of at most this magnitude count as zero on both sides (a model error the thesis
+    /// prints as 1e-11 next to tribo's 0): without it a printed 0 is matched by 0 only.
+    #[serde(default)]
+    pub zero_below: f64,
+}
+
+/// The primary columns of some tables of a family.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct VerdictColumns {
+    /// The tables they decide; empty (left out in the file) for every table of the family that
+    /// no other block names.
+    #[serde(default)]
+    pub tables: Vec<String>,
+    pub primary: Vec<Primary>,
+}
+
 /// A family of Chapter IV tables with its model box and shared notes.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -44,6 +72,9 @@ pub struct Family {
     pub model: Vec<ModelItem>,
     #[serde(default, rename = "note")]
     pub notes: Vec<FamilyNote>,
+    /// What the verdict on each of its tables is decided on.
+    #[serde(default, rename = "verdict")]
+    pub verdicts: Vec<VerdictColumns>,
 }
 
 /// `text/families.toml`.
@@ -74,8 +105,44 @@ pub fn parse(text: &str) -> Result<Vec<Family>, String> {
                 return Err(format!("a note of {} names {t}, not of the family", f.id));
             }
         }
+        check_verdicts(f)?;
     }
     Ok(file.family)
+}
+
+/// The verdict blocks of a family: their tables of the family, no table in two blocks, at most
+/// one block for "the others", and every band a positive finite fraction.
+fn check_verdicts(f: &Family) -> Result<(), String> {
+    let mut named = std::collections::BTreeSet::new();
+    let mut rest = 0;
+    for v in &f.verdicts {
+        if v.tables.is_empty() {
+            rest += 1;
+        }
+        if let Some(t) = v.tables.iter().find(|t| !f.tables.contains(t)) {
+            return Err(format!(
+                "a verdict of {} names {t}, not of the family",
+                f.id
+            ));
+        }
+        if let Some(t) = v.tables.iter().find(|t| !named.insert(t.as_str())) {
+            return Err(format!("{t} has two verdict blocks"));
+        }
+        if v.primary.is_empty() {
+            return Err(format!("a verdict of {} has no primary column", f.id));
+        }
+        if let Some(p) = v
+            .primary
+            .iter()
+            .find(|p| !(p.band.is_finite() && p.band > 0.0 && p.zero_below >= 0.0))
+        {
+            return Err(format!("{}: band of {} must be > 0", f.id, p.column));
+        }
+    }
+    if rest > 1 {
+        return Err(format!("{} has two verdict blocks without tables", f.id));
+    }
+    Ok(())
 }
 
 /// The six families, in the order of Chapter IV; parsed at first use.
@@ -94,6 +161,20 @@ pub fn family_of(table: &str) -> Option<&'static Family> {
     families()
         .iter()
         .find(|f| f.tables.iter().any(|t| t == table))
+}
+
+/// The primary columns of `table` ([`Primary`]): those of the block of its family that names
+/// it, else of the family's block without tables; `None` for a table of no family or a family
+/// without verdict blocks.
+pub fn primary_columns(table: &str) -> Option<&'static [Primary]> {
+    let family = family_of(table)?;
+    let named = family
+        .verdicts
+        .iter()
+        .find(|v| v.tables.iter().any(|t| t == table));
+    named
+        .or_else(|| family.verdicts.iter().find(|v| v.tables.is_empty()))
+        .map(|v| v.primary.as_slice())
 }
 
 /// The notes of `family` that hold for `table`.

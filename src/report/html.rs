@@ -19,7 +19,7 @@ use std::fmt::Write as _;
 
 use super::errata::{self, Erratum};
 use super::families::{self, Family};
-use super::verdict::{self, KnownReason, Verdict};
+use super::verdict::{self, KnownReason, Score, Verdict};
 use super::{
     compared_value, compares_previous_estimate, estimate_ratio, rel_diff, thesis_figure, tolerance,
     Entry, Failure, FailureKind, Figure, ReportMeta, Section, Summary, MAX_SHOWN_THESIS_ROWS,
@@ -193,11 +193,17 @@ tbody tr:hover td { background: #eef3fb; }
 .params table { margin: 6px 0; }
 .params td.group { font-weight: 600; background: var(--band); text-align: left; }
 .params td.key { text-align: left; font-family: ui-monospace, monospace; white-space: nowrap; }
-.params td.value { text-align: left; font-family: ui-monospace, monospace; white-space: normal; word-break: break-word; }
+.params td.value { text-align: left; font-family: ui-monospace, monospace; white-space: pre-wrap; word-break: break-word; max-width: 760px; }
+.params td.meaning { text-align: left; white-space: normal; color: var(--muted); max-width: 480px; }
 .verdict.ok { color: var(--ok); font-weight: 600; }
-.verdict.known { color: #8a5a00; }
+.verdict.near { color: #7a5a00; background: #fff3cd; }
 .verdict.off { color: var(--offink); background: var(--off); font-weight: 600; }
+td.worst { text-align: left; }
 .verdict.neutral { color: var(--muted); }
+p.verdict-line { font-size: 16px; padding: 6px 12px; border-radius: 3px; margin: 8px 0 4px; }
+p.verdict-line .known { font-weight: normal; color: var(--ink); }
+details.readings { margin: 6px 0 10px; }
+details.readings summary { cursor: pointer; color: var(--muted); }
 tr.absent td { color: var(--muted); }
 .warning { border: 1px solid #e0a800; border-left: 6px solid #e0a800; background: #fff8e1; padding: 8px 14px; margin: 10px 0; border-radius: 3px; }
 .family { border: 1px solid var(--rule); border-left: 6px solid #5b7db1; background: #f5f8fc; padding: 4px 16px 10px; margin: 24px 0; border-radius: 3px; }
@@ -260,9 +266,14 @@ pub(crate) fn page(entries: &[Entry], figures: &[SectionFigures], meta: &ReportM
     errata_section(&mut h, entries);
     let _ = writeln!(
         h,
-        "<footer>Written by {}. Thesis values are the printed tables of Chapter IV, shown for \
-         comparison only; every tribo value above was computed in this run.</footer>",
-        escape(&meta.generated_by)
+        "<footer>Written by {}. {}</footer>",
+        escape(&meta.generated_by),
+        if any_thesis_entry(entries) {
+            "Thesis values are the printed tables of Chapter IV, shown for comparison only; \
+             every tribo value above was computed in this run."
+        } else {
+            "Every value above was computed in this run."
+        }
     );
     h.push_str("</main>\n</body>\n</html>\n");
     h
@@ -280,12 +291,7 @@ fn header(h: &mut String, entries: &[Entry], meta: &ReportMeta) {
     };
     let _ = write!(
         h,
-        "<header><div class=\"inner\">\n<h1>tribo — Chapter IV recomputed</h1>\n\
-         <p>tribo re-runs the adaptive finite element computations of Chapter IV of F. Gimbel, \
-         <i>Modelling and Numerical Simulation of Contact and Lubrication</i> (Siegen, 2012) — \
-         linear elasticity, z- and Signorini contact, model-adaptive contact, and Reynolds / \
-         SubStokes thin-film flow with and without cavitation — and shows each table beside the \
-         printed one, with convergence, mesh and solution figures.</p>\n<dl>\
+        "<header><div class=\"inner\">\n<h1>{}</h1>\n<p>{}</p>\n<dl>\
          <div><dt>tier</dt><dd>{}</dd></div>\
          <div><dt>tables</dt><dd>{}</dd></div>\
          <div><dt>total wall time</dt><dd>{}</dd></div>\
@@ -295,6 +301,12 @@ fn header(h: &mut String, entries: &[Entry], meta: &ReportMeta) {
          <div><dt>date</dt><dd>{}</dd></div>\
          <div><dt>machine</dt><dd>{}</dd></div>\
          <div><dt>command</dt><dd><code>{}</code></dd></div></dl>\n</div></header>\n",
+        if any_thesis_entry(entries) {
+            "tribo — Chapter IV recomputed"
+        } else {
+            "tribo — scenes of your own"
+        },
+        intro(entries),
         escape(&meta.tier),
         tables,
         fmt_seconds(meta.total_seconds),
@@ -305,6 +317,37 @@ fn header(h: &mut String, entries: &[Entry], meta: &ReportMeta) {
         escape(&meta.provenance.machine),
         escape(&meta.provenance.command),
     );
+}
+
+/// Whether some entry of the page is a thesis table or figure run as printed (not an own or
+/// edited scene).
+fn any_thesis_entry(entries: &[Entry]) -> bool {
+    entries.iter().any(|e| match e {
+        Entry::Done(s) => s.thesis.comparison.is_printed(),
+        Entry::Failed(f) => verdict::thesis_table_number(&f.table).is_some(),
+    })
+}
+
+/// The header's paragraph: what tribo does, and what this page compares — the printed tables
+/// only where a thesis entry is on the page.
+fn intro(entries: &[Entry]) -> &'static str {
+    let compared = entries
+        .iter()
+        .any(|e| matches!(e, Entry::Done(s) if s.thesis.comparison.is_printed() && !s.is_figure()));
+    if compared {
+        "tribo re-runs the adaptive finite element computations of Chapter IV of F. Gimbel, \
+         <i>Modelling and Numerical Simulation of Contact and Lubrication</i> (Siegen, 2012) — \
+         linear elasticity, z- and Signorini contact, model-adaptive contact, and Reynolds / \
+         SubStokes thin-film flow with and without cavitation — and shows each table beside the \
+         printed one, with convergence, mesh and solution figures."
+    } else {
+        "tribo runs adaptive finite element computations after Chapter IV of F. Gimbel, \
+         <i>Modelling and Numerical Simulation of Contact and Lubrication</i> (Siegen, 2012) — \
+         linear elasticity, z- and Signorini contact, model-adaptive contact, and Reynolds / \
+         SubStokes thin-film flow with and without cavitation. No entry of this page is compared \
+         with a printed table: each shows tribo's rows with convergence, mesh and solution \
+         figures."
+    }
 }
 
 fn contents(h: &mut String, entries: &[Entry]) {
@@ -335,7 +378,10 @@ fn contents(h: &mut String, entries: &[Entry]) {
         };
     }
     h.push_str("<li><a href=\"#performance\">Performance</a></li>\n");
-    h.push_str("<li><a href=\"#errata\">Thesis errata</a></li>\n</ol>\n</nav>\n");
+    if !errata_on_page(entries).is_empty() {
+        h.push_str("<li><a href=\"#errata\">Thesis errata</a></li>\n");
+    }
+    h.push_str("</ol>\n</nav>\n");
 }
 
 /// The section of a table that failed: table, status, cycle (when known) and the message.
@@ -387,6 +433,38 @@ fn failure_box(h: &mut String, what: &str, f: &Failure) {
     );
 }
 
+/// What a solver study computed, for its section's header: variants, iterations and seconds
+/// (its rows are iterations, not cycles).
+fn uzawa_meta(rows: &[crate::results::UzawaRow]) -> String {
+    // The last iteration of each variant (its rows start at iteration 0, the initial residual).
+    let mut last: Vec<(&str, usize)> = Vec::new();
+    for r in rows {
+        match last.iter_mut().find(|(v, _)| *v == r.variant) {
+            Some(entry) => entry.1 = entry.1.max(r.iteration),
+            None => last.push((&r.variant, r.iteration)),
+        }
+    }
+    format!(
+        "{} variants, {} iterations computed in {}, no printed table",
+        last.len(),
+        last.iter().map(|(_, n)| n).sum::<usize>(),
+        fmt_seconds(uzawa_seconds(rows))
+    )
+}
+
+/// The seconds of a solver study: the sum over its variants of each one's last (cumulative)
+/// seconds.
+pub(crate) fn uzawa_seconds(rows: &[crate::results::UzawaRow]) -> f64 {
+    let mut last: Vec<(&str, f64)> = Vec::new();
+    for r in rows {
+        match last.iter_mut().find(|(v, _)| *v == r.variant) {
+            Some(entry) => entry.1 = r.seconds,
+            None => last.push((&r.variant, r.seconds)),
+        }
+    }
+    last.iter().fold(0.0, |sum, (_, s)| sum + s)
+}
+
 /// A solver study (Fig. III.6): per Uzawa variant the iterations run, the first iteration with a
 /// relative residual ≤ 1e-6, the relative residual at iteration 50 and at the last, the pressure
 /// error against the direct solve, the inner CG iterations and the seconds.
@@ -431,7 +509,9 @@ fn uzawa_table(h: &mut String, rows: &[crate::results::UzawaRow]) {
 fn table_section(h: &mut String, s: &Section, figs: &SectionFigures) {
     let run = s.run;
     let thesis = s.thesis;
-    let computed = if s.is_figure() {
+    let computed = if !run.uzawa.is_empty() {
+        uzawa_meta(&run.uzawa)
+    } else if s.is_figure() {
         format!(
             "{} {} computed, {}",
             run.rows.len(),
@@ -459,6 +539,7 @@ fn table_section(h: &mut String, s: &Section, figs: &SectionFigures) {
         escape(&run.section),
         escape(&run.tier),
     );
+    verdict_and_readings(h, s, &section_verdict(s));
     parameters(h, &run.parameters);
     if let Some(orig) = &thesis.duplicate_of {
         let _ = writeln!(
@@ -501,8 +582,6 @@ fn table_section(h: &mut String, s: &Section, figs: &SectionFigures) {
         cost_table(h, &run.costs);
         claim_paragraph(h, &run.costs);
     }
-
-    readings(h, &run.table, &run.notes);
 
     if let Some(error) = &figs.error {
         let _ = writeln!(
@@ -567,8 +646,9 @@ fn table_section(h: &mut String, s: &Section, figs: &SectionFigures) {
 
 /// The problem solved, stated from the experiment file: its `[scene]` and `[study]` keys
 /// (domain, mesh, gap or obstacles, velocities, boundary values, loads, material, marking
-/// fractions, estimator reading), grouped by the file's tables. Open by default; nothing for a
-/// run without parameters.
+/// fractions, estimator reading), grouped by the file's tables, each with what it means
+/// ([`super::keys`]); every entry of a list, a list of tables one entry per line. Open by
+/// default; nothing for a run without parameters.
 fn parameters(h: &mut String, parameters: &[crate::results::Parameter]) {
     if parameters.is_empty() {
         return;
@@ -583,15 +663,16 @@ fn parameters(h: &mut String, parameters: &[crate::results::Parameter]) {
             group = &p.group;
             let _ = writeln!(
                 h,
-                "<tr><td class=\"group\" colspan=\"2\">[{}]</td></tr>",
+                "<tr><td class=\"group\" colspan=\"3\">[{}]</td></tr>",
                 escape(group)
             );
         }
         let _ = writeln!(
             h,
-            "<tr><td class=\"key\">{}</td><td class=\"value\">{}</td></tr>",
+            "<tr><td class=\"key\">{}</td><td class=\"value\">{}</td><td class=\"meaning\">{}</td></tr>",
             escape(&p.key),
-            escape(&p.value)
+            escape(&p.value).replace('\n', "<br>"),
+            super::keys::meaning(&p.group, &p.key).map_or(String::new(), escape)
         );
     }
     h.push_str("</tbody></table></details>\n");
@@ -663,14 +744,20 @@ fn performance_section(h: &mut String, entries: &[Entry]) {
         }
         h.push_str("</tr>\n");
     }
-    h.push_str(
-        "</tbody></table>\n<p><b>A measured reference.</b> A deal.II 9.4 program solving the \
-         same squeeze problem (IV.7) on the same adaptive meshes, 9 cycles up to 706 893 \
-         unknowns, took 20.2 s with UMFPACK and 59 s with CG and SSOR as measured for this \
-         project; Table IV.36 is that run here (its total is above). It is a measurement of one \
-         program, not a claim about deal.II in general.</p>\n\
-         </section>\n",
-    );
+    h.push_str("</tbody></table>\n");
+    let reference_on_page = entries
+        .iter()
+        .any(|e| matches!(e, Entry::Done(s) if s.run.table == "IV.36"));
+    if reference_on_page {
+        h.push_str(
+            "<p><b>A measured reference.</b> A deal.II 9.4 program solving the \
+             same squeeze problem (IV.7) on the same adaptive meshes, 9 cycles up to 706 893 \
+             unknowns, took 20.2 s with UMFPACK and 59 s with CG and SSOR as measured for this \
+             project; Table IV.36 is that run here (its total is above). It is a measurement of \
+             one program, not a claim about deal.II in general.</p>\n",
+        );
+    }
+    h.push_str("</section>\n");
 }
 
 /// Why a section has no thesis columns when its experiment is not the printed one: a scene of

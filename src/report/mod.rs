@@ -11,8 +11,8 @@
 //! figures a section gets, one kind per module (`convergence`, `meshes`, `deformed`, `field`,
 //! `model_plots` for the model-adaptive tables, `forming` for a load-step run, Fig. IV.54, `film`
 //! for the film comparisons and Fig. III.6, `performance` for the page's solve cost), drawn with
-//! the shared helpers of `plots`; `html` lays out the page; `errata` and `families` read their
-//! texts from `text/*.toml`.
+//! the shared helpers of `plots`; `html` lays out the page; `errata`, `families` and `keys` (what the
+//! experiment file's keys mean) read their texts from `text/*.toml`.
 
 mod convergence;
 pub mod data;
@@ -24,6 +24,7 @@ mod figures;
 mod film;
 mod forming;
 mod html;
+pub mod keys;
 mod legend;
 mod meshes;
 mod model_plots;
@@ -454,14 +455,16 @@ impl Summary {
         let geo_mean_ratio = (!ratios.is_empty() && !run.is_load_steps())
             .then(|| (ratios.iter().map(|r| r.ln()).sum::<f64>() / ratios.len() as f64).exp());
         Summary {
-            rows: run.rows.len(),
+            rows: run.rows.len() + run.uzawa.len(),
             last_dofs: run.rows.last().and_then(|r| r.dofs()),
             last_estimate: run.rows.last().and_then(|r| r.estimate()),
             geo_mean_ratio,
             max_dofs_diff: max_abs_diff(section, "dofs"),
             max_estimate_diff: max_abs_diff(section, "estimate"),
             // A fold from +0.0: an empty `sum()` of floats is −0.0, which would print as "-0.000 s".
-            total_seconds: run.rows.iter().fold(0.0, |acc, r| acc + r.seconds.total()),
+            // A solver study has iterations instead of rows, and their seconds.
+            total_seconds: run.rows.iter().fold(0.0, |acc, r| acc + r.seconds.total())
+                + html::uzawa_seconds(&run.uzawa),
             order: tribo_order(run),
             thesis_order: thesis_order(section),
         }

@@ -1,37 +1,31 @@
-//! The readings of a table (its notes, the known difference, the family's shared notes and the
-//! errata that affect it), the family boxes, and the errata section of the page.
+//! The head of a table's section (its verdict, the known difference, the links to the family's
+//! shared notes and the errata that affect it, its notes folded under them), the family boxes,
+//! and the errata section of the page.
 
 use super::*;
 
-/// The "Readings and known differences" block of a table's section: the table's own notes first,
-/// then the known difference, the family's shared notes that hold for it (shown once in the family
-/// box, linked), and the thesis errata that affect the table (linked to the errata section).
-pub(super) fn readings(h: &mut String, table: &str, notes: &[String]) {
+/// The head of a table's section: the one-line verdict (what holds and what differs, with the
+/// known difference where there is one), how each primary column compares, the links to the
+/// family box and the errata that affect the table, and the table's notes — the readings tried
+/// — folded under it. An own or edited scene, which is not compared, gets its notes alone.
+pub(super) fn verdict_and_readings(h: &mut String, s: &Section, verdict: &Verdict) {
+    let table = &s.run.table;
+    let notes = &s.run.notes;
+    if !s.thesis.comparison.is_printed() {
+        if !notes.is_empty() {
+            h.push_str("<h3>Notes</h3>\n");
+            note_list(h, notes);
+        }
+        return;
+    }
+    verdict_line(h, table, verdict);
+    if let Some(score) = verdict.score() {
+        primary_legend(h, score);
+    }
     let family = families::family_of(table);
     let shared = family
         .map(|f| families::notes_for(f, table).len())
         .unwrap_or(0);
-    let found = errata::errata_for(table);
-    let known = errata::known_difference(table);
-    if notes.is_empty() && family.is_none() && found.is_empty() && known.is_none() {
-        return;
-    }
-    h.push_str("<h3>Readings and known differences</h3>\n");
-    if !notes.is_empty() {
-        h.push_str("<ul class=\"notes\">\n");
-        for n in notes {
-            let _ = writeln!(h, "<li>{}</li>", escape(n));
-        }
-        h.push_str("</ul>\n");
-    }
-    if let Some(k) = known {
-        let _ = writeln!(
-            h,
-            "<p class=\"known\"><b>Known difference ({}):</b> {}</p>",
-            k.kind.name(),
-            escape(k.reason)
-        );
-    }
     if let Some(f) = family {
         let what = match shared {
             0 => "The model and its conventions".to_string(),
@@ -47,6 +41,7 @@ pub(super) fn readings(h: &mut String, table: &str, notes: &[String]) {
             escape(&f.name)
         );
     }
+    let found = errata::errata_for(table);
     if !found.is_empty() {
         h.push_str("<p class=\"errata-link\">Thesis errata affecting this table: ");
         for (i, e) in found.iter().enumerate() {
@@ -59,6 +54,74 @@ pub(super) fn readings(h: &mut String, table: &str, notes: &[String]) {
             );
         }
         h.push_str(".</p>\n");
+    }
+    if !notes.is_empty() {
+        let _ = writeln!(
+            h,
+            "<details class=\"readings\"><summary>Readings tried and notes ({})</summary>",
+            notes.len()
+        );
+        note_list(h, notes);
+        h.push_str("</details>\n");
+    }
+}
+
+fn note_list(h: &mut String, notes: &[String]) {
+    h.push_str("<ul class=\"notes\">\n");
+    for n in notes {
+        let _ = writeln!(h, "<li>{}</li>", escape(n));
+    }
+    h.push_str("</ul>\n");
+}
+
+/// The verdict in one line, coloured by its severity, with the known difference's sentence.
+fn verdict_line(h: &mut String, table: &str, verdict: &Verdict) {
+    let known = match verdict {
+        Verdict::Differs { .. } | Verdict::Duplicate { .. } => errata::known_difference(table),
+        _ => None,
+    };
+    let because = known.map_or(String::new(), |k| {
+        format!(
+            " <span class=\"known\"><b>Known difference ({}):</b> {}</span>",
+            k.kind.name(),
+            escape(k.reason)
+        )
+    });
+    let _ = writeln!(
+        h,
+        "<p class=\"verdict-line {}\"><b>Verdict:</b> {}.{because}</p>",
+        verdict.class(),
+        escape(&verdict.label())
+    );
+}
+
+/// How each primary column compares: its band, the rows within it and the worst deviation.
+fn primary_legend(h: &mut String, score: &Score) {
+    let parts: Vec<String> = score
+        .columns
+        .iter()
+        .map(|c| {
+            format!(
+                "{} (<code>{}</code>, band {} %): {} of {} rows within{}",
+                escape(&c.name),
+                escape(&c.column),
+                fmt_short(c.band * 100.0),
+                c.within,
+                c.rows,
+                if c.worst.is_some() || c.against_zero > 0 {
+                    format!(", worst {}", c.describe())
+                } else {
+                    String::new()
+                }
+            )
+        })
+        .collect();
+    if !parts.is_empty() {
+        let _ = writeln!(
+            h,
+            "<p class=\"legend\">Primary columns: {}.</p>",
+            parts.join("; ")
+        );
     }
 }
 
@@ -106,23 +169,60 @@ pub(super) fn family_box(h: &mut String, family: &Family) {
     h.push_str("</section>\n");
 }
 
-/// The errata section: every thesis defect tribo found, with its evidence and the reading used,
-/// and links to the affected tables that are on the page.
-pub(super) fn errata_section(h: &mut String, entries: &[Entry]) {
-    let on_page: BTreeSet<&str> = entries
+/// The tables and figures of the page, by id.
+fn on_page<'a>(entries: &'a [Entry]) -> BTreeSet<&'a str> {
+    entries
         .iter()
         .map(|e| match e {
             Entry::Done(s) => s.run.table.as_str(),
             Entry::Failed(f) => f.table.as_str(),
         })
+        .collect()
+}
+
+/// The thesis errata that affect a table of the page run as printed (an own or edited scene
+/// has none), in the order of the thesis.
+pub(super) fn errata_on_page(entries: &[Entry]) -> Vec<&'static Erratum> {
+    let printed: BTreeSet<&str> = entries
+        .iter()
+        .filter_map(|e| match e {
+            Entry::Done(s) if s.thesis.comparison.is_printed() => Some(s.run.table.as_str()),
+            Entry::Done(_) => None,
+            Entry::Failed(f) => Some(f.table.as_str()),
+        })
         .collect();
-    h.push_str(
+    errata::errata()
+        .iter()
+        .filter(|e| e.tables.iter().any(|t| printed.contains(t.as_str())))
+        .collect()
+}
+
+/// The errata section: every thesis defect tribo found that affects a table of the page, with
+/// its evidence and the reading used, and links to the affected tables that are on the page;
+/// nothing on a page without such a table (a page of own scenes).
+pub(super) fn errata_section(h: &mut String, entries: &[Entry]) {
+    let shown = errata_on_page(entries);
+    if shown.is_empty() {
+        return;
+    }
+    let on_page = on_page(entries);
+    let all = errata::errata().len();
+    let how_many = if shown.len() == all {
+        String::new()
+    } else {
+        format!(
+            " This page shows the {} of {all} that affect its tables.",
+            shown.len()
+        )
+    };
+    let _ = writeln!(
+        h,
         "<section id=\"errata\">\n<h2>Thesis errata</h2>\n<p>Defects of the printed thesis \
          found while reproducing Chapter IV — duplicated tables, spikes and noise, contradictions \
          between text and tables, garbled or missing formulas — with the evidence and the reading \
-         tribo uses.</p>\n",
+         tribo uses.{how_many}</p>"
     );
-    for e in errata::errata() {
+    for e in shown {
         erratum_entry(h, e, &on_page);
     }
     h.push_str("</section>\n");
