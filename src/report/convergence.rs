@@ -4,7 +4,6 @@
 //! (accuracy). Drawn with `plotters`' SVG backend; degenerate data (no rows, values a log axis
 //! cannot show) is skipped and said so in the figure.
 
-use std::fs;
 use std::io;
 use std::path::Path;
 
@@ -176,7 +175,7 @@ pub fn accuracy(path: &Path, run: &RunResult) -> io::Result<()> {
         )?;
         root.present().map_err(plot_err)?;
     }
-    fs::write(path, svg)
+    crate::fsio::write(path, svg)
 }
 
 /// The five phases in drawing order, with their colours.
@@ -209,7 +208,7 @@ pub fn cost(path: &Path, run: &RunResult) -> io::Result<()> {
         phase_bars(&bottom, run)?;
         root.present().map_err(plot_err)?;
     }
-    fs::write(path, svg)
+    crate::fsio::write(path, svg)
 }
 
 /// Upper panel of [`cost`].

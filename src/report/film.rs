@@ -3,7 +3,6 @@
 //! p ≈ ψ/g and the flow rate χ₁ along the cut, SubStokes solid and Reynolds dashed — and the
 //! convergence of Uzawa's algorithm with each preconditioner (Fig. III.6).
 
-use std::fs;
 use std::io;
 use std::path::Path;
 
@@ -70,7 +69,7 @@ pub(super) fn cuts(path: &Path, run: &RunResult, cuts: &Cuts) -> io::Result<()> 
         )?;
         root.present().map_err(plot_err)?;
     }
-    fs::write(path, svg)
+    crate::fsio::write(path, svg)
 }
 
 /// One panel: the curves against x₁ on linear axes.
@@ -206,7 +205,7 @@ pub(super) fn uzawa(path: &Path, run: &RunResult) -> io::Result<()> {
         series_legend(&mut chart, SeriesLabelPosition::UpperRight, 14)?;
         root.present().map_err(plot_err)?;
     }
-    fs::write(path, svg)
+    crate::fsio::write(path, svg)
 }
 
 /// The model of a run the model-adaptive film is compared with: a SubStokes table (its cuts
@@ -340,7 +339,7 @@ pub(super) fn related_cuts(path: &Path, run: &RunResult, related: &[&RunResult])
         )?;
         root.present().map_err(plot_err)?;
     }
-    fs::write(path, svg)
+    crate::fsio::write(path, svg)
 }
 
 /// The cost of accuracy of one scene solved three ways: each run's estimate against its
