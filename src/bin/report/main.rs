@@ -17,6 +17,7 @@
 //! failed, 2 when the shards cannot be merged (a folder without records, a table in two folders,
 //! a record that cannot be read).
 
+mod folder;
 mod isolate;
 mod merge;
 mod outputs;
@@ -81,9 +82,9 @@ struct Cli {
     shard: bool,
 
     /// Tables run at once (default: one per core, fewer where the memory budget does not hold
-    /// the largest predicted tables side by side). Whatever the number, a table starts only
-    /// when its predicted memory fits beside the tables running. The results do not depend on
-    /// it.
+    /// the largest predicted tables side by side; never more than the tables of the run).
+    /// Whatever the number, a table starts only when its predicted memory fits beside the
+    /// tables running. The results do not depend on it.
     #[arg(long, value_name = "N")]
     jobs: Option<usize>,
 
@@ -94,9 +95,9 @@ struct Cli {
     #[arg(long, value_enum, value_name = "SOLVER")]
     solver: Option<tribo::linalg::SolverKind>,
 
-    /// Memory a table may use, e.g. `4G` or `1500M` (default: the machine's memory). A table
-    /// predicted to need more is refused before its first solve, naming the cycle.
-    #[arg(long, value_name = "SIZE", value_parser = study::Budget::parse)]
+    /// Memory a table may use, e.g. `4G`, `1500M` or `4e3M` (default: the machine's memory).
+    /// A table predicted to need more is refused before its first solve, naming the cycle.
+    #[arg(long, value_name = "SIZE", value_parser = parse_budget)]
     memory_budget: Option<study::Budget>,
 }
 
@@ -134,6 +135,21 @@ fn main() -> ExitCode {
     }
 }
 
+/// `--memory-budget`: [`study::Budget::parse`], and a number in exponent notation before the
+/// unit (`4e3M`, `1.5E3G`), which that parser takes for a part of the unit.
+fn parse_budget(text: &str) -> Result<study::Budget, String> {
+    study::Budget::parse(text).or_else(|error| {
+        let t = text.trim();
+        let (number, unit) =
+            t.split_at(t.trim_end_matches(|c: char| c.is_ascii_alphabetic()).len());
+        match number.trim().parse::<f64>() {
+            // `Display` of an f64 never uses exponent notation.
+            Ok(n) if n.is_finite() && n > 0.0 => study::Budget::parse(&format!("{n}{unit}")),
+            _ => Err(error),
+        }
+    })
+}
+
 /// Returns Ok(false) when some table failed (the others are still reported).
 fn run(cli: &Cli) -> Result<bool, String> {
     let started = Instant::now();
@@ -158,11 +174,20 @@ fn run(cli: &Cli) -> Result<bool, String> {
             cli.experiments.display()
         ));
     }
+    let _lock = folder::FolderLock::take(&cli.out)?;
+    folder::check(&cli.out)?;
+    let tier = if cli.quick { Tier::Quick } else { Tier::Full };
+    let stems: Vec<String> = loaded.iter().map(|(stem, _)| stem.clone()).collect();
+    let page = folder::PendingPage::new(
+        &cli.out,
+        &format!("{} tier, started {}", tier.name(), provenance.date),
+        &stems,
+    );
     report::prepare_output(&cli.out)
+        .and_then(|()| page.write())
         .and_then(|()| record::clear(&cli.out))
         .map_err(|e| format!("cannot write the report into {}: {e}", cli.out.display()))?;
 
-    let tier = if cli.quick { Tier::Quick } else { Tier::Full };
     let settings = schedule::Settings {
         out: &cli.out,
         options: TableOptions {
@@ -174,8 +199,8 @@ fn run(cli: &Cli) -> Result<bool, String> {
         jobs: cli.jobs,
         no_progress: cli.no_progress,
         started,
+        page: &page,
     };
-    let stems: Vec<String> = loaded.iter().map(|(stem, _)| stem.clone()).collect();
     let outcomes = schedule::run_tables(loaded, &settings);
     let failed: usize = outcomes.iter().map(Outcome::failures).sum();
 
