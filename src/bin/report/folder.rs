@@ -38,6 +38,12 @@ impl FolderLock {
         let cannot = |e: &dyn std::fmt::Display| {
             format!("cannot write the report into {}: {e}", out.display())
         };
+        if out.exists() && !out.is_dir() {
+            return Err(cannot(&format!(
+                "{} exists and is not a directory",
+                out.display()
+            )));
+        }
         std::fs::create_dir_all(out).map_err(|e| cannot(&e))?;
         let path = out.join(LOCK_FILE);
         let mut file = OpenOptions::new()
