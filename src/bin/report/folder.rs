@@ -200,7 +200,8 @@ impl PendingPage {
              run beside those of this one. If no such process is running, run the report \
              again.</p>\n\
              <p id=\"pending\">Tables pending: {pending}</p>\n\
-             <p id=\"finished\">Tables finished (their data files written): {finished}</p>\n\
+             <p id=\"finished\">Tables done (their data files are in <code>data/</code>, \
+             unless the table failed): {finished}</p>\n\
              </body>\n</html>\n",
             run = escape(&self.run),
         )

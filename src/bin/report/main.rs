@@ -7,7 +7,9 @@
 //! its status, and in a section with the table, the cycle and the message); the other tables are
 //! still reported, and the exit status is 1. Usage errors, an experiment folder that cannot be
 //! listed and an output folder that cannot be written end the program before anything is solved,
-//! with exit status 2.
+//! with exit status 2. So does a folder that another run is writing ([`folder::FolderLock`]);
+//! until the run has finished, `index.html` is a page that says the report is incomplete
+//! ([`folder::PendingPage`]), and every file is written whole or not at all ([`tribo::fsio`]).
 //!
 //! Every run also writes `report/shard/<table>.json`, the record of each entry
 //! ([`tribo::report::record`]). `report merge DIR… --out DIR` builds one page, its figures and
@@ -61,7 +63,8 @@ struct Cli {
     #[arg(long, value_name = "DIR", default_value = "experiments")]
     experiments: PathBuf,
 
-    /// Output directory.
+    /// Output directory. One run at a time writes into it; until the run has finished, its
+    /// `index.html` says that the report is incomplete.
     #[arg(long, value_name = "DIR", default_value = "report")]
     out: PathBuf,
 

@@ -15,9 +15,9 @@ fn tables_of(r: &record::Record) -> Vec<&str> {
         RecordEntry::Done {
             run, alternatives, ..
         } => std::iter::once(run.table.as_str())
-            .chain(alternatives.iter().filter_map(|a| match &a.outcome {
-                Ok(run) => Some(run.table.as_str()),
-                Err(f) => Some(f.table.as_str()),
+            .chain(alternatives.iter().map(|a| match &a.outcome {
+                Ok(run) => run.table.as_str(),
+                Err(f) => f.table.as_str(),
             }))
             .collect(),
         RecordEntry::Failed(f) => vec![f.table.as_str()],
