@@ -343,9 +343,16 @@ fn a_memory_budget_in_exponent_notation_is_read() {
     let out = quick_table("IV.1", &dir, &["--memory-budget", "4e0K"]);
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{err}");
-    // A number beyond f64 is refused, not read as infinity.
-    let out = quick_table("IV.1", &dir, &["--memory-budget", "1e400M"]);
-    assert_eq!(out.status.code(), Some(2));
+    // A number beyond f64 is refused, not read as infinity, and a negative one as such.
+    for size in ["1e400M", "-4e3M"] {
+        let out = quick_table("IV.1", &dir, &[&format!("--memory-budget={size}")]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{err}");
+        assert!(
+            err.contains(&format!("`{size}` is not a memory size")),
+            "{err}"
+        );
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }
 

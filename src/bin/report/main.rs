@@ -148,7 +148,11 @@ fn parse_budget(text: &str) -> Result<study::Budget, String> {
         match number.trim().parse::<f64>() {
             // `Display` of an f64 never uses exponent notation.
             Ok(n) if n.is_finite() && n > 0.0 => study::Budget::parse(&format!("{n}{unit}")),
-            _ => Err(error),
+            Ok(_) => Err(format!(
+                "`{text}` is not a memory size: expected a positive, finite number with an \
+                 optional unit K, M, G or T, e.g. 4G or 4e3M"
+            )),
+            Err(_) => Err(error),
         }
     })
 }
