@@ -11,6 +11,7 @@ pub mod estimators;
 pub mod experiment;
 pub mod family;
 pub mod fe;
+pub mod fsio;
 pub mod heap;
 pub mod linalg;
 pub mod machine;

@@ -1943,3 +1943,92 @@ fn model_fluid_checks_name_file_and_field() {
         expect_error_in("fig-IV.116.toml", case, text, field, needle);
     }
 }
+
+/// A file with a byte that is not UTF-8 (here a Latin-1 `é` in the title) is named with the line
+/// and column of the byte, not only "stream did not contain valid UTF-8".
+#[test]
+fn invalid_utf8_is_named_with_line_and_column() {
+    let dir = scratch_dir("latin1");
+    let mut bytes = Vec::new();
+    for line in VALID.lines() {
+        if line.starts_with("title = ") {
+            bytes.extend_from_slice("title = \"Box ü caf".as_bytes());
+            bytes.push(0xE9);
+            bytes.extend_from_slice(b"\"");
+        } else {
+            bytes.extend_from_slice(line.as_bytes());
+        }
+        bytes.push(b'\n');
+    }
+    let path = dir.join("IV.1.toml");
+    fs::write(&path, bytes).unwrap();
+    let error = load(&path).expect_err("Latin-1 file");
+    let message = error.to_string();
+    assert!(message.contains(&path.display().to_string()), "{message}");
+    // Line 3; `title = "Box ü caf` has 18 characters, so the byte is character 19.
+    assert!(message.contains("line 3, column 19"), "{message}");
+    assert!(message.contains("0xE9"), "{message}");
+    let _ = fs::remove_dir_all(&dir);
+}
+
+/// A file named with another case of `.toml` is not skipped in silence (which made `--only IV.1`
+/// say "available tables: " with nothing after it): it is an entry whose error names the file;
+/// beside a `.toml` file of the same table it is left out.
+#[test]
+fn an_upper_case_toml_extension_is_named() {
+    let dir = scratch_dir("upper-case");
+    let upper = write(&dir, "IV.1.TOML", VALID);
+    let only = ["IV.1".to_owned()];
+    let loaded = tribo::experiment::load_each(&dir, Some(&only)).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(loaded.len(), 1);
+    let message = loaded[0].1.as_ref().expect_err("IV.1.TOML").to_string();
+    assert!(message.contains(&upper.display().to_string()), "{message}");
+    assert!(message.contains("`.toml`"), "{message}");
+    write(&dir, "IV.1.toml", VALID);
+    let specs = load_dir(&dir, None).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(specs.len(), 1);
+    let _ = fs::remove_dir_all(&dir);
+}
+
+/// One-line texts made of invisible characters alone (zero-width space, word joiner, byte
+/// order mark, Hangul filler, braille blank) render as nothing and are refused with file and
+/// field; an invisible character inside visible text stays allowed.
+#[test]
+fn invisible_one_line_texts_are_refused() {
+    let title = "title = \"Box under a constant volume load\"";
+    for (case, text, field) in [
+        (
+            "zero-width title",
+            edit(title, "title = \"\u{200B}\""),
+            "title",
+        ),
+        (
+            "joiners title",
+            edit(title, "title = \"\u{2060}\u{FEFF}\u{200D}\""),
+            "title",
+        ),
+        (
+            "filler title",
+            edit(title, "title = \"\u{3164} \u{2800}\""),
+            "title",
+        ),
+        (
+            "zero-width scene name",
+            edit(
+                "name = \"box-constant-load\"",
+                "name = \"\u{200B}\u{200C}\"",
+            ),
+            "scene.name",
+        ),
+    ] {
+        expect_error(case, &text, field, "only invisible characters");
+    }
+    let dir = scratch_dir("visible");
+    let path = write(
+        &dir,
+        "IV.1.toml",
+        &edit(title, "title = \"Box\u{200B}under a load\""),
+    );
+    load(&path).unwrap_or_else(|e| panic!("{e}"));
+    let _ = fs::remove_dir_all(&dir);
+}

@@ -329,3 +329,65 @@ fn cavitation_readings_run_only_where_cavitation_switches_on() {
         "one note per reading of IV.36"
     );
 }
+
+#[test]
+fn a_memory_budget_in_exponent_notation_is_read() {
+    let dir = temp_dir("budget-exponent");
+    let out = quick_table("IV.1", &dir, &["--memory-budget", "4e3M"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    // Far too small: the table is refused, which shows that the number was read as 4 KiB.
+    let out = quick_table("IV.1", &dir, &["--memory-budget", "4e0K"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    // A number beyond f64 is refused, not read as infinity, and a negative one as such.
+    for size in ["1e400M", "-4e3M"] {
+        let out = quick_table("IV.1", &dir, &[&format!("--memory-budget={size}")]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{err}");
+        assert!(
+            err.contains(&format!("`{size}` is not a memory size")),
+            "{err}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A record edited to another stem holds the same table as the record of that table: merge
+/// refuses it, naming the table and both records, instead of writing the table's data twice.
+#[test]
+fn merge_refuses_two_records_of_one_table_under_other_stems() {
+    let dir = temp_dir("merge-stem");
+    let (a, b) = (dir.join("a"), dir.join("b"));
+    let out = quick_table("IV.1", &a, &["--shard"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let record = std::fs::read_to_string(a.join("shard/IV.1.json")).unwrap();
+    let edited = record.replacen("\"stem\":\"IV.1\"", "\"stem\":\"IV.2\"", 1);
+    assert_ne!(record, edited, "the fixture must change the stem");
+    std::fs::create_dir_all(b.join("shard")).unwrap();
+    std::fs::write(b.join("shard/IV.2.json"), edited).unwrap();
+    let out = report()
+        .arg("merge")
+        .args([&a, &b])
+        .arg("--out")
+        .arg(dir.join("merged"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("table IV.1 is in two shard records")
+            && err.contains("IV.1.json")
+            && err.contains("IV.2.json"),
+        "{err}"
+    );
+    assert!(!dir.join("merged/data/IV.1.csv").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -493,3 +493,208 @@ fn many_thesis_rows_render_in_linear_time_and_are_bounded() {
     assert!(figure.len() < 2_000_000, "{} bytes of SVG", figure.len());
     let _ = fs::remove_dir_all(&dir);
 }
+
+/// A report run of `tables` (quick tier, one table at a time) into `out` whose run of `held`
+/// waits at its start (the `TRIBO_TEST_HOLD` testing hook) until its stdin closes: the child,
+/// once it has said on stderr that it holds, with the rest of its stderr.
+fn held_run(
+    out: &Path,
+    tables: &str,
+    held: &str,
+) -> (
+    std::process::Child,
+    std::io::Lines<std::io::BufReader<std::process::ChildStderr>>,
+) {
+    use std::io::BufRead;
+    let mut child = report()
+        .args(["--quick", "--jobs", "1", "--only", tables, "--experiments"])
+        .arg(experiments_dir())
+        .arg("--out")
+        .arg(out)
+        .env("TRIBO_TEST_HOLD", held)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut lines = std::io::BufReader::new(child.stderr.take().unwrap()).lines();
+    let mut seen = String::new();
+    loop {
+        match lines.next() {
+            Some(Ok(line)) if line.contains("TRIBO_TEST_HOLD=") => break,
+            Some(Ok(line)) => seen.push_str(&line),
+            _ => {
+                let status = child.wait().unwrap();
+                panic!("the run never held {held} ({status}): {seen}");
+            }
+        }
+    }
+    (child, lines)
+}
+
+/// What an interrupted run left in `out` must not look finished: the page says the report is
+/// incomplete, with `pending` pending and `finished` finished, links no file that is not there,
+/// and every data file is whole (no empty file, Parquet with both magic numbers, a `.vtu` with
+/// its end); no file is left under a temporary name that looks like data.
+fn assert_honest_folder(out: &Path, pending: &str, finished: &str) {
+    let html = fs::read_to_string(out.join("index.html")).unwrap();
+    assert!(html.contains("This report is incomplete"), "{html}");
+    let line = |id: &str| {
+        html.lines()
+            .find(|l| l.contains(&format!("id=\"{id}\"")))
+            .unwrap_or_else(|| panic!("no {id} line: {html}"))
+            .to_owned()
+    };
+    assert!(line("pending").contains(pending), "{html}");
+    assert!(line("finished").contains(finished), "{html}");
+    for link in html
+        .split(['"', '\''])
+        .filter(|s| s.starts_with("figures/") || s.starts_with("data/"))
+    {
+        assert!(
+            out.join(link).is_file(),
+            "the page links {link}, which is not there"
+        );
+    }
+    for entry in fs::read_dir(out.join("data")).unwrap() {
+        let path = entry.unwrap().path();
+        let name = path.file_name().unwrap().to_string_lossy().into_owned();
+        let bytes = fs::read(&path).unwrap();
+        assert!(!bytes.is_empty(), "{name} is empty");
+        if name.ends_with(".parquet") {
+            assert!(
+                bytes.starts_with(b"PAR1") && bytes.ends_with(b"PAR1"),
+                "{name}"
+            );
+        }
+        if name.ends_with(".vtu") {
+            assert!(bytes.ends_with(b"</VTKFile>\n"), "{name} is cut off");
+        }
+        assert!(
+            name.starts_with('.')
+                || name.ends_with(".csv")
+                || name.ends_with(".parquet")
+                || name.ends_with(".vtu"),
+            "{name}"
+        );
+    }
+}
+
+/// SIGINT, SIGTERM and SIGKILL in the middle of a run (IV.1 finished, IV.2 held at its start)
+/// leave a folder that says the report is incomplete, never the previous page linking figures
+/// the run already removed; the next run takes the interrupted run's lock over with a note and
+/// writes the full page.
+#[test]
+fn an_interrupted_run_leaves_a_page_that_says_it_is_incomplete() {
+    let dir = temp_dir("interrupted");
+    for signal in ["INT", "TERM", "KILL"] {
+        let out = dir.join(signal);
+        let whole = run_report(
+            &experiments_dir(),
+            &out,
+            &["--only", "IV.1,IV.2", "--jobs", "1"],
+            &[],
+        );
+        assert!(
+            whole.status.success(),
+            "{}",
+            String::from_utf8_lossy(&whole.stderr)
+        );
+        let (mut child, _lines) = held_run(&out, "IV.1,IV.2", "IV.2");
+        let pid = child.id();
+        if signal == "KILL" {
+            child.kill().unwrap();
+        } else {
+            let sent = Command::new("kill")
+                .args(["-s", signal, &pid.to_string()])
+                .status()
+                .unwrap();
+            assert!(sent.success());
+        }
+        let status = child.wait().unwrap();
+        assert!(!status.success(), "{signal}: {status}");
+        assert_honest_folder(&out, "IV.2", "IV.1");
+
+        let again = run_report(&experiments_dir(), &out, &["--only", "IV.1,IV.2"], &[]);
+        let stderr = String::from_utf8_lossy(&again.stderr);
+        assert!(again.status.success(), "{signal}: {stderr}");
+        assert!(
+            stderr.contains(&format!(
+                "taking over the lock of {} from process {pid}",
+                out.display()
+            )),
+            "{signal}: {stderr}"
+        );
+        let html = fs::read_to_string(out.join("index.html")).unwrap();
+        assert!(!html.contains("This report is incomplete"));
+        assert_eq!(status_of(summary_row(&html, "IV.2")), "ok");
+    }
+    let _ = fs::remove_dir_all(&dir);
+}
+
+/// A second run into a folder that a run is writing is refused, naming the folder and the
+/// other process, and touches nothing; the first run finishes as if alone.
+#[test]
+fn a_second_run_into_the_same_folder_is_refused() {
+    let dir = temp_dir("two-runs");
+    let out = dir.join("out");
+    let (mut first, lines) = held_run(&out, "IV.1", "IV.1");
+    let second = run_report(&experiments_dir(), &out, &["--only", "IV.2"], &[]);
+    let stderr = String::from_utf8_lossy(&second.stderr);
+    assert_eq!(second.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains(&out.display().to_string()), "{stderr}");
+    assert!(
+        stderr.contains(&format!("process {}", first.id())),
+        "{stderr}"
+    );
+    assert!(!out.join("data/IV.2.csv").exists());
+    // Closing its stdin lets the first run go on.
+    drop(first.stdin.take());
+    let rest: Vec<String> = lines.map_while(Result::ok).collect();
+    assert!(first.wait().unwrap().success(), "{rest:?}");
+    let html = fs::read_to_string(out.join("index.html")).unwrap();
+    assert_eq!(status_of(summary_row(&html, "IV.1")), "ok");
+    assert!(!html.contains("id=\"t-IV.2\""));
+    let _ = fs::remove_dir_all(&dir);
+}
+
+/// An `index.html` that is a folder is refused before any table is solved (it was found only
+/// when the page was written, after every table).
+#[test]
+fn an_index_html_folder_stops_before_any_solve() {
+    let dir = temp_dir("index-folder");
+    let out = dir.join("out");
+    fs::create_dir_all(out.join("index.html")).unwrap();
+    let result = run_report(&experiments_dir(), &out, &["--only", "IV.1"], &[]);
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert_eq!(result.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains(&out.join("index.html").display().to_string()),
+        "{stderr}"
+    );
+    assert!(
+        !out.join("data/IV.1.csv").exists(),
+        "a table was solved first"
+    );
+    let _ = fs::remove_dir_all(&dir);
+}
+
+/// `--jobs` beyond the number of tables runs one worker per table (it started a thread per job,
+/// and `--jobs 18446744073709551615` never ended).
+#[test]
+fn jobs_beyond_the_tables_start_one_worker_per_table() {
+    let dir = temp_dir("many-jobs");
+    let result = run_report(
+        &experiments_dir(),
+        &dir.join("out"),
+        &["--only", "IV.1", "--jobs", "18446744073709551615"],
+        &[],
+    );
+    assert!(
+        result.status.success(),
+        "{}",
+        String::from_utf8_lossy(&result.stderr)
+    );
+    assert!(dir.join("out/data/IV.1.csv").is_file());
+    let _ = fs::remove_dir_all(&dir);
+}

@@ -4,7 +4,6 @@
 //! (accuracy). Drawn with `plotters`' SVG backend; degenerate data (no rows, values a log axis
 //! cannot show) is skipped and said so in the figure.
 
-use std::fs;
 use std::io;
 use std::path::Path;
 
@@ -220,7 +219,7 @@ pub fn accuracy(path: &Path, run: &RunResult) -> io::Result<Placed> {
         )?);
         root.present().map_err(plot_err)?;
     }
-    fs::write(path, svg)?;
+    crate::fsio::write(path, svg)?;
     Ok(placed)
 }
 
@@ -267,7 +266,7 @@ pub fn cost(path: &Path, run: &RunResult) -> io::Result<Placed> {
         placed.legends.extend(legend::draw(&strip, &phases)?);
         root.present().map_err(plot_err)?;
     }
-    fs::write(path, svg)?;
+    crate::fsio::write(path, svg)?;
     Ok(placed)
 }
 

@@ -7,7 +7,6 @@
 //! An undefined value (the first `ratio`) is an empty cell in the CSV files and a null in the
 //! Parquet files; no file holds NaN or an infinity.
 
-use std::fs::File;
 use std::path::Path;
 
 use polars::prelude::*;
@@ -181,8 +180,12 @@ pub fn uzawa_frame(rows: &[UzawaRow]) -> PolarsResult<DataFrame> {
 
 /// Write `frame` as `<dir>/<name>.csv` and `<dir>/<name>.parquet`.
 fn write_frame(dir: &Path, name: &str, frame: &mut DataFrame) -> PolarsResult<()> {
-    CsvWriter::new(File::create(dir.join(format!("{name}.csv")))?).finish(frame)?;
-    ParquetWriter::new(File::create(dir.join(format!("{name}.parquet")))?).finish(frame)?;
+    crate::fsio::write_with(&dir.join(format!("{name}.csv")), |f| {
+        CsvWriter::new(f).finish(frame)
+    })?;
+    crate::fsio::write_with(&dir.join(format!("{name}.parquet")), |f| {
+        ParquetWriter::new(f).finish(frame)
+    })?;
     Ok(())
 }
 

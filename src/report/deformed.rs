@@ -4,7 +4,6 @@
 
 use std::collections::HashSet;
 use std::fmt::Write as _;
-use std::fs;
 use std::io;
 use std::path::Path;
 
@@ -44,7 +43,7 @@ pub(super) fn deformed_in(
     deformed_drawing(&mut svg, title, pic, &canvas.frame, true);
     axes(&mut svg, &canvas.frame);
     svg.push_str("</svg>\n");
-    fs::write(path, svg)
+    crate::fsio::write(path, svg)
 }
 
 /// Whether every corner of a quadrilateral is finite (the others are not drawn).

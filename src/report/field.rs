@@ -3,7 +3,6 @@
 
 use std::collections::HashSet;
 use std::fmt::Write as _;
-use std::fs;
 use std::io;
 use std::path::Path;
 
@@ -222,7 +221,7 @@ pub fn field(path: &Path, table: &str, pic: &FieldPicture, domain: [f64; 4]) -> 
 
     colour_bar(&mut svg, margin, bar_top, bar_w, (lo, hi), pic, undefined);
     svg.push_str("</svg>\n");
-    fs::write(path, svg)
+    crate::fsio::write(path, svg)
 }
 
 /// The colour bar of a field picture from `lo` to `hi` (five ticks, the field's name), and below

@@ -3,7 +3,6 @@
 //! p ≈ ψ/g and the flow rate χ₁ along the cut, SubStokes solid and Reynolds dashed — and the
 //! convergence of Uzawa's algorithm with each preconditioner (Fig. III.6).
 
-use std::fs;
 use std::io;
 use std::path::Path;
 
@@ -75,7 +74,7 @@ pub(super) fn cuts(path: &Path, run: &RunResult, cuts: &Cuts) -> io::Result<Plac
         )?);
         root.present().map_err(plot_err)?;
     }
-    fs::write(path, svg)?;
+    crate::fsio::write(path, svg)?;
     Ok(placed)
 }
 
@@ -224,7 +223,7 @@ pub(super) fn uzawa(path: &Path, run: &RunResult) -> io::Result<Placed> {
         };
         root.present().map_err(plot_err)?;
     }
-    fs::write(path, svg)?;
+    crate::fsio::write(path, svg)?;
     Ok(placed)
 }
 
@@ -365,7 +364,7 @@ pub(super) fn related_cuts(
         )?;
         root.present().map_err(plot_err)?;
     }
-    fs::write(path, svg)?;
+    crate::fsio::write(path, svg)?;
     Ok(placed)
 }
 

@@ -13,7 +13,6 @@
 
 use std::collections::HashSet;
 use std::fmt::Write as _;
-use std::fs;
 use std::io;
 use std::path::Path;
 
@@ -158,7 +157,7 @@ fn write_animation(
     // One window for every frame: its axes are drawn once.
     plots::axes(&mut svg, f);
     svg.push_str("</svg>\n");
-    fs::write(path, svg)
+    crate::fsio::write(path, svg)
 }
 
 /// The SMIL element that shows frame `i` of `n` in its time slot of the loop: one `<animate>` of
@@ -268,7 +267,7 @@ pub(super) fn steps(path: &Path, run: &RunResult) -> io::Result<Placed> {
         )?);
         root.present().map_err(plot_err)?;
     }
-    fs::write(path, svg)?;
+    crate::fsio::write(path, svg)?;
     Ok(placed)
 }
 

@@ -5,7 +5,6 @@
 
 use std::collections::HashSet;
 use std::fmt::Write as _;
-use std::fs;
 use std::io;
 use std::path::Path;
 
@@ -390,7 +389,7 @@ pub fn meshes(
     let mut svg = svg_open(width, height);
     svg.push_str(&body);
     svg.push_str("</svg>\n");
-    fs::write(path, svg)
+    crate::fsio::write(path, svg)
 }
 
 /// The Signorini faces of `partitions` in cycle `cycle` as thick black lines on the side of the

@@ -212,7 +212,7 @@ pub fn write_report(out_dir: &Path, entries: &[Entry], meta: &ReportMeta) -> io:
     performance::solve_cost(&performance, &runs)?;
     files.push(performance);
     let index = out_dir.join("index.html");
-    fs::write(&index, html::page(entries, &rendered, meta))?;
+    crate::fsio::write(&index, html::page(entries, &rendered, meta))?;
     files.push(index);
     Ok(Written {
         files,

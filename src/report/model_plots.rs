@@ -3,7 +3,6 @@
 //! of the contact faces per cycle, Signorini black and z light grey (thesis Figs IV.35–IV.45).
 
 use std::fmt::Write as _;
-use std::fs;
 use std::io;
 use std::path::Path;
 
@@ -249,7 +248,7 @@ pub fn model_adaptivity(path: &Path, run: &RunResult, thesis: &ThesisTable) -> i
         &format!("{} — model adaptivity: {what}", run.table),
     );
     svg.push_str("</svg>\n");
-    fs::write(path, svg)
+    crate::fsio::write(path, svg)
 }
 
 /// The models of the contact faces per printed cycle: one strip per cycle and contact side,
@@ -311,7 +310,7 @@ pub fn partitions(path: &Path, run: &RunResult, domain: [f64; 4]) -> io::Result<
         text(&mut svg, px(x), y, 12.0, "middle", &format!("x₁ = {x}"));
     }
     svg.push_str("</svg>\n");
-    fs::write(path, svg)
+    crate::fsio::write(path, svg)
 }
 
 fn strip_row(

@@ -1,7 +1,6 @@
 //! The performance figure of the page: the cost of a solve per unknown over every table of the
 //! page, by solver.
 
-use std::fs;
 use std::io;
 use std::path::Path;
 
@@ -120,6 +119,6 @@ pub fn solve_cost(path: &Path, runs: &[&RunResult]) -> io::Result<Placed> {
         placed.legends.extend(legend::draw(&strip, &entries)?);
         root.present().map_err(plot_err)?;
     }
-    fs::write(path, svg)?;
+    crate::fsio::write(path, svg)?;
     Ok(placed)
 }

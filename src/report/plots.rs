@@ -13,7 +13,6 @@
 
 use std::collections::HashSet;
 use std::fmt::Write as _;
-use std::fs;
 use std::io;
 use std::path::Path;
 
@@ -281,7 +280,7 @@ pub(super) fn write_log_log(
         placed = log_log_chart(&root, title, labels, curves, guide, empty)?;
         root.present().map_err(plot_err)?;
     }
-    fs::write(path, svg)?;
+    crate::fsio::write(path, svg)?;
     Ok(placed)
 }
 
@@ -593,7 +592,7 @@ pub(super) fn placeholder(path: &Path, title: &str, why: &str) -> io::Result<()>
     text(&mut svg, 10.0, 28.0, 16.0, "start", title);
     text(&mut svg, 10.0, 58.0, 14.0, "start", why);
     svg.push_str("</svg>\n");
-    fs::write(path, svg)
+    crate::fsio::write(path, svg)
 }
 
 /// Width of the wide pictures (strips, deformed body) in pixels.

@@ -218,7 +218,7 @@ pub fn write(out: &Path, record: &Record) -> Result<PathBuf, String> {
             path.display()
         ));
     }
-    fs::write(&path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    crate::fsio::write(&path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
     Ok(path)
 }
 

@@ -12,7 +12,6 @@
 //! written with a third component 0, which ParaView needs to draw or warp by them. [`read`]
 //! reads such a file back (the tests use it, and so can a script without VTK).
 
-use std::fs::File;
 use std::io::{self, BufWriter, Write};
 use std::path::Path;
 
@@ -61,9 +60,11 @@ pub fn check(mesh: &LastMesh) -> io::Result<()> {
 
 /// Write `mesh` to `path` as a `.vtu` file (`write`).
 pub fn write_file(path: &Path, mesh: &LastMesh) -> io::Result<()> {
-    let mut out = BufWriter::with_capacity(1 << 20, File::create(path)?);
-    write(&mut out, mesh)?;
-    out.flush()
+    crate::fsio::write_with(path, |file| {
+        let mut out = BufWriter::with_capacity(1 << 20, file);
+        write(&mut out, mesh)?;
+        out.flush()
+    })
 }
 
 /// One data array: its XML attributes and how many values of how many bytes it holds.

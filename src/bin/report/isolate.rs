@@ -16,6 +16,11 @@ use crate::outputs::failure_of;
 /// Nothing else reads it.
 const TEST_PANIC_VARIABLE: &str = "TRIBO_TEST_PANIC";
 
+/// Testing hook: when this environment variable holds a table id, the run of that table waits
+/// just before it starts until standard input ends (after a line on stderr that says so), so
+/// that the tests can interrupt or lock a run at a known point. Nothing else reads it.
+const TEST_HOLD_VARIABLE: &str = "TRIBO_TEST_HOLD";
+
 /// Where the last panic happened (`file:line:column`), recorded by the panic hook so that a
 /// caught panic's section can say where it came from; the payload alone has only the message.
 static LAST_PANIC_PLACE: Mutex<Option<String>> = Mutex::new(None);
@@ -44,6 +49,13 @@ pub fn run_isolated(
         *place = None;
     }
     let caught = panic::catch_unwind(AssertUnwindSafe(|| {
+        if std::env::var(TEST_HOLD_VARIABLE).is_ok_and(|t| t == spec.table) {
+            eprintln!(
+                "{TEST_HOLD_VARIABLE}={}: holding the run until stdin ends (testing hook)",
+                spec.table
+            );
+            let _ = std::io::copy(&mut std::io::stdin(), &mut std::io::sink());
+        }
         if std::env::var(TEST_PANIC_VARIABLE).is_ok_and(|t| t == spec.table) {
             panic!(
                 "{TEST_PANIC_VARIABLE}={}: a panic on purpose (testing hook)",

@@ -7,7 +7,9 @@
 //! its status, and in a section with the table, the cycle and the message); the other tables are
 //! still reported, and the exit status is 1. Usage errors, an experiment folder that cannot be
 //! listed and an output folder that cannot be written end the program before anything is solved,
-//! with exit status 2.
+//! with exit status 2. So does a folder that another run is writing ([`folder::FolderLock`]);
+//! until the run has finished, `index.html` is a page that says the report is incomplete
+//! ([`folder::PendingPage`]), and every file is written whole or not at all ([`tribo::fsio`]).
 //!
 //! Every run also writes `report/shard/<table>.json`, the record of each entry
 //! ([`tribo::report::record`]). `report merge DIR… --out DIR` builds one page, its figures and
@@ -17,6 +19,7 @@
 //! failed, 2 when the shards cannot be merged (a folder without records, a table in two folders,
 //! a record that cannot be read).
 
+mod folder;
 mod isolate;
 mod merge;
 mod outputs;
@@ -60,7 +63,8 @@ struct Cli {
     #[arg(long, value_name = "DIR", default_value = "experiments")]
     experiments: PathBuf,
 
-    /// Output directory.
+    /// Output directory. One run at a time writes into it; until the run has finished, its
+    /// `index.html` says that the report is incomplete.
     #[arg(long, value_name = "DIR", default_value = "report")]
     out: PathBuf,
 
@@ -81,9 +85,9 @@ struct Cli {
     shard: bool,
 
     /// Tables run at once (default: one per core, fewer where the memory budget does not hold
-    /// the largest predicted tables side by side). Whatever the number, a table starts only
-    /// when its predicted memory fits beside the tables running. The results do not depend on
-    /// it.
+    /// the largest predicted tables side by side; never more than the tables of the run).
+    /// Whatever the number, a table starts only when its predicted memory fits beside the
+    /// tables running. The results do not depend on it.
     #[arg(long, value_name = "N")]
     jobs: Option<usize>,
 
@@ -94,9 +98,9 @@ struct Cli {
     #[arg(long, value_enum, value_name = "SOLVER")]
     solver: Option<tribo::linalg::SolverKind>,
 
-    /// Memory a table may use, e.g. `4G` or `1500M` (default: the machine's memory). A table
-    /// predicted to need more is refused before its first solve, naming the cycle.
-    #[arg(long, value_name = "SIZE", value_parser = study::Budget::parse)]
+    /// Memory a table may use, e.g. `4G`, `1500M` or `4e3M` (default: the machine's memory).
+    /// A table predicted to need more is refused before its first solve, naming the cycle.
+    #[arg(long, value_name = "SIZE", value_parser = parse_budget)]
     memory_budget: Option<study::Budget>,
 }
 
@@ -134,6 +138,25 @@ fn main() -> ExitCode {
     }
 }
 
+/// `--memory-budget`: [`study::Budget::parse`], and a number in exponent notation before the
+/// unit (`4e3M`, `1.5E3G`), which that parser takes for a part of the unit.
+fn parse_budget(text: &str) -> Result<study::Budget, String> {
+    study::Budget::parse(text).or_else(|error| {
+        let t = text.trim();
+        let (number, unit) =
+            t.split_at(t.trim_end_matches(|c: char| c.is_ascii_alphabetic()).len());
+        match number.trim().parse::<f64>() {
+            // `Display` of an f64 never uses exponent notation.
+            Ok(n) if n.is_finite() && n > 0.0 => study::Budget::parse(&format!("{n}{unit}")),
+            Ok(_) => Err(format!(
+                "`{text}` is not a memory size: expected a positive, finite number with an \
+                 optional unit K, M, G or T, e.g. 4G or 4e3M"
+            )),
+            Err(_) => Err(error),
+        }
+    })
+}
+
 /// Returns Ok(false) when some table failed (the others are still reported).
 fn run(cli: &Cli) -> Result<bool, String> {
     let started = Instant::now();
@@ -158,11 +181,20 @@ fn run(cli: &Cli) -> Result<bool, String> {
             cli.experiments.display()
         ));
     }
+    let _lock = folder::FolderLock::take(&cli.out)?;
+    folder::check(&cli.out)?;
+    let tier = if cli.quick { Tier::Quick } else { Tier::Full };
+    let stems: Vec<String> = loaded.iter().map(|(stem, _)| stem.clone()).collect();
+    let page = folder::PendingPage::new(
+        &cli.out,
+        &format!("{} tier, started {}", tier.name(), provenance.date),
+        &stems,
+    );
     report::prepare_output(&cli.out)
+        .and_then(|()| page.write())
         .and_then(|()| record::clear(&cli.out))
         .map_err(|e| format!("cannot write the report into {}: {e}", cli.out.display()))?;
 
-    let tier = if cli.quick { Tier::Quick } else { Tier::Full };
     let settings = schedule::Settings {
         out: &cli.out,
         options: TableOptions {
@@ -174,8 +206,8 @@ fn run(cli: &Cli) -> Result<bool, String> {
         jobs: cli.jobs,
         no_progress: cli.no_progress,
         started,
+        page: &page,
     };
-    let stems: Vec<String> = loaded.iter().map(|(stem, _)| stem.clone()).collect();
     let outcomes = schedule::run_tables(loaded, &settings);
     let failed: usize = outcomes.iter().map(Outcome::failures).sum();
 

@@ -7,6 +7,48 @@ use std::time::Instant;
 use tribo::report::record::{self, RecordEntry};
 use tribo::report::{self, data, Entry, Section};
 
+use crate::folder;
+
+/// The data files' names a record writes: its table's, and those of its alternative readings.
+fn tables_of(r: &record::Record) -> Vec<&str> {
+    match &r.entry {
+        RecordEntry::Done {
+            run, alternatives, ..
+        } => std::iter::once(run.table.as_str())
+            .chain(alternatives.iter().map(|a| match &a.outcome {
+                Ok(run) => run.table.as_str(),
+                Err(f) => f.table.as_str(),
+            }))
+            .collect(),
+        RecordEntry::Failed(f) => vec![f.table.as_str()],
+    }
+}
+
+/// Refuse two records of one table: the records are named after their stems, but what they
+/// write is named after the table inside (`data/<table>.csv`, its figures), so a record renamed
+/// or edited to another stem would overwrite the other record's files.
+fn unique_tables(records: &[record::Record]) -> Result<(), String> {
+    let mut seen: std::collections::HashMap<&str, &str> = std::collections::HashMap::new();
+    for r in records {
+        for table in tables_of(r) {
+            if let Some(first) = seen.insert(table, &r.stem) {
+                return Err(format!(
+                    "table {table} is in two shard records: {} and {} (a record's file name \
+                     must be its table's; was one renamed or edited?)",
+                    record_name(first),
+                    record_name(&r.stem)
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// How a record's file is named in the shard folder.
+fn record_name(stem: &str) -> String {
+    format!("{}/{stem}.json", record::DIR)
+}
+
 /// The last meshes (`data/*.vtu`) of the shards, copied into `out/data/`: the records do not
 /// hold them (a mesh of 0.7 M cells), so merge takes the files the shard runs wrote.
 fn copy_meshes(shards: &[PathBuf], out: &Path) -> std::io::Result<()> {
@@ -25,7 +67,7 @@ fn copy_meshes(shards: &[PathBuf], out: &Path) -> std::io::Result<()> {
                     (Ok(a), Ok(b)) if a == b
                 );
                 if !same {
-                    std::fs::copy(&path, &to)?;
+                    tribo::fsio::copy(&path, &to)?;
                 }
             }
         }
@@ -43,9 +85,24 @@ pub fn merge(shards: &[PathBuf], out: &Path) -> Result<bool, String> {
         Path::new(env!("CARGO_MANIFEST_DIR")),
     );
     let records = record::read_shards(shards)?;
+    unique_tables(&records)?;
     let cannot_write =
         |e: &dyn std::fmt::Display| format!("cannot write the report into {}: {e}", out.display());
-    report::prepare_output(out).map_err(|e| cannot_write(&e))?;
+    let _lock = folder::FolderLock::take(out)?;
+    folder::check(out)?;
+    let stems: Vec<String> = records.iter().map(|r| r.stem.clone()).collect();
+    let page = folder::PendingPage::new(
+        out,
+        &format!(
+            "merging {} shards, started {}",
+            shards.len(),
+            provenance.date
+        ),
+        &stems,
+    );
+    report::prepare_output(out)
+        .and_then(|()| page.write())
+        .map_err(|e| cannot_write(&e))?;
     // Every record is in memory now, so `out` may be one of the shards.
     record::clear(out).map_err(|e| cannot_write(&e))?;
     let mut theses = Vec::with_capacity(records.len());

@@ -16,6 +16,7 @@ use tribo::results::RunResult;
 use tribo::study::{self, table::Solves, TableHost, TableOptions, TableRun, Tier};
 use tribo::thesis::ThesisTable;
 
+use crate::folder::PendingPage;
 use crate::isolate::run_isolated;
 use crate::outputs::{write_data, Outcome};
 use crate::progress::ProgressDisplay;
@@ -32,6 +33,8 @@ pub struct Settings<'a> {
     pub no_progress: bool,
     /// When the report started.
     pub started: Instant,
+    /// The page that says which tables are pending until the report is written.
+    pub page: &'a PendingPage,
 }
 
 /// Run every loaded table (and record each file that did not load as a failure); the outcomes
@@ -44,9 +47,11 @@ pub fn run_tables(loaded: Vec<experiment::Loaded>, settings: &Settings) -> Vec<O
         .map(|s| options.solves(s))
         .sum();
     let display = ProgressDisplay::new(settings.no_progress, total_cycles, settings.started);
+    // Never more workers than tables: each is a thread, and `--jobs` may be any number.
     let jobs = settings
         .jobs
         .unwrap_or_else(|| default_jobs(&loaded, options.tier, options.budget))
+        .min(loaded.len())
         .max(1);
     let ledger = study::Ledger::new(options.budget);
     let queue = Mutex::new(loaded.into_iter().enumerate());
@@ -60,6 +65,7 @@ pub fn run_tables(loaded: Vec<experiment::Loaded>, settings: &Settings) -> Vec<O
                 };
                 let outcome = run_one(entry, settings, &ledger, &display);
                 finished.lock().expect("outcomes").push((index, outcome));
+                settings.page.finished(index);
             });
         }
     });

@@ -145,6 +145,9 @@ impl Check<'_> {
             MAX_TEXT_CHARS
         };
         let chars = text.chars().count();
+        if !multiline {
+            self.visible(field, text)?;
+        }
         self.ensure(
             chars <= max,
             field,

@@ -11,7 +11,56 @@ use crate::experiment::spec::*;
 /// Most notes of one table.
 const MAX_NOTES: usize = 100;
 
+/// Whether `c` shows nothing: white space, and the format characters and fillers that have no
+/// glyph (zero-width space and joiners, word joiner, byte order mark, soft hyphen, variation
+/// selectors, the Hangul fillers, the braille blank). A text made of them alone renders as
+/// nothing on the page, and is no title.
+pub(super) fn is_invisible(c: char) -> bool {
+    c.is_whitespace()
+        || matches!(
+            c,
+            '\u{00AD}'
+                | '\u{034F}'
+                | '\u{061C}'
+                | '\u{115F}'
+                | '\u{1160}'
+                | '\u{17B4}'
+                | '\u{17B5}'
+                | '\u{180B}'..='\u{180F}'
+                | '\u{200B}'..='\u{200F}'
+                | '\u{202A}'..='\u{202E}'
+                | '\u{2060}'..='\u{206F}'
+                | '\u{2800}'
+                | '\u{3164}'
+                | '\u{FE00}'..='\u{FE0F}'
+                | '\u{FEFF}'
+                | '\u{FFA0}'
+                | '\u{E0000}'..='\u{E007F}'
+                | '\u{E0100}'..='\u{E01EF}'
+        )
+}
+
 impl Check<'_> {
+    /// A one-line text that is not made of invisible characters alone ([`is_invisible`]); an
+    /// empty text is for the field's own check.
+    pub(super) fn visible(&self, field: &str, text: &str) -> Checked {
+        let invisible: Vec<String> = text
+            .chars()
+            .take(8)
+            .map(|c| format!("U+{:04X}", c as u32))
+            .collect();
+        self.ensure(
+            text.is_empty() || !text.chars().all(is_invisible),
+            field,
+            "a text with a visible character",
+            format!(
+                "only invisible characters ({}{})",
+                invisible.join(" "),
+                if text.chars().count() > 8 { " …" } else { "" }
+            ),
+        )
+    }
+
     /// Table id, section and title (Chapter IV numbering).
     pub(super) fn identity(&self, spec: &ExperimentFile) -> Checked {
         let thesis_id = is_thesis_id(&spec.table);
