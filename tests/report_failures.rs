@@ -698,3 +698,27 @@ fn jobs_beyond_the_tables_start_one_worker_per_table() {
     assert!(dir.join("out/data/IV.1.csv").is_file());
     let _ = fs::remove_dir_all(&dir);
 }
+
+/// The file's warnings are printed with a failed run too, before its error: a SubStokes film so
+/// thin that g³/12 underflows fails in its solve, and the warning says why.
+#[test]
+fn warnings_come_before_the_error_of_a_failed_run() {
+    let dir = temp_dir("warned-failure");
+    let exp = dir.join("experiments");
+    fs::create_dir_all(&exp).unwrap();
+    let thin = shipped("IV.50").replace("g0 = 0.1", "g0 = 1e-300");
+    assert_ne!(thin, shipped("IV.50"), "the fixture must thin the gap");
+    fs::write(exp.join("IV.50.toml"), thin).unwrap();
+    let out = dir.join("out");
+    let result = run_report(&exp, &out, &[], &[]);
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert_eq!(result.status.code(), Some(1), "{stderr}");
+    let warning = stderr
+        .find("warning: table IV.50: scene.substokes.gap:")
+        .unwrap_or_else(|| panic!("no warning: {stderr}"));
+    let error = stderr
+        .find("table IV.50, cycle")
+        .unwrap_or_else(|| panic!("no error: {stderr}"));
+    assert!(warning < error, "{stderr}");
+    let _ = fs::remove_dir_all(&dir);
+}

@@ -196,6 +196,14 @@ impl TableHost for Host<'_> {
         };
         let result = run_isolated(spec, || solves(&progress));
         if let Err(failure) = &result {
+            // What the file's data make suspicious often explains the failure (an unresolved
+            // gap, a film too thin for double precision): printed before it.
+            if run.suffix.is_none() {
+                for w in spec.warnings() {
+                    self.display
+                        .print(&format!("warning: table {}: {w}", spec.table));
+                }
+            }
             self.display.failure(failure);
         }
         result
