@@ -2,33 +2,11 @@
 //! warnings for every family: each case an edit of a shipped experiment file that loaded (or
 //! ran) silently before and is now refused, named or warned about.
 
-use std::fs;
-use std::path::{Path, PathBuf};
-
 use tribo::experiment::{load, load_each, Experiment, ExperimentError};
 use tribo::study::{self, Tier};
 
 use crate::cli::temp_dir;
-
-/// The shipped file of `table` with each `(from, to)` replaced once (each `from` must occur).
-fn edited(table: &str, edits: &[(&str, &str)]) -> String {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("experiments")
-        .join(format!("{table}.toml"));
-    let mut text = fs::read_to_string(path).unwrap();
-    for (from, to) in edits {
-        assert!(text.contains(from), "{table}: `{from}` not in the file");
-        text = text.replacen(from, to, 1);
-    }
-    text
-}
-
-/// Write `text` as `<table>.toml` into `dir`.
-fn write(dir: &Path, table: &str, text: &str) -> PathBuf {
-    let path = dir.join(format!("{table}.toml"));
-    fs::write(&path, text).unwrap();
-    path
-}
+use crate::warnings::{edited, write};
 
 /// Load the edited file of `table` on its own.
 fn load_edited(

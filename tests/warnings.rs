@@ -12,7 +12,7 @@ use crate::cli::{report, temp_dir};
 use crate::common::{experiments_dir, quick};
 
 /// A shipped experiment file with each `(from, to)` replaced once (each must be present).
-fn edited(table: &str, edits: &[(&str, &str)]) -> String {
+pub fn edited(table: &str, edits: &[(&str, &str)]) -> String {
     let mut text = fs::read_to_string(experiments_dir().join(format!("{table}.toml"))).unwrap();
     for (from, to) in edits {
         assert!(text.contains(from), "{table}: `{from}` not in the file");
@@ -21,7 +21,8 @@ fn edited(table: &str, edits: &[(&str, &str)]) -> String {
     text
 }
 
-fn write(dir: &Path, table: &str, text: &str) -> PathBuf {
+/// Write `text` as `<table>.toml` into `dir`.
+pub fn write(dir: &Path, table: &str, text: &str) -> PathBuf {
     let path = dir.join(format!("{table}.toml"));
     fs::write(&path, text).unwrap();
     path
