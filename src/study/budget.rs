@@ -20,6 +20,8 @@
 
 use super::{RunError, Schedule, Solve, StudyError};
 use crate::experiment::Experiment;
+use crate::linalg::direct::{limit_memory, MemoryLimit};
+use crate::linalg::SolveError;
 
 /// Bytes of memory per active cell and squared solution component, measured (module docs).
 pub const BYTES_PER_CELL: f64 = 2000.0;
@@ -157,6 +159,24 @@ impl Budget {
             }
         }
         Ok(())
+    }
+
+    /// The budget as the limit of the solvers of the study on this thread, until the guard is
+    /// dropped: the direct solver checks its factor (known from the symbolic factorisation)
+    /// and multigrid its level hierarchy against it before allocating them
+    /// ([`crate::linalg::direct::limit_memory`]).
+    pub fn limit_solvers(&self) -> MemoryLimit {
+        limit_memory(self.bytes)
+    }
+
+    /// A run's error with a solver's refusal ([`SolveError::OverBudget`], under whatever
+    /// contexts) made the study's [`StudyError::OverBudget`], its message the whole text of the
+    /// error: the budget refuses the cycle, whichever layer found it.
+    pub fn refusal(mut error: RunError) -> RunError {
+        if let Some(SolveError::OverBudget { .. }) = error.cause.solve_error() {
+            error.cause = StudyError::OverBudget(error.cause.to_string());
+        }
+        error
     }
 
     /// Check the mesh of a cycle before it is solved.
