@@ -809,6 +809,40 @@ mod tests {
         );
     }
 
+    /// A factor larger than the memory limit of the thread is refused before it is allocated,
+    /// naming its nonzeros and the bytes; once the limit is lifted the same solve runs.
+    #[test]
+    fn a_factor_beyond_the_memory_limit_is_refused_before_it_is_allocated() {
+        let m = saddle_point(0.3);
+        let dense = Dense::new(&m);
+        let signs = vec![1, 1, 1, -1, -1];
+        {
+            let _limit = limit_memory(64.0);
+            let err = DirectSolver::ldlt(signs.clone())
+                .solve(dense.csc(), &[1.0; 5], &[])
+                .unwrap_err();
+            let SolveError::OverBudget { bytes, budget, .. } = &err else {
+                panic!("{err}");
+            };
+            assert!(*bytes > 64.0 && *budget == 64.0, "{err}");
+            let message = err.to_string();
+            assert!(
+                message.contains("LDLᵀ factorisation of 5 unknowns")
+                    && message.contains("nonzeros")
+                    && message.contains("memory budget of 64 bytes"),
+                "{message}"
+            );
+            let spd = Dense::new(&[vec![2.0, 1.0], vec![1.0, 2.0]]);
+            assert!(matches!(
+                CholeskyFactor::new(spd.csc(), None),
+                Err(SolveError::OverBudget { .. })
+            ));
+        }
+        DirectSolver::ldlt(signs)
+            .solve(dense.csc(), &[1.0; 5], &[])
+            .expect("no limit once the guard is dropped");
+    }
+
     #[test]
     fn the_cause_of_a_failed_factorisation_is_read_off_the_matrix() {
         // Diagonal 2×2 matrices: columns [0, 1), [1, 2), diagonal at 0 and 1.
