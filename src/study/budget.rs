@@ -3,13 +3,40 @@
 //! the cycle instead of taking the machine down (`global_refinements = 12` passed 8 GB in 44 s;
 //! `refine_fraction = 1` quadruples the cells every cycle).
 //!
-//! **Model.** The memory of a cycle is dominated by the sparse factorisation and grows with the
-//! number of active cells N and the number c of solution components per vertex (2 for
-//! elasticity and contact, 1 for the thin films) as [`BYTES_PER_CELL`]·c²·N. The constant is
-//! measured: peak RSS over the last active cells of the full tier, 288 MB / 42 566 cells for
-//! IV.13 (c = 2, 6.8 kB per cell, the fixed part of the process included), rounded up; the
-//! thin films need less since multigrid replaced the factorisation (Table IV.67, c = 1:
-//! 1.13 GB / 672 064 cells with the direct solver, 0.75 GB with multigrid).
+//! **Model.** The memory of a cycle grows with the number of active cells N and the number c of
+//! solution components per vertex (2 for elasticity and contact, 1 for the thin films, 3 for
+//! SubStokes) as [`BYTES_PER_CELL`]·c·min(c, 2)·N with the direct solver and
+//! [`BYTES_PER_CELL_MULTIGRID`]·c²·N with multigrid. The constants are measured: peak RSS over
+//! the last active cells of the full tier, 288 MB / 42 566 cells for IV.13 (c = 2, 6.8 kB per
+//! cell, the fixed part of the process included), rounded up; Table IV.67 (c = 1) took
+//! 1.13 GB / 672 064 cells with the direct solver. On a strip refined at one side
+//! (`scene.contact_refinements`) the Cholesky factor fills in far more than the cells say:
+//! its nonzeros are [`SIDE_FILL`]·n² for n unknowns (the ordering cuts the graded layers along
+//! the strip), 9.2 G nonzeros — 74 GB — for the 786 368 cells of IV.18's 64×2 strip refined
+//! 12 times, where the cells alone predicted 6.9 GiB. The model adds those 8·[`SIDE_FILL`]·n²
+//! bytes, and the direct solver checks the factor itself, known from the symbolic
+//! factorisation, before allocating it ([`crate::linalg::direct::limit_memory`]), as multigrid
+//! checks its levels: what the model misses is still refused, naming the cycle.
+//!
+//! Predicted (the table's model plus 30 MB of the process: code, threads, loaded files — the
+//! RSS of the smallest runs) against the peak RSS measured by `/usr/bin/time -v` on single
+//! full-tier runs (`--no-alternatives`), in MB:
+//!
+//! | scene | last cells | predicted | measured | ratio |
+//! |---|---:|---:|---:|---:|
+//! | IV.1 elasticity | 3 308 | 56 | 38 | 1.48 |
+//! | IV.13 contact | 42 566 | 385 | 295 | 1.30 |
+//! | IV.30 model and grid | 42 950 | 385 | 249 | 1.54 |
+//! | fig-IV.54 load steps | — | 37 | 40 | 0.93 |
+//! | IV.18 model-adaptive contact, 3 contact refinements | 1 472 | 42 | 34 | 1.25 |
+//! | IV.18 with 5 | 6 080 | 83 | 54 | 1.54 |
+//! | IV.18 with 8 | 49 088 | 718 | 557 | 1.29 |
+//! | IV.18 with 9 | 98 240 | 1 998 | 1 730 | 1.16 |
+//! | IV.18 with 10 | 196 544 | 6 333 | refused at 4G before the first solve | |
+//! | IV.18 with 12 | 786 368 | 82 055 | refused before the first solve | |
+//! | IV.36 Reynolds (multigrid) | 687 664 | 771 | 679 | 1.14 |
+//! | IV.50 SubStokes | 11 227 | 169 | 128 | 1.32 |
+//! | fig-IV.116 model-adaptive film | 7 252 | 103 | 58 | 1.77 |
 //!
 //! **Prediction.** Global refinement multiplies the coarse cells by 4 per level; fixed-fraction
 //! marking (§IV.1) refines the fraction θ_r of the cells into four and merges the fraction θ_c
@@ -31,8 +58,8 @@ pub const BYTES_PER_CELL: f64 = 2000.0;
 /// for the 687 664 cells of Table IV.36 (c = 1), rounded up.
 pub const BYTES_PER_CELL_MULTIGRID: f64 = 1000.0;
 
-/// Vertices per active cell of a strip refined at one side, counted: 1990 / 1472 with 3
-/// refinements, 1 048 527 / 786 368 with 12 (64×2 strip).
+/// Vertices per active cell of a strip refined at one side: 1990 / 1472 with 3 refinements
+/// (counted), 1 048 527 vertices for the 786 368 predicted cells with 12 (64×2 strip).
 const VERTICES_PER_CELL: f64 = 1.35;
 
 /// Nonzeros of the Cholesky factor per squared unknown on a strip refined at one side, from
