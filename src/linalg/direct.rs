@@ -98,25 +98,33 @@ pub enum SolveError {
     )]
     ActiveSetNotConverged { iterations: usize },
     /// A solver's arrays, predicted before they are allocated, exceed the memory limit
-    /// ([`limit_memory`]).
-    #[error(
-        "{what} is predicted to need {} ({bytes:.0} bytes), more than the memory budget of {} \
-         (set it with --memory-budget)",
-        human_bytes(*bytes),
-        human_bytes(*budget)
-    )]
-    OverBudget {
-        what: String,
-        bytes: f64,
-        budget: f64,
-    },
+    /// ([`limit_memory`]); boxed, so that every error of a solve stays small.
+    #[error("{0}")]
+    OverBudget(Box<OverBudget>),
     /// The allocation of a solver's arrays failed: the machine does not have the memory.
     #[error(
         "the allocation of {} ({bytes} bytes) for {what} failed: the machine does not have that \
          much memory free (a smaller --memory-budget refuses such a cycle before it allocates)",
         human_bytes(*bytes as f64)
     )]
-    OutOfMemory { what: String, bytes: usize },
+    OutOfMemory { what: &'static str, bytes: usize },
+}
+
+/// What a solver would allocate beyond the memory limit ([`SolveError::OverBudget`]).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error(
+    "{what} is predicted to need {} ({bytes:.0} bytes), more than the memory budget of {} (set \
+     it with --memory-budget)",
+    human_bytes(*bytes),
+    human_bytes(*budget)
+)]
+pub struct OverBudget {
+    /// The arrays, with the sizes they follow from.
+    pub what: String,
+    /// Their predicted bytes.
+    pub bytes: f64,
+    /// The limit.
+    pub budget: f64,
 }
 
 impl SolveError {
@@ -158,11 +166,11 @@ impl Drop for MemoryLimit {
 /// [`SolveError::OverBudget`] if `bytes` for `what` exceed the memory limit of this thread.
 pub(crate) fn check_memory(what: impl FnOnce() -> String, bytes: f64) -> Result<(), SolveError> {
     match MEMORY_LIMIT.with(Cell::get) {
-        Some(budget) if bytes > budget => Err(SolveError::OverBudget {
+        Some(budget) if bytes > budget => Err(SolveError::OverBudget(Box::new(OverBudget {
             what: what(),
             bytes,
             budget,
-        }),
+        }))),
         _ => Ok(()),
     }
 }
@@ -173,13 +181,13 @@ pub(crate) fn try_resize<T: Clone>(
     buffer: &mut Vec<T>,
     len: usize,
     value: T,
-    what: &str,
+    what: &'static str,
 ) -> Result<(), SolveError> {
     if len > buffer.len() {
         buffer
             .try_reserve_exact(len - buffer.len())
             .map_err(|_| SolveError::OutOfMemory {
-                what: what.to_string(),
+                what,
                 bytes: len * std::mem::size_of::<T>(),
             })?;
     }
@@ -821,10 +829,10 @@ mod tests {
             let err = DirectSolver::ldlt(signs.clone())
                 .solve(dense.csc(), &[1.0; 5], &[])
                 .unwrap_err();
-            let SolveError::OverBudget { bytes, budget, .. } = &err else {
+            let SolveError::OverBudget(refused) = &err else {
                 panic!("{err}");
             };
-            assert!(*bytes > 64.0 && *budget == 64.0, "{err}");
+            assert!(refused.bytes > 64.0 && refused.budget == 64.0, "{err}");
             let message = err.to_string();
             assert!(
                 message.contains("LDLᵀ factorisation of 5 unknowns")
@@ -835,7 +843,7 @@ mod tests {
             let spd = Dense::new(&[vec![2.0, 1.0], vec![1.0, 2.0]]);
             assert!(matches!(
                 CholeskyFactor::new(spd.csc(), None),
-                Err(SolveError::OverBudget { .. })
+                Err(SolveError::OverBudget(_))
             ));
         }
         DirectSolver::ldlt(signs)

@@ -215,7 +215,7 @@ impl Budget {
     /// contexts) made the study's [`StudyError::OverBudget`], its message the whole text of the
     /// error: the budget refuses the cycle, whichever layer found it.
     pub fn refusal(mut error: RunError) -> RunError {
-        if let Some(SolveError::OverBudget { .. }) = error.cause.solve_error() {
+        if let Some(SolveError::OverBudget(_)) = error.cause.solve_error() {
             error.cause = StudyError::OverBudget(error.cause.to_string());
         }
         error
@@ -343,6 +343,7 @@ fn human(bytes: f64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::linalg::direct::OverBudget;
 
     #[test]
     fn sizes_parse_with_binary_units() {
@@ -362,11 +363,11 @@ mod tests {
     /// [`StudyError::OverBudget`], its text kept whole; any other failure stays as it was.
     #[test]
     fn a_solvers_refusal_is_the_budgets() {
-        let refused = SolveError::OverBudget {
+        let refused = SolveError::OverBudget(Box::new(OverBudget {
             what: "the factor".into(),
             bytes: 3.0 * GIB,
             budget: GIB,
-        };
+        }));
         let cause = StudyError::Solve(refused).context("contact");
         let text = cause.to_string();
         let error = Budget::refusal(RunError::at_cycle("IV.18", 2, cause));
