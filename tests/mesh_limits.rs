@@ -204,3 +204,44 @@ rows = [[0, 90]]
     );
     assert!(!message.contains("outside the previous mesh"), "{message}");
 }
+
+/// Table IV.18's 64×2 strip with `refinements` at its contact side.
+fn side_refined(refinements: usize) -> Experiment {
+    let mut e = spec("IV.18");
+    assert_eq!(e.scene.side_refinements, 3);
+    e.scene.side_refinements = refinements;
+    e
+}
+
+/// The memory budget's prediction for a strip refined at one side follows the fill of its
+/// Cholesky factor, not only its cells: 1472 cells with 3 refinements need some MB, with 12
+/// (786 368 cells, 9.2 G nonzeros in the factor) more than 64 GiB — the cells alone predicted
+/// 6.9 GiB. The largest is refused before its first solve, naming table, cycle, the size and
+/// the field that makes it.
+#[test]
+fn strips_refined_at_one_side_are_predicted_with_their_fill() {
+    const GIB: f64 = 1024.0 * 1024.0 * 1024.0;
+    let peak =
+        |e: &Experiment| study::Budget::predicted_peak(e, study::Schedule::of(e, Tier::Quick));
+    let shipped = peak(&side_refined(3));
+    assert!(shipped > 5e6 && shipped < 50e6, "{shipped:e}");
+    let eight = peak(&side_refined(8));
+    assert!(eight > 0.5e9 && eight < 1.1e9, "{eight:e}");
+    let largest = side_refined(12);
+    assert!(peak(&largest) > 64.0 * GIB, "{:e}", peak(&largest));
+
+    let budget = study::Budget { bytes: 8.0 * GIB };
+    let error = match study::run_within(&largest, Tier::Quick, budget, &|_, _, _| {}) {
+        Ok(_) => panic!("12 contact refinements fit 8 GiB"),
+        Err(error) => error,
+    };
+    assert_eq!((error.table.as_str(), error.cycle), ("IV.18", 0), "{error}");
+    assert!(
+        matches!(error.cause.kind(), StudyError::OverBudget(_)),
+        "{error}"
+    );
+    let message = error.to_string();
+    for part in ["table IV.18, cycle 0", "GiB", "scene.contact_refinements"] {
+        assert!(message.contains(part), "no `{part}` in: {message}");
+    }
+}

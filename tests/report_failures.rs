@@ -722,3 +722,44 @@ fn warnings_come_before_the_error_of_a_failed_run() {
     assert!(warning < error, "{stderr}");
     let _ = fs::remove_dir_all(&dir);
 }
+
+/// Table IV.18 with the most contact refinements a file may ask for (12): its fixed mesh is a
+/// 64×2 strip graded to 2 M unknowns at the contact side, whose Cholesky factor has 9.2 G
+/// nonzeros. The budget predicted 6.9 GiB from the cells, the run started, and the factor's
+/// 74 GB allocation aborted the whole process (SIGABRT, no page, every other table lost). Now
+/// the budget predicts the fill and refuses the table before its first solve, naming table,
+/// cycle and size, and IV.1 beside it is reported as usual.
+#[test]
+fn the_largest_contact_refinement_is_refused_and_the_other_tables_run() {
+    let dir = temp_dir("contact-refinements-12");
+    let exp = dir.join("experiments");
+    fs::create_dir_all(&exp).unwrap();
+    fs::write(exp.join("IV.1.toml"), shipped("IV.1")).unwrap();
+    let text = shipped("IV.18");
+    let refined = text.replace("contact_refinements = 3\n", "contact_refinements = 12\n");
+    assert_ne!(text, refined, "the fixture must set 12 contact refinements");
+    fs::write(exp.join("IV.18.toml"), refined).unwrap();
+    let out = dir.join("out");
+    // Above the 6.9 GiB the cells alone predicted: without the fill the run would start.
+    let result = run_report(&exp, &out, &["--memory-budget", "8G"], &[]);
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert_eq!(result.status.code(), Some(1), "{stderr}");
+    assert!(!stderr.contains("memory allocation"), "{stderr}");
+
+    let html = fs::read_to_string(out.join("index.html")).expect("the page is written");
+    assert_eq!(status_of(summary_row(&html, "IV.1")), "ok");
+    assert_eq!(status_of(summary_row(&html, "IV.18")), "error");
+    let refused = section_of(&html, "IV.18");
+    for part in [
+        "cycle 0",
+        "predicted to need",
+        "GiB",
+        "memory budget of 8.0 GiB",
+        "scene.contact_refinements",
+    ] {
+        assert!(refused.contains(part), "no `{part}` in:\n{refused}");
+    }
+    assert!(out.join("data/IV.1.csv").exists());
+    assert!(!out.join("data/IV.18.csv").exists());
+    let _ = fs::remove_dir_all(&dir);
+}

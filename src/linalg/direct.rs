@@ -9,7 +9,18 @@
 //! factorisation is computed at the first solve after [`DirectSolver::reorder`], and the large
 //! work arrays survive from solve to solve and from mesh to mesh ([`DirectSolver::reorder`] keeps
 //! them).
+//!
+//! **Memory.** The factor is by far the largest array of a solve, and its size is known from the
+//! symbolic factorisation before anything of it is allocated: the nonzeros of L
+//! ([`SymbolicCholesky::len_val`]). On a strip refined at one side the fill grows much faster
+//! than the cells (a 64×2 strip refined 12 times at its contact side asked for 74 GB in one
+//! allocation), so the prediction of a run from its cells cannot see it. Each solve therefore
+//! checks the factor, its work arrays and the copy of the matrix against the memory limit of the
+//! running study ([`limit_memory`]) before allocating them, and refuses with
+//! [`SolveError::OverBudget`]; the arrays are then reserved fallibly, so that a failed
+//! allocation is [`SolveError::OutOfMemory`] for the cycle and not an abort of the process.
 
+use std::cell::Cell;
 use std::mem::MaybeUninit;
 
 use faer::dyn_stack::{MemStack, StackReq};
@@ -86,6 +97,34 @@ pub enum SolveError {
          {iterations} iterations (the limit)"
     )]
     ActiveSetNotConverged { iterations: usize },
+    /// A solver's arrays, predicted before they are allocated, exceed the memory limit
+    /// ([`limit_memory`]); boxed, so that every error of a solve stays small.
+    #[error("{0}")]
+    OverBudget(Box<OverBudget>),
+    /// The allocation of a solver's arrays failed: the machine does not have the memory.
+    #[error(
+        "the allocation of {} ({bytes} bytes) for {what} failed: the machine does not have that \
+         much memory free (a smaller --memory-budget refuses such a cycle before it allocates)",
+        human_bytes(*bytes as f64)
+    )]
+    OutOfMemory { what: &'static str, bytes: usize },
+}
+
+/// What a solver would allocate beyond the memory limit ([`SolveError::OverBudget`]).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error(
+    "{what} is predicted to need {} ({bytes:.0} bytes), more than the memory budget of {} (set \
+     it with --memory-budget)",
+    human_bytes(*bytes),
+    human_bytes(*budget)
+)]
+pub struct OverBudget {
+    /// The arrays, with the sizes they follow from.
+    pub what: String,
+    /// Their predicted bytes.
+    pub bytes: f64,
+    /// The limit.
+    pub budget: f64,
 }
 
 impl SolveError {
@@ -95,6 +134,80 @@ impl SolveError {
             Some(i) => Err(SolveError::NonFiniteData(i)),
             None => Ok(()),
         }
+    }
+}
+
+thread_local! {
+    /// The memory limit of the study running on this thread ([`limit_memory`]).
+    static MEMORY_LIMIT: Cell<Option<f64>> = const { Cell::new(None) };
+}
+
+/// The memory limit of the solves on this thread until the guard is dropped (then the limit
+/// before it holds again). A study sets its budget here before its solves: the solvers are built
+/// deep inside the problems, and a study's solves run on the thread of its cycle loop (the
+/// factorisations are sequential, [`FACTORISATION_PARALLELISM`]).
+pub fn limit_memory(bytes: f64) -> MemoryLimit {
+    MemoryLimit {
+        previous: MEMORY_LIMIT.with(|limit| limit.replace(Some(bytes))),
+    }
+}
+
+/// The limit of [`limit_memory`], lifted when dropped.
+pub struct MemoryLimit {
+    previous: Option<f64>,
+}
+
+impl Drop for MemoryLimit {
+    fn drop(&mut self) {
+        MEMORY_LIMIT.with(|limit| limit.set(self.previous));
+    }
+}
+
+/// [`SolveError::OverBudget`] if `bytes` for `what` exceed the memory limit of this thread.
+pub(crate) fn check_memory(what: impl FnOnce() -> String, bytes: f64) -> Result<(), SolveError> {
+    match MEMORY_LIMIT.with(Cell::get) {
+        Some(budget) if bytes > budget => Err(SolveError::OverBudget(Box::new(OverBudget {
+            what: what(),
+            bytes,
+            budget,
+        }))),
+        _ => Ok(()),
+    }
+}
+
+/// `buffer` grown to `len` elements of `value`, reserved fallibly
+/// ([`SolveError::OutOfMemory`] for `what`).
+pub(crate) fn try_resize<T: Clone>(
+    buffer: &mut Vec<T>,
+    len: usize,
+    value: T,
+    what: &'static str,
+) -> Result<(), SolveError> {
+    if len > buffer.len() {
+        buffer
+            .try_reserve_exact(len - buffer.len())
+            .map_err(|_| SolveError::OutOfMemory {
+                what,
+                bytes: len * std::mem::size_of::<T>(),
+            })?;
+    }
+    buffer.resize(len, value);
+    Ok(())
+}
+
+/// Bytes in GiB, MiB or KiB for a message.
+pub(crate) fn human_bytes(bytes: f64) -> String {
+    const KIB: f64 = 1024.0;
+    const MIB: f64 = KIB * KIB;
+    const GIB: f64 = MIB * KIB;
+    if bytes >= GIB {
+        format!("{:.1} GiB", bytes / GIB)
+    } else if bytes >= MIB {
+        format!("{:.0} MiB", bytes / MIB)
+    } else if bytes >= KIB {
+        format!("{:.0} KiB", bytes / KIB)
+    } else {
+        format!("{bytes:.0} bytes")
     }
 }
 
@@ -167,13 +280,52 @@ struct Buffers {
     scratch: Vec<MaybeUninit<u8>>,
 }
 
-/// faer's scratch memory for `req` in `buffer`, grown if needed.
-fn scratch(buffer: &mut Vec<MaybeUninit<u8>>, req: StackReq) -> &mut MemStack {
+/// faer's scratch memory for `req` in `buffer`, grown (fallibly) if needed.
+fn scratch(buffer: &mut Vec<MaybeUninit<u8>>, req: StackReq) -> Result<&mut MemStack, SolveError> {
     let bytes = req.unaligned_bytes_required();
     if buffer.len() < bytes {
-        buffer.resize(bytes, MaybeUninit::uninit());
+        try_resize(
+            buffer,
+            bytes,
+            MaybeUninit::uninit(),
+            "the work space of the sparse factorisation",
+        )?;
     }
-    MemStack::new(buffer)
+    Ok(MemStack::new(buffer))
+}
+
+/// The bytes a numeric factorisation with `symbolic` allocates for a matrix of `nnz` stored
+/// values: the factor L, the eliminated copy of the matrix and faer's scratch memory.
+fn factorisation_bytes(symbolic: &SymbolicCholesky<usize>, nnz: usize, ldlt: bool) -> f64 {
+    let par = FACTORISATION_PARALLELISM;
+    let scratch = if ldlt {
+        symbolic.factorize_numeric_ldlt_scratch::<f64>(par, Default::default())
+    } else {
+        symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default())
+    };
+    let value = std::mem::size_of::<f64>() as f64;
+    value * (symbolic.len_val() + nnz) as f64 + scratch.unaligned_bytes_required() as f64
+}
+
+/// [`SolveError::OverBudget`] if the factorisation of `symbolic` does not fit the memory limit
+/// ([`factorisation_bytes`]), naming the size of the factor.
+fn check_factorisation(
+    symbolic: &SymbolicCholesky<usize>,
+    nnz: usize,
+    ldlt: bool,
+) -> Result<(), SolveError> {
+    let name = if ldlt { "LDLᵀ" } else { "Cholesky" };
+    check_memory(
+        || {
+            format!(
+                "the sparse {name} factorisation of {} unknowns (a factor of {} nonzeros from \
+                 the symbolic factorisation)",
+                symbolic.nrows(),
+                symbolic.len_val()
+            )
+        },
+        factorisation_bytes(symbolic, nnz, ldlt),
+    )
 }
 
 /// A sparse direct solver for one sparsity pattern at a time (module docs).
@@ -250,6 +402,9 @@ impl DirectSolver {
         if self.symbolic.is_none() {
             self.symbolic = Some(symbolic_factorisation(&matrix, ordering)?);
         }
+        let (symbolic, _) = self.symbolic.as_ref().expect("computed above");
+        let ldlt = matches!(self.factorisation, Factorisation::Ldlt { .. });
+        check_factorisation(symbolic, matrix.values.len(), ldlt)?;
         let mut buffers = std::mem::take(&mut self.buffers);
         let result = self.solve_in(&mut buffers, matrix, rhs, eliminated);
         self.buffers = buffers;
@@ -272,7 +427,13 @@ impl DirectSolver {
         let n = matrix.n();
         let (col_ptr, row_idx, diag) = (matrix.col_ptr, matrix.row_idx, matrix.diag);
         a.clear();
-        a.extend_from_slice(matrix.values);
+        try_resize(
+            a,
+            matrix.values.len(),
+            0.0,
+            "the matrix of the sparse factorisation",
+        )?;
+        a.copy_from_slice(matrix.values);
         let mut b = rhs.to_vec();
         let mut is_eliminated = vec![false; n];
         for &(d, _) in eliminated {
@@ -320,7 +481,12 @@ impl DirectSolver {
             SymbolicCholeskyRaw::Supernodal(_) => fwd[index],
         };
         // faer overwrites every value of the factor (it fills it with zeros first).
-        factor.resize(symbolic.len_val(), 0.0);
+        try_resize(
+            factor,
+            symbolic.len_val(),
+            0.0,
+            "the factor of the sparse factorisation",
+        )?;
         let mut x = b;
         let rhs_mat = MatMut::from_column_major_slice_mut(&mut x, n, 1);
         match &self.factorisation {
@@ -335,7 +501,7 @@ impl DirectSolver {
                         scratch(
                             work,
                             symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()),
-                        ),
+                        )?,
                         Default::default(),
                     )
                     .map_err(|e| match e {
@@ -348,7 +514,7 @@ impl DirectSolver {
                     Conj::No,
                     rhs_mat,
                     par,
-                    scratch(work, symbolic.solve_in_place_scratch::<f64>(1, par)),
+                    scratch(work, symbolic.solve_in_place_scratch::<f64>(1, par))?,
                 );
             }
             Factorisation::Ldlt { .. } => {
@@ -362,7 +528,7 @@ impl DirectSolver {
                         scratch(
                             work,
                             symbolic.factorize_numeric_ldlt_scratch::<f64>(par, Default::default()),
-                        ),
+                        )?,
                         Default::default(),
                     )
                     .map_err(|e| match e {
@@ -374,7 +540,7 @@ impl DirectSolver {
                     Conj::No,
                     rhs_mat,
                     par,
-                    scratch(work, symbolic.solve_in_place_scratch::<f64>(1, par)),
+                    scratch(work, symbolic.solve_in_place_scratch::<f64>(1, par))?,
                 );
             }
         }
@@ -422,8 +588,15 @@ impl CholeskyFactor {
             return Err(SolveError::NonFiniteData(dof));
         }
         let (symbolic, widened) = symbolic_factorisation(&matrix, ordering)?;
+        check_factorisation(&symbolic, 0, false)?;
         let par = FACTORISATION_PARALLELISM;
-        let mut values = vec![0.0; symbolic.len_val()];
+        let mut values = Vec::new();
+        try_resize(
+            &mut values,
+            symbolic.len_val(),
+            0.0,
+            "the factor of the sparse factorisation",
+        )?;
         let mut work = Vec::new();
         let fwd = &ordering.fwd;
         let pivot_dof = |index: usize| match symbolic.raw() {
@@ -441,7 +614,7 @@ impl CholeskyFactor {
                 scratch(
                     &mut work,
                     symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()),
-                ),
+                )?,
                 Default::default(),
             )
             .map_err(|e| match e {
@@ -450,6 +623,8 @@ impl CholeskyFactor {
                     cause: Cause::of(matrix.values, matrix.col_ptr, matrix.diag),
                 },
             })?;
+        // The solves' work space, reserved here so that a solve does not allocate.
+        scratch(&mut work, symbolic.solve_in_place_scratch::<f64>(1, par))?;
         Ok(CholeskyFactor {
             symbolic,
             values,
@@ -469,7 +644,8 @@ impl CholeskyFactor {
             scratch(
                 &mut self.work,
                 self.symbolic.solve_in_place_scratch::<f64>(1, par),
-            ),
+            )
+            .expect("the work space of the solves is reserved by CholeskyFactor::new"),
         );
     }
 
@@ -639,6 +815,40 @@ mod tests {
             message.contains("singular") && message.contains("dof 4"),
             "{message}"
         );
+    }
+
+    /// A factor larger than the memory limit of the thread is refused before it is allocated,
+    /// naming its nonzeros and the bytes; once the limit is lifted the same solve runs.
+    #[test]
+    fn a_factor_beyond_the_memory_limit_is_refused_before_it_is_allocated() {
+        let m = saddle_point(0.3);
+        let dense = Dense::new(&m);
+        let signs = vec![1, 1, 1, -1, -1];
+        {
+            let _limit = limit_memory(64.0);
+            let err = DirectSolver::ldlt(signs.clone())
+                .solve(dense.csc(), &[1.0; 5], &[])
+                .unwrap_err();
+            let SolveError::OverBudget(refused) = &err else {
+                panic!("{err}");
+            };
+            assert!(refused.bytes > 64.0 && refused.budget == 64.0, "{err}");
+            let message = err.to_string();
+            assert!(
+                message.contains("LDLᵀ factorisation of 5 unknowns")
+                    && message.contains("nonzeros")
+                    && message.contains("memory budget of 64 bytes"),
+                "{message}"
+            );
+            let spd = Dense::new(&[vec![2.0, 1.0], vec![1.0, 2.0]]);
+            assert!(matches!(
+                CholeskyFactor::new(spd.csc(), None),
+                Err(SolveError::OverBudget(_))
+            ));
+        }
+        DirectSolver::ldlt(signs)
+            .solve(dense.csc(), &[1.0; 5], &[])
+            .expect("no limit once the guard is dropped");
     }
 
     #[test]

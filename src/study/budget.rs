@@ -3,13 +3,40 @@
 //! the cycle instead of taking the machine down (`global_refinements = 12` passed 8 GB in 44 s;
 //! `refine_fraction = 1` quadruples the cells every cycle).
 //!
-//! **Model.** The memory of a cycle is dominated by the sparse factorisation and grows with the
-//! number of active cells N and the number c of solution components per vertex (2 for
-//! elasticity and contact, 1 for the thin films) as [`BYTES_PER_CELL`]·c²·N. The constant is
-//! measured: peak RSS over the last active cells of the full tier, 288 MB / 42 566 cells for
-//! IV.13 (c = 2, 6.8 kB per cell, the fixed part of the process included), rounded up; the
-//! thin films need less since multigrid replaced the factorisation (Table IV.67, c = 1:
-//! 1.13 GB / 672 064 cells with the direct solver, 0.75 GB with multigrid).
+//! **Model.** The memory of a cycle grows with the number of active cells N and the number c of
+//! solution components per vertex (2 for elasticity and contact, 1 for the thin films, 3 for
+//! SubStokes) as [`BYTES_PER_CELL`]·c·min(c, 2)·N with the direct solver and
+//! [`BYTES_PER_CELL_MULTIGRID`]·c²·N with multigrid. The constants are measured: peak RSS over
+//! the last active cells of the full tier, 288 MB / 42 566 cells for IV.13 (c = 2, 6.8 kB per
+//! cell, the fixed part of the process included), rounded up; Table IV.67 (c = 1) took
+//! 1.13 GB / 672 064 cells with the direct solver. On a strip refined at one side
+//! (`scene.contact_refinements`) the Cholesky factor fills in far more than the cells say:
+//! its nonzeros are [`SIDE_FILL`]·n² for n unknowns (the ordering cuts the graded layers along
+//! the strip), 9.2 G nonzeros — 74 GB — for the 786 368 cells of IV.18's 64×2 strip refined
+//! 12 times, where the cells alone predicted 6.9 GiB. The model adds those 8·[`SIDE_FILL`]·n²
+//! bytes, and the direct solver checks the factor itself, known from the symbolic
+//! factorisation, before allocating it ([`crate::linalg::direct::limit_memory`]), as multigrid
+//! checks its levels: what the model misses is still refused, naming the cycle.
+//!
+//! Predicted (the table's model plus 30 MB of the process: code, threads, loaded files — the
+//! RSS of the smallest runs) against the peak RSS measured by `/usr/bin/time -v` on single
+//! full-tier runs (`--no-alternatives`), in MB:
+//!
+//! | scene | last cells | predicted | measured | ratio |
+//! |---|---:|---:|---:|---:|
+//! | IV.1 elasticity | 3 308 | 56 | 38 | 1.48 |
+//! | IV.13 contact | 42 566 | 385 | 295 | 1.30 |
+//! | IV.30 model and grid | 42 950 | 385 | 249 | 1.54 |
+//! | fig-IV.54 load steps | — | 37 | 40 | 0.93 |
+//! | IV.18 model-adaptive contact, 3 contact refinements | 1 472 | 42 | 34 | 1.25 |
+//! | IV.18 with 5 | 6 080 | 83 | 54 | 1.54 |
+//! | IV.18 with 8 | 49 088 | 718 | 557 | 1.29 |
+//! | IV.18 with 9 | 98 240 | 1 998 | 1 730 | 1.16 |
+//! | IV.18 with 10 | 196 544 | 6 333 | refused at 4G before the first solve | |
+//! | IV.18 with 12 | 786 368 | 82 055 | refused before the first solve | |
+//! | IV.36 Reynolds (multigrid) | 687 664 | 771 | 679 | 1.14 |
+//! | IV.50 SubStokes | 11 227 | 169 | 128 | 1.32 |
+//! | fig-IV.116 model-adaptive film | 7 252 | 103 | 58 | 1.77 |
 //!
 //! **Prediction.** Global refinement multiplies the coarse cells by 4 per level; fixed-fraction
 //! marking (§IV.1) refines the fraction θ_r of the cells into four and merges the fraction θ_c
@@ -20,9 +47,25 @@
 
 use super::{RunError, Schedule, Solve, StudyError};
 use crate::experiment::Experiment;
+use crate::linalg::direct::{limit_memory, MemoryLimit};
+use crate::linalg::SolveError;
 
-/// Bytes of memory per active cell and squared solution component, measured (module docs).
+/// Bytes of memory per active cell and squared solution component with the direct solver,
+/// measured (module docs).
 pub const BYTES_PER_CELL: f64 = 2000.0;
+
+/// Bytes per active cell and squared component with the multigrid solver, measured: 663 MB peak
+/// for the 687 664 cells of Table IV.36 (c = 1), rounded up.
+pub const BYTES_PER_CELL_MULTIGRID: f64 = 1000.0;
+
+/// Vertices per active cell of a strip refined at one side: 1990 / 1472 with 3 refinements
+/// (counted), 1 048 527 vertices for the 786 368 predicted cells with 12 (64×2 strip).
+const VERTICES_PER_CELL: f64 = 1.35;
+
+/// Nonzeros of the Cholesky factor per squared unknown on a strip refined at one side, from
+/// the symbolic factorisation of the 64×2 strip of Table IV.18 (module docs): 0.0021 with 12
+/// refinements, 0.0022 with 10, 0.0026 with 8 (and 0.0048 with 5, where the cells dominate).
+pub const SIDE_FILL: f64 = 0.0021;
 
 /// Growth of the cells per cycle by the 2:1 closure of the marking, measured: the shipped
 /// tables reach 1.09–1.16 times 1 + 3θ_r − ¾θ_c to the power of their cycles (5 to 9).
@@ -132,24 +175,25 @@ impl Budget {
 
     /// The predicted memory of the largest cycle of a run (the model of the module docs).
     pub fn predicted_peak(experiment: &Experiment, schedule: Schedule) -> f64 {
-        let c = components(experiment);
-        predicted_cells(experiment, schedule)
-            .fold(0.0f64, |peak, (_, cells)| peak.max(memory(cells, c)))
+        predicted_cells(experiment, schedule).fold(0.0f64, |peak, (_, cells)| {
+            peak.max(memory(experiment, cells))
+        })
     }
 
     /// Check the predicted size of the whole run before its first solve.
     pub fn admit_run(&self, experiment: &Experiment, schedule: Schedule) -> Result<(), RunError> {
-        let c = components(experiment);
         for (solve, cells) in predicted_cells(experiment, schedule) {
-            if memory(cells, c) > self.bytes {
+            let need = memory(experiment, cells);
+            if need > self.bytes {
                 return Err(solve.error(
                     &experiment.table,
                     StudyError::OverBudget(format!(
                         "the run is predicted to need {} for about {} active cells in \
                          this cycle, more than the memory budget of {} (from \
-                         scene.coarse_cells, scene.global_refinements, study.refine_fraction \
-                         and the number of cycles; set the budget with --memory-budget)",
-                        human(memory(cells, c)),
+                         scene.coarse_cells, scene.global_refinements, \
+                         scene.contact_refinements, study.refine_fraction and the number of \
+                         cycles; set the budget with --memory-budget)",
+                        human(need),
                         count(cells),
                         human(self.bytes)
                     )),
@@ -159,13 +203,31 @@ impl Budget {
         Ok(())
     }
 
+    /// The budget as the limit of the solvers of the study on this thread, until the guard is
+    /// dropped: the direct solver checks its factor (known from the symbolic factorisation)
+    /// and multigrid its level hierarchy against it before allocating them
+    /// ([`crate::linalg::direct::limit_memory`]).
+    pub fn limit_solvers(&self) -> MemoryLimit {
+        limit_memory(self.bytes)
+    }
+
+    /// A run's error with a solver's refusal ([`SolveError::OverBudget`], under whatever
+    /// contexts) made the study's [`StudyError::OverBudget`], its message the whole text of the
+    /// error: the budget refuses the cycle, whichever layer found it.
+    pub fn refusal(mut error: RunError) -> RunError {
+        if let Some(SolveError::OverBudget(_)) = error.cause.solve_error() {
+            error.cause = StudyError::OverBudget(error.cause.to_string());
+        }
+        error
+    }
+
     /// Check the mesh of a cycle before it is solved.
     pub fn admit_cycle(
         &self,
         experiment: &Experiment,
         active_cells: usize,
     ) -> Result<(), StudyError> {
-        let need = memory(active_cells as f64, components(experiment));
+        let need = memory(experiment, active_cells as f64);
         if need > self.bytes {
             return Err(StudyError::OverBudget(format!(
                 "the mesh has {active_cells} active cells, which needs about {}, more than the \
@@ -214,9 +276,11 @@ fn components(experiment: &Experiment) -> usize {
     experiment.family.facts().unknowns_per_vertex
 }
 
-/// Active cells of the first mesh: the coarse grid refined globally, then at the contact sides
-/// (each refinement there splits the boundary row of 2^k·n cells into four; the 2:1 closure
-/// behind them is bounded by [`CLOSURE`] per refinement).
+/// Active cells of the first mesh: the coarse grid refined globally, then at the contact sides.
+/// Each refinement there splits the boundary row of 2^k·n cells into four; the refined layers
+/// nest along a straight side, so the 2:1 rule adds nothing (the 64×2 strip of Table IV.18 has
+/// 128 + 3·64·(2³ − 1) = 1472 cells with 3 refinements, as counted). Where two refined sides
+/// meet, their corner cells are counted twice: a bound from above.
 fn initial_cells(experiment: &Experiment) -> f64 {
     let scene = &experiment.scene;
     let [nx, ny] = scene.coarse_cells;
@@ -229,14 +293,28 @@ fn initial_cells(experiment: &Experiment) -> f64 {
             .map(|s| if s.is_horizontal() { nx } else { ny } as f64 * levels)
             .sum::<f64>()
             * 2f64.powi(k as i32);
-        cells = (cells + 3.0 * boundary_row) * CLOSURE.powi(4);
+        cells += 3.0 * boundary_row;
     }
     cells
 }
 
-/// Predicted bytes of a cycle with `cells` active cells and `c` components.
-fn memory(cells: f64, c: usize) -> f64 {
-    BYTES_PER_CELL * (c * c) as f64 * cells
+/// Predicted bytes of a cycle of `experiment` with `cells` active cells (module docs): the
+/// cells' share, growing as c² up to the two components of elasticity and linearly beyond
+/// (the SubStokes tables, c = 3, measured 8.4 kB per cell, not 9/4 of elasticity's 6.1 kB),
+/// and on a strip refined at a side the fill of its Cholesky factor.
+fn memory(experiment: &Experiment, cells: f64) -> f64 {
+    let c = components(experiment) as f64;
+    let per_cell = match super::solver_of(experiment) {
+        crate::linalg::SolverKind::Direct => BYTES_PER_CELL,
+        crate::linalg::SolverKind::Multigrid => BYTES_PER_CELL_MULTIGRID,
+    };
+    let fill = if experiment.scene.side_refinements > 0 {
+        let unknowns = VERTICES_PER_CELL * c * cells;
+        std::mem::size_of::<f64>() as f64 * SIDE_FILL * unknowns * unknowns
+    } else {
+        0.0
+    };
+    per_cell * c * c.min(2.0) * cells + fill
 }
 
 /// A predicted number of cells: an integer below ten million, with an exponent above.
@@ -265,6 +343,7 @@ fn human(bytes: f64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::linalg::direct::OverBudget;
 
     #[test]
     fn sizes_parse_with_binary_units() {
@@ -278,6 +357,32 @@ mod tests {
         for bad in ["", "G", "-1G", "4X", "nanG", "0", "inf"] {
             assert!(Budget::parse(bad).is_err(), "{bad}");
         }
+    }
+
+    /// A solver's refusal under the contexts of the model and the study becomes the study's
+    /// [`StudyError::OverBudget`], its text kept whole; any other failure stays as it was.
+    #[test]
+    fn a_solvers_refusal_is_the_budgets() {
+        let refused = SolveError::OverBudget(Box::new(OverBudget {
+            what: "the factor".into(),
+            bytes: 3.0 * GIB,
+            budget: GIB,
+        }));
+        let cause = StudyError::Solve(refused).context("contact");
+        let text = cause.to_string();
+        let error = Budget::refusal(RunError::at_cycle("IV.18", 2, cause));
+        assert!(matches!(error.cause, StudyError::OverBudget(_)), "{error}");
+        assert_eq!(error.cause.to_string(), text);
+        assert!(
+            text.contains("3.0 GiB") && text.contains("1.0 GiB"),
+            "{text}"
+        );
+        let other = Budget::refusal(RunError::at_cycle(
+            "IV.1",
+            0,
+            StudyError::Failed("x".into()),
+        ));
+        assert!(matches!(other.cause, StudyError::Failed(_)));
     }
 
     #[test]

@@ -204,7 +204,9 @@ pub fn run_within(
     progress: Progress,
 ) -> Result<RunResult, RunError> {
     rayon::scope(|_| {
-        let mut result = run_study_of_kind(experiment, tier, budget, progress)?;
+        let _limit = budget.limit_solvers();
+        let mut result =
+            run_study_of_kind(experiment, tier, budget, progress).map_err(Budget::refusal)?;
         result.parameters = experiment.parameters.clone();
         Ok(result)
     })

@@ -239,6 +239,7 @@ impl Prepared {
             let row = a.row_ptr.partition_point(|&s| s <= i) - 1;
             return Err(SolveError::NonFiniteData(dofs[row]));
         }
+        check_levels(hierarchy, n_components, &a)?;
         let cycle = VCycle::build(hierarchy, n_components, frames, &a, &rows, &free)?;
         Ok(Prepared {
             pattern: Prepared::pattern_of(matrix),
@@ -284,6 +285,33 @@ impl Prepared {
         changed == 0
             || (!single_level && changed as f64 <= MAX_MASK_CHANGE * self.dofs.len() as f64)
     }
+}
+
+/// [`SolveError::OverBudget`] if the levels of `hierarchy` below the block `fine` do not fit
+/// the memory limit of the study ([`crate::linalg::direct::limit_memory`]), checked before the
+/// Galerkin products are allocated. Each level's matrix is predicted with the entries per row
+/// of the finest (the Galerkin products of Q₁ prolongations keep a nine-point stencil per
+/// component) in double precision, its single-precision copy and 32-bit column indices, plus
+/// its vectors (residual, correction, prolongated values).
+fn check_levels(
+    hierarchy: &VertexHierarchy,
+    n_components: usize,
+    fine: &Sparse,
+) -> Result<(), SolveError> {
+    let sizes = hierarchy.level_sizes();
+    let coarse: usize = sizes.iter().rev().skip(1).map(|&v| v * n_components).sum();
+    let rows = fine.n_rows().max(1) as f64;
+    let per_row = fine.vals.len() as f64 / rows;
+    let bytes = coarse as f64 * (per_row * (8.0 + 4.0 + 4.0) + 3.0 * 8.0);
+    super::direct::check_memory(
+        || {
+            format!(
+                "the multigrid hierarchy of {} levels ({coarse} unknowns below the finest)",
+                sizes.len()
+            )
+        },
+        bytes,
+    )
 }
 
 /// Solves the systems of one mesh at a time by multigrid-preconditioned CG (module docs):
