@@ -174,6 +174,7 @@ fn run(cli: &Cli) -> Result<bool, String> {
         jobs: cli.jobs,
         no_progress: cli.no_progress,
         started,
+        overlap: Default::default(),
     };
     let stems: Vec<String> = loaded.iter().map(|(stem, _)| stem.clone()).collect();
     let outcomes = schedule::run_tables(loaded, &settings);
@@ -186,6 +187,7 @@ fn run(cli: &Cli) -> Result<bool, String> {
         total_seconds: started.elapsed().as_secs_f64(),
         threads: rayon::current_num_threads(),
         provenance,
+        alongside: settings.overlap.most_alongside(),
     };
     let written = report::write_report(&cli.out, &entries, &meta)
         .map_err(|e| format!("cannot write the report into {}: {e}", cli.out.display()))?;

@@ -32,6 +32,8 @@ pub struct Settings<'a> {
     pub no_progress: bool,
     /// When the report started.
     pub started: Instant,
+    /// Which tables ran at the same time (the page marks their seconds).
+    pub overlap: report::Overlap,
 }
 
 /// Run every loaded table (and record each file that did not load as a failure); the outcomes
@@ -112,6 +114,7 @@ fn run_one(
         display,
         counted: AtomicU64::new(0),
     };
+    let _running = settings.overlap.enter(&spec.table);
     let outcome = match study::run_table(&spec, options, &host) {
         Ok(table) => Outcome::Done {
             run: Box::new(table.run),
