@@ -12,6 +12,10 @@ use base64::Engine as _;
 /// Cells above which a mesh or deformed-body picture is drawn as a raster.
 pub(super) const RASTER_MIN_CELLS: usize = 20_000;
 
+/// Bytes of vector paths above which a field picture's cells are drawn as a raster (fewer
+/// cells, but each of many colours: a raster of the same picture is a fraction of that).
+pub(super) const RASTER_MIN_BYTES: usize = 100_000;
+
 /// An RGBA image; pixel `(0, 0)` is the top left corner. What is painted is opaque; the
 /// background may be transparent, so that what the SVG drew under the image shows through.
 pub(super) struct Raster {
