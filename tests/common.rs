@@ -342,6 +342,7 @@ pub fn report_of(name: &str, sections: &[(&RunResult, &ThesisTable)]) -> (PathBu
         total_seconds: 0.1,
         threads: 1,
         provenance: Default::default(),
+        alongside: Default::default(),
     };
     let dir = crate::cli::temp_dir(&format!("report-of-{name}"));
     let written = report::write_report(&dir, &entries, &meta).unwrap();

@@ -21,6 +21,7 @@ mod notes;
 mod open_data;
 mod outputs;
 mod own_scenes;
+mod page_weight;
 mod properties;
 mod report_failures;
 mod reynolds;

@@ -372,6 +372,7 @@ fn meta() -> tribo::report::ReportMeta {
         total_seconds: 0.0,
         threads: 1,
         provenance: Default::default(),
+        alongside: Default::default(),
     }
 }
 

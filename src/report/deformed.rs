@@ -10,6 +10,7 @@ use std::path::Path;
 use super::figures::{cf, indexed, Drawing, Figure, Figures};
 use super::html::fmt_short;
 use super::plots::*;
+use super::raster::{mix, rgb, Raster, RASTER_MIN_CELLS};
 use crate::results::{DeformedPicture, RunResult};
 
 /// The deformed body (thesis Fig. IV.2): displaced quadrilaterals filled light and outlined,
@@ -40,7 +41,8 @@ pub(super) fn deformed_in(
 ) -> io::Result<()> {
     let canvas = DeformedCanvas::new(win);
     let mut svg = svg_open(canvas.width, canvas.height);
-    deformed_drawing(&mut svg, title, pic, &canvas.frame, true);
+    let raster = (pic.quads.len() > RASTER_MIN_CELLS).then_some(1.0);
+    deformed_drawing(&mut svg, title, pic, &canvas.frame, true, raster);
     axes(&mut svg, &canvas.frame);
     svg.push_str("</svg>\n");
     crate::fsio::write(path, svg)
@@ -116,6 +118,11 @@ pub(super) const DEFORMED_CLIP: &str = "c";
 /// Id of the hatch pattern of the obstacles' solid side in a deformed-body picture.
 pub(super) const OBSTACLE_HATCH: &str = "solid";
 
+/// Fill of the body's cells.
+const BODY_FILL: &str = "#d6e4f2";
+/// Outline of the body's cells.
+const BODY_LINE: &str = "#4a6a8a";
+
 /// Colour of the obstacles.
 const OBSTACLE: &str = "#5b3a1a";
 
@@ -135,6 +142,24 @@ pub(super) fn deformed_clip(f: &Frame) -> String {
         p = 8.0 * SUB,
         w = 1.5 * SUB,
     )
+}
+
+/// The points of a polyline (sub-pixel units) without those within a pixel of the point kept
+/// before them, the last always kept: an obstacle sampled at thousands of points per curve
+/// (the forming's die and punch) is drawn with one point per pixel of its length.
+fn thin(pts: Vec<(i64, i64)>) -> Vec<(i64, i64)> {
+    let px = SUB as i64;
+    let n = pts.len();
+    let mut kept: Vec<(i64, i64)> = Vec::with_capacity(n);
+    for (i, p) in pts.into_iter().enumerate() {
+        let near = kept
+            .last()
+            .is_some_and(|q| (p.0 - q.0).abs() < px && (p.1 - q.1).abs() < px);
+        if !near || i + 1 == n {
+            kept.push(p);
+        }
+    }
+    kept
 }
 
 /// The solid side of each obstacle curve as closed paths (sub-pixel units of `f`): the curve,
@@ -159,6 +184,7 @@ fn obstacle_solid_sides(pic: &DeformedPicture, f: &Frame) -> String {
             .filter(|p| p[0].is_finite() && p[1].is_finite())
             .map(|p| f.sub(p[0], p[1]))
             .collect();
+        let pts = thin(pts);
         let (Some(first), Some(last)) = (pts.first(), pts.last()) else {
             continue;
         };
@@ -183,13 +209,17 @@ fn obstacle_solid_sides(pic: &DeformedPicture, f: &Frame) -> String {
 /// Everything of one deformed-body picture inside an open `<svg>`: the title, the body, the
 /// obstacles, the Signorini faces and the contact points clipped to the window `f`, the window's
 /// frame, the legend and the picture's caption. With `define_clip` the clip path
-/// ([`deformed_clip`]) is written here; an animation of several pictures defines it once.
+/// ([`deformed_clip`]) is written here; an animation of several pictures defines it once. With
+/// `raster` (SVG pixels per raster pixel) the body's cells are a raster image ([`body_raster`];
+/// for a picture, or all frames of an animation, of more than [`RASTER_MIN_CELLS`] cells), else
+/// vector paths.
 pub(super) fn deformed_drawing(
     svg: &mut String,
     title: &str,
     pic: &DeformedPicture,
     f: &Frame,
     define_clip: bool,
+    raster: Option<f64>,
 ) {
     let margin = f.left - AXIS_LEFT;
     text(svg, margin, 26.0, 17.0, "start", title);
@@ -210,41 +240,23 @@ pub(super) fn deformed_drawing(
             "<path class=\"obstacle-solid\" fill=\"url(#{OBSTACLE_HATCH})\" stroke=\"none\" d=\"{solid}\"/>"
         );
     }
-    let mut d = String::new();
-    // Quads smaller than a pixel become that pixel, written once (as in `sub_box`).
-    let mut tiny = HashSet::new();
-    let px = SUB as i64;
-    for q in pic.quads.iter().filter(finite_quad) {
-        let p: Vec<(i64, i64)> = q.iter().map(|p| f.sub(p[0], p[1])).collect();
-        let (xs, ys) = (p.iter().map(|p| p.0), p.iter().map(|p| p.1));
-        let w = xs.clone().max().unwrap_or(0) - xs.min().unwrap_or(0);
-        let h = ys.clone().max().unwrap_or(0) - ys.min().unwrap_or(0);
-        if w < px && h < px {
-            let (x, y) = (p[0].0.div_euclid(px) * px, p[0].1.div_euclid(px) * px);
-            if tiny.insert((x, y)) {
-                let _ = write!(d, "M{x} {y}h{px}v{px}h-{px}z");
-            }
-            continue;
-        }
-        let _ = write!(
-            d,
-            "M{} {}L{} {} {} {} {} {}z",
-            p[0].0, p[0].1, p[1].0, p[1].1, p[2].0, p[2].1, p[3].0, p[3].1
-        );
+    if let Some(pixel) = raster {
+        svg.push_str(&body_raster(pic, f, pixel));
+        svg.push('\n');
+    } else {
+        svg.push_str(&body_path(pic, f));
     }
-    let _ = writeln!(
-        svg,
-        "<path fill=\"#d6e4f2\" stroke=\"#4a6a8a\" stroke-width=\"{}\" stroke-linejoin=\"round\" d=\"{d}\"/>",
-        0.5 * SUB
-    );
     let finite = |p: &&[f64; 2]| p[0].is_finite() && p[1].is_finite();
     let mut d = String::new();
     for line in &pic.obstacles {
-        let mut first = true;
-        for p in line.iter().filter(finite) {
-            let (x, y) = f.sub(p[0], p[1]);
-            let _ = write!(d, "{}{x} {y}", if first { "M" } else { "L" });
-            first = false;
+        let pts = thin(
+            line.iter()
+                .filter(finite)
+                .map(|p| f.sub(p[0], p[1]))
+                .collect(),
+        );
+        for (i, (x, y)) in pts.into_iter().enumerate() {
+            let _ = write!(d, "{}{x} {y}", if i == 0 { "M" } else { "L" });
         }
     }
     let _ = writeln!(
@@ -296,6 +308,66 @@ pub(super) fn deformed_drawing(
     );
 
     deformed_legend(svg, pic, f, margin);
+}
+
+/// The body's quadrilaterals as one vector path (in [`SUB`] units), filled light and outlined.
+fn body_path(pic: &DeformedPicture, f: &Frame) -> String {
+    let mut svg = String::new();
+    let mut d = String::new();
+    // Quads smaller than a pixel become that pixel, written once (as in `sub_box`).
+    let mut tiny = HashSet::new();
+    let px = SUB as i64;
+    for q in pic.quads.iter().filter(finite_quad) {
+        let p: Vec<(i64, i64)> = q.iter().map(|p| f.sub(p[0], p[1])).collect();
+        let (xs, ys) = (p.iter().map(|p| p.0), p.iter().map(|p| p.1));
+        let w = xs.clone().max().unwrap_or(0) - xs.min().unwrap_or(0);
+        let h = ys.clone().max().unwrap_or(0) - ys.min().unwrap_or(0);
+        if w < px && h < px {
+            let (x, y) = (p[0].0.div_euclid(px) * px, p[0].1.div_euclid(px) * px);
+            if tiny.insert((x, y)) {
+                let _ = write!(d, "M{x} {y}h{px}v{px}h-{px}z");
+            }
+            continue;
+        }
+        let _ = write!(
+            d,
+            "M{} {}L{} {} {} {} {} {}z",
+            p[0].0, p[0].1, p[1].0, p[1].1, p[2].0, p[2].1, p[3].0, p[3].1
+        );
+    }
+    let _ = writeln!(
+        &mut svg,
+        "<path fill=\"{BODY_FILL}\" stroke=\"{BODY_LINE}\" stroke-width=\"{}\" stroke-linejoin=\"round\" d=\"{d}\"/>",
+        0.5 * SUB
+    );
+    svg
+}
+
+/// The body's quadrilaterals painted into a raster of the frame `f` (`pixel` SVG pixels per
+/// raster pixel),
+/// as an `<image>` in [`SUB`] units: filled light with one-pixel edges of the colour four fifths of
+/// the way to the outline of [`body_path`] (a half-pixel stroke as a whole pixel), so that a region of
+/// sub-pixel cells turns as dark as in the vector picture.
+fn body_raster(pic: &DeformedPicture, f: &Frame, pixel: f64) -> String {
+    let fill = rgb(BODY_FILL);
+    let edge = mix(fill, rgb(BODY_LINE), 0.8);
+    let mut r = Raster::new(f.width() / pixel, f.height() / pixel, None);
+    let at = |p: &[f64; 2]| ((f.px(p[0]) - f.left) / pixel, (f.py(p[1]) - f.top) / pixel);
+    let quads: Vec<[(f64, f64); 4]> = pic
+        .quads
+        .iter()
+        .filter(finite_quad)
+        .map(|q| [at(&q[0]), at(&q[1]), at(&q[2]), at(&q[3])])
+        .collect();
+    for q in &quads {
+        r.fill_quad(q, fill);
+    }
+    for q in &quads {
+        for i in 0..4 {
+            r.line(q[i], q[(i + 1) % 4], edge);
+        }
+    }
+    r.svg_image(f.left * SUB, f.top * SUB, pixel * SUB)
 }
 
 /// The legend under a deformed-body picture (only for one with an obstacle or Signorini faces)
@@ -388,5 +460,22 @@ impl Figures for Deformed {
             deformed(&path, &run.table, pic)?;
         }
         Ok(figures)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn thinning_keeps_one_point_per_pixel_and_the_ends() {
+        let px = SUB as i64;
+        // 100 points a tenth of a pixel apart: 10 pixels long.
+        let pts: Vec<(i64, i64)> = (0..100).map(|i| (i, 0)).collect();
+        let kept = thin(pts);
+        assert_eq!(kept.first(), Some(&(0, 0)));
+        assert_eq!(kept.last(), Some(&(99, 0)));
+        assert!(kept.windows(2).rev().skip(1).all(|w| w[1].0 - w[0].0 >= px));
+        assert_eq!(kept.len(), 11);
     }
 }

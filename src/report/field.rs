@@ -10,6 +10,7 @@ use super::figures::{cf, indexed, Drawing, Figure, Figures};
 use super::file_stem;
 use super::html::fmt_short;
 use super::plots::*;
+use super::raster::{Raster, RASTER_MIN_BYTES, RASTER_MIN_CELLS};
 use crate::results::{Arrow, FieldPicture, RunResult};
 
 /// Viridis colormap (matplotlib's perceptually uniform map), sampled at nine points and
@@ -157,35 +158,14 @@ pub fn field(path: &Path, table: &str, pic: &FieldPicture, domain: [f64; 4]) -> 
     );
     // One path per colour bin; `BINS` is the bin of cells without a finite value (grey). The
     // first cell to claim a snapped pixel colours it.
-    let mut by_bin = vec![Vec::new(); BINS + 1];
-    let mut seen = HashSet::new();
-    let mut undefined = 0;
-    for (c, v) in &pic.cells {
-        let k = if v.is_finite() {
-            bin(*v)
-        } else {
-            undefined += 1;
-            BINS
-        };
-        if finite_box(c) && f.intersects(c) {
-            let b = sub_box(c, &f);
-            if seen.insert(b) {
-                by_bin[k].push(b);
-            }
-        }
-    }
-    let by_bin: Vec<String> = by_bin.into_iter().map(rects_path).collect();
-    for (k, d) in by_bin.iter().enumerate().filter(|(_, d)| !d.is_empty()) {
-        let fill = if k == BINS {
-            "#bbbbbb".to_string()
-        } else {
-            let (r, g, b) = viridis((k as f64 + 0.5) / BINS as f64);
-            format!("rgb({r},{g},{b})")
-        };
-        let _ = writeln!(
-            svg,
-            "<path fill=\"{fill}\" shape-rendering=\"crispEdges\" d=\"{d}\"/>"
-        );
+    let undefined = pic.cells.iter().filter(|(_, v)| !v.is_finite()).count();
+    let mut fills = String::new();
+    cells_path(&mut fills, pic, &f, &bin);
+    if pic.cells.len() > RASTER_MIN_CELLS || fills.len() > RASTER_MIN_BYTES {
+        svg.push_str(&cells_raster(pic, &f, &bin));
+        svg.push('\n');
+    } else {
+        svg.push_str(&fills);
     }
     // Cell outlines only while they do not drown the colours (roughly ≥ 6 pixels per cell).
     let px_per_cell = f.width() * f.height() / pic.cells.len().max(1) as f64;
@@ -222,6 +202,62 @@ pub fn field(path: &Path, table: &str, pic: &FieldPicture, domain: [f64; 4]) -> 
     colour_bar(&mut svg, margin, bar_top, bar_w, (lo, hi), pic, undefined);
     svg.push_str("</svg>\n");
     crate::fsio::write(path, svg)
+}
+
+/// The cells as vector paths (in [`SUB`] units): one path per colour bin.
+fn cells_path(svg: &mut String, pic: &FieldPicture, f: &Frame, bin: &dyn Fn(f64) -> usize) {
+    let mut by_bin = vec![Vec::new(); BINS + 1];
+    let mut seen = HashSet::new();
+    for (c, v) in &pic.cells {
+        let k = if v.is_finite() { bin(*v) } else { BINS };
+        if finite_box(c) && f.intersects(c) {
+            let b = sub_box(c, f);
+            if seen.insert(b) {
+                by_bin[k].push(b);
+            }
+        }
+    }
+    let by_bin: Vec<String> = by_bin.into_iter().map(rects_path).collect();
+    for (k, d) in by_bin.iter().enumerate().filter(|(_, d)| !d.is_empty()) {
+        let fill = if k == BINS {
+            "#bbbbbb".to_string()
+        } else {
+            let (r, g, b) = viridis((k as f64 + 0.5) / BINS as f64);
+            format!("rgb({r},{g},{b})")
+        };
+        let _ = writeln!(
+            *svg,
+            "<path fill=\"{fill}\" shape-rendering=\"crispEdges\" d=\"{d}\"/>"
+        );
+    }
+}
+
+/// The colour of a value in the bins `bin`: its bin's viridis colour, grey without a finite value.
+fn bin_colour(v: f64, bin: &dyn Fn(f64) -> usize) -> [u8; 3] {
+    if !v.is_finite() {
+        return [0xbb; 3];
+    }
+    let (r, g, b) = viridis((bin(v) as f64 + 0.5) / BINS as f64);
+    [r, g, b]
+}
+
+/// The cells of a field of more than [`RASTER_MIN_CELLS`] cells as a raster of the frame (one
+/// pixel per SVG pixel) in [`SUB`] units, coloured as [`cells_path`] colours them (the first
+/// cell on a pixel colours it).
+fn cells_raster(pic: &FieldPicture, f: &Frame, bin: &dyn Fn(f64) -> usize) -> String {
+    let mut r = Raster::new(f.width(), f.height(), None);
+    for (c, v) in pic.cells.iter().rev() {
+        if finite_box(c) && f.intersects(c) {
+            r.fill_box(
+                f.px(c.x0) - f.left,
+                f.px(c.x1) - f.left,
+                f.py(c.y1) - f.top,
+                f.py(c.y0) - f.top,
+                bin_colour(*v, bin),
+            );
+        }
+    }
+    r.svg_image(f.left * SUB, f.top * SUB, SUB)
 }
 
 /// The colour bar of a field picture from `lo` to `hi` (five ticks, the field's name), and below

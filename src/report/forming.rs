@@ -131,6 +131,11 @@ fn write_animation(
     let mut svg = svg_open(canvas.width, canvas.height);
     let _ = writeln!(svg, "<defs>{}</defs>", deformed_clip(f));
     let last_step = pics.last().map_or(0, |p| p.cycle);
+    // The frames together are many cells: a raster each, at half the resolution of a picture
+    // (the animation shows the motion, the step frames the cells).
+    let raster = (pics.iter().map(|p| p.quads.len()).sum::<usize>()
+        > super::raster::RASTER_MIN_CELLS)
+        .then_some(2.0);
     for (i, pic) in pics.iter().enumerate() {
         let shown = if i + 1 == pics.len() {
             "visible"
@@ -142,7 +147,7 @@ fn write_animation(
             "<g class=\"frame\" id=\"step-{:02}\" visibility=\"{shown}\">",
             pic.cycle
         );
-        deformed_drawing(&mut svg, &frame_title(table, pic), pic, f, false);
+        deformed_drawing(&mut svg, &frame_title(table, pic), pic, f, false, raster);
         text(
             &mut svg,
             canvas.width - DeformedCanvas::MARGIN,

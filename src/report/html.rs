@@ -188,6 +188,9 @@ td.na { color: #b8bec8; }
 tbody tr:hover td { background: #eef3fb; }
 .legend { color: var(--muted); font-size: 13px; margin: 6px 0 10px; }
 .legend .swatch { display: inline-block; width: 12px; height: 12px; background: var(--off); border: 1px solid var(--offink); vertical-align: -1px; }
+details.entry { border-bottom: 1px solid var(--rule); }
+details.entry > summary { cursor: pointer; font-size: 17px; font-weight: 600; padding: 6px 0; }
+details.entry[open] > summary { color: var(--muted); font-size: 14px; }
 .params { margin: 10px 0; }
 .params summary { cursor: pointer; font-weight: 600; }
 .params table { margin: 6px 0; }
@@ -257,12 +260,14 @@ pub(crate) fn page(entries: &[Entry], figures: &[SectionFigures], meta: &ReportM
                 family_box(&mut h, family);
             }
         }
+        fold_open(&mut h, entry);
         match entry {
             Entry::Done(section) => table_section(&mut h, section, figs),
             Entry::Failed(failure) => failed_section(&mut h, failure),
         }
+        h.push_str("</details>\n");
     }
-    performance_section(&mut h, entries);
+    performance_section(&mut h, entries, &meta.alongside);
     errata_section(&mut h, entries);
     let _ = writeln!(
         h,
@@ -277,6 +282,30 @@ pub(crate) fn page(entries: &[Entry], figures: &[SectionFigures], meta: &ReportM
     );
     h.push_str("</main>\n</body>\n</html>\n");
     h
+}
+
+/// The fold around an entry's section: a `<details>` closed by default, whose one-line
+/// `<summary>` names the table, so that the page opens as a list of the tables (a full report
+/// is otherwise hundreds of screens tall and its figures, though lazy, are laid out at once).
+/// The section inside keeps its `id`: a link to it (the contents, the summary, the search of
+/// the browser) opens the fold.
+fn fold_open(h: &mut String, entry: &Entry) {
+    let _ = match entry {
+        Entry::Done(s) => writeln!(
+            h,
+            "<details class=\"entry\"><summary>{} ({}) — {}</summary>",
+            escape(&entry_name(&s.run.table)),
+            escape(&s.run.section),
+            escape(&s.run.title)
+        ),
+        Entry::Failed(f) => writeln!(
+            h,
+            "<details class=\"entry\"><summary>{} — {} <b>({})</b></summary>",
+            escape(&entry_name(&f.table)),
+            escape(f.title.as_deref().unwrap_or("")),
+            f.kind.name()
+        ),
+    };
 }
 
 fn header(h: &mut String, entries: &[Entry], meta: &ReportMeta) {
@@ -684,12 +713,18 @@ pub(crate) const PERFORMANCE_FIGURE: &str = "performance-solve.svg";
 /// The performance section: where each table's time goes (seconds per phase over all its
 /// cycles), the solver and its CG iterations, the cost of a solve per unknown, and the measured
 /// reference of a deal.II program.
-fn performance_section(h: &mut String, entries: &[Entry]) {
+fn performance_section(
+    h: &mut String,
+    entries: &[Entry],
+    alongside: &std::collections::BTreeMap<String, usize>,
+) {
     h.push_str(
         "<section id=\"performance\">\n<h2>Performance</h2>\n<p>Seconds per phase summed over \
          every cycle of a table (the unprinted ones included), from the table's own clock. Tables \
          run side by side (<code>--jobs</code>, one per core by default) share the cores, so \
-         their phases take longer than alone; run with <code>--jobs 1</code> to time one table. \
+         their phases take longer than alone: the column <i>alongside</i> gives the most other \
+         tables that ran at the same time as a table, and the seconds of a table that did not \
+         run alone are marked †; run with <code>--jobs 1</code> to time one table at a time. \
          The Reynolds systems are solved by multigrid-preconditioned CG unless the run chose \
          <code>--solver direct</code>, the elasticity systems by the direct solver unless it \
          chose <code>--solver multigrid</code>, the contact systems always by the direct \
@@ -710,7 +745,8 @@ fn performance_section(h: &mut String, entries: &[Entry]) {
     h.push_str(
         "<table class=\"performance\"><thead><tr><th>table</th><th>solver</th>\
          <th>largest dofs</th><th>most CG iterations</th><th>setup s</th><th>assemble s</th>\
-         <th>solve s</th><th>estimate s</th><th>refine s</th><th>total s</th></tr></thead>\n<tbody>\n",
+         <th>solve s</th><th>estimate s</th><th>refine s</th><th>total s</th><th>alongside</th>\
+         </tr></thead>\n<tbody>\n",
     );
     for entry in entries {
         let Entry::Done(s) = entry else { continue };
@@ -737,27 +773,68 @@ fn performance_section(h: &mut String, entries: &[Entry]) {
             dofs.map_or("–".into(), |d| d.to_string()),
             cg.map_or("–".into(), |k| k.to_string()),
         );
+        let others = alongside.get(&s.run.table).copied();
+        let mark = if others.is_some_and(|n| n > 0) {
+            "†"
+        } else {
+            ""
+        };
         let seconds = phases.named().map(|(_, v)| v);
         for (i, v) in seconds.iter().chain([&phases.total()]).enumerate() {
             let class = if i == 0 { " class=\"first\"" } else { "" };
-            let _ = write!(h, "<td{class}>{v:.2}</td>");
+            let _ = write!(h, "<td{class}>{v:.2}{mark}</td>");
         }
-        h.push_str("</tr>\n");
-    }
-    h.push_str("</tbody></table>\n");
-    let reference_on_page = entries
-        .iter()
-        .any(|e| matches!(e, Entry::Done(s) if s.run.table == "IV.36"));
-    if reference_on_page {
-        h.push_str(
-            "<p><b>A measured reference.</b> A deal.II 9.4 program solving the \
-             same squeeze problem (IV.7) on the same adaptive meshes, 9 cycles up to 706 893 \
-             unknowns, took 20.2 s with UMFPACK and 59 s with CG and SSOR as measured for this \
-             project; Table IV.36 is that run here (its total is above). It is a measurement of \
-             one program, not a claim about deal.II in general.</p>\n",
+        let _ = writeln!(
+            h,
+            "<td class=\"alongside\">{}</td></tr>",
+            others.map_or("not recorded".into(), |n| n.to_string())
         );
     }
+    h.push_str("</tbody></table>\n");
+    deal_ii_reference(h, entries, alongside);
     h.push_str("</section>\n");
+}
+
+/// The measured deal.II reference beside Table IV.36, the same squeeze problem, when IV.36 is on
+/// the page: its total compared with the reference only if IV.36 ran alone (its seconds are a
+/// one-table-at-a-time measurement); otherwise the page says that no such measurement of tribo
+/// is on it.
+fn deal_ii_reference(
+    h: &mut String,
+    entries: &[Entry],
+    alongside: &std::collections::BTreeMap<String, usize>,
+) {
+    const TABLE: &str = "IV.36";
+    if !entries
+        .iter()
+        .any(|e| matches!(e, Entry::Done(s) if s.run.table == TABLE))
+    {
+        return;
+    }
+    let tribo = match alongside.get(TABLE).copied() {
+        Some(0) => "Table IV.36 is that run here, and it ran alone, so its total above is a \
+                    one-table-at-a-time measurement on this run's machine"
+            .to_string(),
+        Some(n) => format!(
+            "Table IV.36 is that run here, but it ran beside {n} other table{} sharing the \
+             cores, so its seconds above (marked †) are not a one-table-at-a-time measurement, \
+             and no such measurement of tribo is on this page: <code>report --only IV.36 \
+             --jobs 1</code> makes one",
+            if n == 1 { "" } else { "s" }
+        ),
+        None => "Table IV.36 is that run here, but this page does not record whether it ran \
+                 alone (a page merged from shards), so no one-table-at-a-time measurement of \
+                 tribo is on it: <code>report --only IV.36 --jobs 1</code> makes one"
+            .to_string(),
+    };
+    let _ = writeln!(
+        h,
+        "<p><b>A measured reference.</b> A deal.II 9.4 program solving the same squeeze problem \
+         (IV.7) on the same adaptive meshes, 9 cycles up to 706 893 unknowns, took 20.2 s with \
+         UMFPACK and 59 s with CG and SSOR as measured for this project. \
+         {tribo}. It is a measurement of one program, not a claim about deal.II in \
+         general.</p>"
+    );
 }
 
 /// Why a section has no thesis columns when its experiment is not the printed one: a scene of

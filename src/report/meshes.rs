@@ -11,6 +11,7 @@ use std::path::Path;
 use super::figures::{cf, Drawing, Figure, Figures};
 use super::html::fmt_short;
 use super::plots::*;
+use super::raster::{mix, rgb, Raster, RASTER_MIN_CELLS};
 use crate::results::{CellBox, MeshPicture, PartitionPicture, RunResult};
 
 /// Width in pixels below which a mesh picture leaves out a cell's edges: its colour shows its
@@ -83,6 +84,14 @@ fn draw_mesh_levels(
     clip_id: &str,
 ) {
     let (l, t, w, h) = (f.left, f.top, f.width(), f.height());
+    if cells.len() > RASTER_MIN_CELLS {
+        let _ = writeln!(
+            svg,
+            "{}\n<rect x=\"{l:.1}\" y=\"{t:.1}\" width=\"{w:.1}\" height=\"{h:.1}\" fill=\"none\" stroke=\"black\" stroke-width=\"1\"/>",
+            levels_raster(cells, levels, range, f)
+        );
+        return;
+    }
     let mut order: Vec<usize> = (0..cells.len().min(levels.len()))
         .filter(|&i| finite_box(&cells[i]) && f.intersects(&cells[i]))
         .collect();
@@ -123,6 +132,48 @@ fn draw_mesh_levels(
         0.5 * SUB,
         outline_path(visible, f),
     );
+}
+
+/// [`draw_mesh_levels`] for a mesh of more than [`RASTER_MIN_CELLS`] cells: the cells painted
+/// into a raster of the frame (coarse levels first, so that where sub-pixel cells share a pixel
+/// the finest level colours it, as in the vector picture), the edges of the cells at least
+/// [`EDGE_MIN_PX`] wide as one-pixel lines of [`MESH_LINE`] lightened to the weight of its
+/// half-pixel stroke; an `<image>` in pixels.
+fn levels_raster(cells: &[CellBox], levels: &[u8], range: (u8, u8), f: &Frame) -> String {
+    let mut r = Raster::new(f.width(), f.height(), Some([255, 255, 255]));
+    let mut order: Vec<usize> = (0..cells.len().min(levels.len()))
+        .filter(|&i| finite_box(&cells[i]) && f.intersects(&cells[i]))
+        .collect();
+    order.sort_by_key(|&i| levels[i]);
+    let corners = |c: &CellBox| {
+        (
+            f.px(c.x0) - f.left,
+            f.px(c.x1) - f.left,
+            f.py(c.y1) - f.top,
+            f.py(c.y0) - f.top,
+        )
+    };
+    for &i in &order {
+        let (x0, x1, y0, y1) = corners(&cells[i]);
+        r.fill_box(x0, x1, y0, y1, rgb(&level_color(levels[i], range)));
+    }
+    let edge = mix([255, 255, 255], rgb(MESH_LINE), 0.6);
+    for &i in &order {
+        let c = &cells[i];
+        if (c.x1 - c.x0).min(c.y1 - c.y0) * f.scale < EDGE_MIN_PX {
+            continue;
+        }
+        let (x0, x1, y0, y1) = corners(c);
+        for (a, b) in [
+            ((x0, y0), (x1, y0)),
+            ((x1, y0), (x1, y1)),
+            ((x1, y1), (x0, y1)),
+            ((x0, y1), (x0, y0)),
+        ] {
+            r.line(a, b, edge);
+        }
+    }
+    r.svg_image(f.left, f.top, 1.0)
 }
 
 /// The legend of the refinement levels `range` at `(x, y)` (the swatches' top left corner), as

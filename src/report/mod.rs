@@ -28,11 +28,13 @@ pub mod keys;
 mod legend;
 mod meshes;
 mod model_plots;
+mod overlap;
 mod performance;
 #[cfg(test)]
 mod plot_tests;
 mod plots;
 pub mod provenance;
+mod raster;
 pub mod record;
 pub mod verdict;
 pub mod vtk;
@@ -48,6 +50,7 @@ use crate::results::{Row, RunResult};
 use crate::thesis::ThesisTable;
 
 pub(crate) use figures::Figure;
+pub use overlap::{Overlap, Running};
 
 /// One table of the report, in table order: a table that ran, or one that did not.
 pub enum Entry<'a> {
@@ -133,6 +136,10 @@ pub struct ReportMeta {
     pub threads: usize,
     /// Commit, date, machine and command line of the run.
     pub provenance: provenance::Provenance,
+    /// For each table, the most other tables that ran at the same time ([`Overlap`]); a table
+    /// not in it has no record (a page merged from shards), and its seconds are shown unmarked
+    /// but not taken as a one-table-at-a-time measurement.
+    pub alongside: std::collections::BTreeMap<String, usize>,
 }
 
 /// Printed thesis rows beyond this many are left out of a section's table and figures (the page

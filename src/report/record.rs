@@ -360,6 +360,7 @@ pub fn merged_meta(records: &[Record], generated_by: String, command: String) ->
             machine: distinct(&runs, |r| r.provenance.machine.as_str()).join("; "),
             command,
         },
+        alongside: Default::default(),
     }
 }
 

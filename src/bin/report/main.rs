@@ -207,6 +207,7 @@ fn run(cli: &Cli) -> Result<bool, String> {
         no_progress: cli.no_progress,
         started,
         page: &page,
+        overlap: Default::default(),
     };
     let outcomes = schedule::run_tables(loaded, &settings);
     let failed: usize = outcomes.iter().map(Outcome::failures).sum();
@@ -218,6 +219,7 @@ fn run(cli: &Cli) -> Result<bool, String> {
         total_seconds: started.elapsed().as_secs_f64(),
         threads: rayon::current_num_threads(),
         provenance,
+        alongside: settings.overlap.most_alongside(),
     };
     let written = report::write_report(&cli.out, &entries, &meta)
         .map_err(|e| format!("cannot write the report into {}: {e}", cli.out.display()))?;

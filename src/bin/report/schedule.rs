@@ -35,6 +35,8 @@ pub struct Settings<'a> {
     pub started: Instant,
     /// The page that says which tables are pending until the report is written.
     pub page: &'a PendingPage,
+    /// Which tables ran at the same time (the page marks their seconds).
+    pub overlap: report::Overlap,
 }
 
 /// Run every loaded table (and record each file that did not load as a failure); the outcomes
@@ -118,6 +120,7 @@ fn run_one(
         display,
         counted: AtomicU64::new(0),
     };
+    let _running = settings.overlap.enter(&spec.table);
     let outcome = match study::run_table(&spec, options, &host) {
         Ok(table) => Outcome::Done {
             run: Box::new(table.run),
