@@ -79,6 +79,11 @@ impl SmoothingName {
         }
     }
 
+    /// The name of an experiment file's `mesh_smoothing` list, if it is one.
+    pub fn from_name(name: &str) -> Option<SmoothingName> {
+        SmoothingName::ALL.into_iter().find(|n| n.name() == name)
+    }
+
     /// The flags the name sets, or `None` for a deal.II flag tribo does not implement (the
     /// coarsening smoothers, which `maximum_smoothing` switches off through `patch_level_1`).
     pub fn flags(self) -> Option<MeshSmoothing> {
