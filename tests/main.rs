@@ -25,6 +25,7 @@ mod properties;
 mod report_failures;
 mod reynolds;
 mod settings;
+mod smoothing;
 mod solvers;
 mod substokes;
 mod table;

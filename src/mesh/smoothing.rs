@@ -246,7 +246,7 @@ impl Mesh {
             let level = i32::from(self.cells[c as usize].level);
             for key in self.corner_keys(c) {
                 let v = vertex_level[&key];
-                if v >= level + 1 {
+                if v > level {
                     f.coarsen[c as usize] = false;
                     if v > level + 1 && !f.refine[c as usize] {
                         f.refine[c as usize] = true;
