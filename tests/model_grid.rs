@@ -189,6 +189,7 @@ fn balance_separates_model_and_grid_refinement() {
                 refine: 0.3,
                 coarsen: 0.0,
                 ties: tribo::experiment::Ties::Band,
+                smoothing: Default::default(),
             },
             alpha,
             grid_indicator: GridIndicator::Eta,

@@ -94,6 +94,9 @@ pub struct Scene {
     pub side_refinements: usize,
     /// The contact sides (those with an obstacle) when `side_refinements` > 0.
     pub refined_sides: Vec<Side>,
+    /// deal.II's mesh-smoothing flags applied at every grid refinement
+    /// ([`SceneFile::mesh_smoothing`]); none by default.
+    pub mesh_smoothing: crate::mesh::MeshSmoothing,
 }
 
 /// What a scene simulates — the effects it names, with their data. One variant per kind of data;

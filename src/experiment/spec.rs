@@ -87,6 +87,14 @@ pub struct SceneFile {
     /// 3× at one contact side give 1472 cells, 3980 dofs and 512 contact faces.
     #[serde(default)]
     pub contact_refinements: usize,
+    /// deal.II's mesh-smoothing flags of the triangulation (`Triangulation::MeshSmoothing`),
+    /// kebab-case: `limit-level-difference-at-vertices`, `eliminate-unrefined-islands`,
+    /// `patch-level-1`, `coarsest-level-1`, `smoothing-on-refinement`, `maximum-smoothing`
+    /// ([`crate::mesh::SmoothingName`]). They add refinement flags (and remove coarsening
+    /// flags) beyond the marked cells at every grid refinement. Empty (the default): tribo's
+    /// 2:1 rule across faces alone, deal.II's `none`.
+    #[serde(default)]
+    pub mesh_smoothing: Vec<String>,
     pub effects: Vec<Effect>,
     pub elasticity: Option<ElasticityData>,
     pub contact: Option<ContactData>,

@@ -22,11 +22,13 @@
 
 //!
 //! The cell shapes are in `geometry`, faces, neighbours and point location in `neighbors`,
-//! refinement, coarsening and the lineage of a mesh's storage in `refinement`.
+//! refinement, coarsening and the lineage of a mesh's storage in `refinement`, deal.II's
+//! mesh-smoothing flags in `smoothing`.
 
 mod geometry;
 mod neighbors;
 mod refinement;
+mod smoothing;
 
 use serde::Deserialize;
 
@@ -34,6 +36,7 @@ pub use geometry::{bilinear, bilinear_gradients, cofactor, CellShape};
 pub use neighbors::{face_segments, Face, FaceNeighbors, FaceSegment, Neighbor, FACES};
 pub use refinement::ActiveCells;
 use refinement::Lineage;
+pub use smoothing::{MeshSmoothing, SmoothingName};
 
 /// Deepest refinement level a cell can reach: the mesh supports `MAX_LEVEL` refinement levels
 /// below its coarse grid. Refining a cell of this level is an error

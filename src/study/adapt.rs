@@ -13,7 +13,7 @@ use crate::adaptivity::model::{
 use crate::adaptivity::{mark_fixed_number, mark_fixed_number_split, rounded_measure, split_order};
 use crate::estimators::FaceIndicators;
 use crate::experiment::{self, ModelAlgorithm, Scene, Ties};
-use crate::mesh::{BoundaryFace, Mesh, Side};
+use crate::mesh::{BoundaryFace, Mesh, MeshSmoothing, Side};
 
 /// One adaptation step between two solves.
 pub trait Adaptation {
@@ -29,6 +29,9 @@ pub struct FixedNumber {
     pub refine: f64,
     pub coarsen: f64,
     pub ties: Ties,
+    /// deal.II's mesh-smoothing flags of the scene ([`Scene::mesh_smoothing`]), applied to the
+    /// marking before the refinement; none by default.
+    pub smoothing: MeshSmoothing,
 }
 
 impl FixedNumber {
@@ -38,7 +41,13 @@ impl FixedNumber {
             refine: grid.refine,
             coarsen: grid.coarsen,
             ties,
+            smoothing: MeshSmoothing::default(),
         }
+    }
+
+    /// The same marking with the scene's mesh-smoothing flags.
+    pub fn smoothed(self, smoothing: MeshSmoothing) -> FixedNumber {
+        FixedNumber { smoothing, ..self }
     }
 }
 
@@ -71,7 +80,7 @@ impl FixedNumber {
                 self.coarsen,
             ),
         };
-        mesh.refine_and_coarsen(&marking.refine, &marking.coarsen)
+        mesh.refine_and_coarsen_smoothed(&marking.refine, &marking.coarsen, self.smoothing)
             .map_err(|e| StudyError::from(e).context("cannot refine the mesh after this cycle"))?;
         Ok(())
     }

@@ -271,7 +271,7 @@ pub fn build_adaptation(
     study: &experiment::Study,
     scene: &experiment::Scene,
 ) -> Box<dyn Adaptation> {
-    let grid = |grid| FixedNumber::of(grid, study.ties);
+    let grid = |grid| FixedNumber::of(grid, study.ties).smoothed(scene.mesh_smoothing);
     let balanced = |g, model: experiment::ModelFractions, alpha| Balanced {
         model: model.into(),
         grid: grid(g),

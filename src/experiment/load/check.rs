@@ -81,6 +81,7 @@ impl Check<'_> {
         family.check(self, spec)?;
         self.study(&spec.study, &spec.scene)?;
         self.marks_cells(&spec.study, &spec.scene)?;
+        self.smoothing_acts(&spec.study, &spec.scene)?;
         self.rising_tools(&spec.scene, &spec.study)?;
         self.probes(&spec.probes, &spec.scene, family.facts().components)?;
         self.family_fields(spec, family)?;

@@ -89,6 +89,7 @@ pub fn load(path: &Path) -> Result<Experiment, ExperimentError> {
                 }
                 _ => Vec::new(),
             },
+            mesh_smoothing: self::scene::mesh_smoothing(&scene.mesh_smoothing),
         },
         family,
         problem,

@@ -7,6 +7,7 @@ use super::check::{effect_name, names, side_name, Check, Checked};
 use crate::experiment::spec::*;
 use crate::experiment::{ExperimentError, Problem};
 use crate::family::FamilyRef;
+use crate::mesh::{MeshSmoothing, SmoothingName};
 
 /// Most global refinements of the coarse grid (the size of the run is bounded by the memory
 /// budget of the study as well).
@@ -122,6 +123,7 @@ impl Check<'_> {
              with an obstacle",
             scene.contact_refinements,
         )?;
+        self.mesh_smoothing(&scene.mesh_smoothing)?;
         self.effects(scene)?;
         if let Some(elasticity) = &scene.elasticity {
             self.elasticity(elasticity)?;
@@ -137,6 +139,60 @@ impl Check<'_> {
         }
 
         Ok(())
+    }
+
+    /// `scene.mesh_smoothing`: names of deal.II's smoothing flags that tribo implements, each
+    /// once.
+    fn mesh_smoothing(&self, names: &[String]) -> Checked {
+        let known: Vec<&str> = SmoothingName::ALL
+            .into_iter()
+            .filter(|n| n.flags().is_some())
+            .map(SmoothingName::name)
+            .collect();
+        for (i, name) in names.iter().enumerate() {
+            let field = format!("scene.mesh_smoothing[{i}]");
+            let parsed = SmoothingName::from_name(name);
+            self.ensure(
+                parsed.is_some_and(|n| n.flags().is_some()),
+                &field,
+                &format!(
+                    "one of deal.II's mesh-smoothing flags tribo implements: {}{}",
+                    known.join(", "),
+                    if parsed.is_some() {
+                        " (the coarsening smoothers eliminate-refined-*-islands, \
+                         do-not-produce-unrefined-islands and smoothing-on-coarsening are not \
+                         implemented)"
+                    } else {
+                        ""
+                    }
+                ),
+                format!("{name:?}"),
+            )?;
+            self.ensure(
+                !names[..i].contains(name),
+                &field,
+                "each flag once",
+                format!("{name:?} a second time"),
+            )?;
+        }
+        Ok(())
+    }
+
+    /// `scene.mesh_smoothing` acts only where the fixed-number grid marking refines the mesh:
+    /// a study that adapts the grid, and not the model-adaptive film (`reynolds` with
+    /// `substokes`), whose grid marking is its own. Elsewhere it would be accepted and ignored.
+    pub(super) fn smoothing_acts(&self, study: &StudyFile, scene: &SceneFile) -> Checked {
+        if scene.mesh_smoothing.is_empty() {
+            return Ok(());
+        }
+        let film = scene.reynolds.is_some() && scene.substokes.is_some();
+        self.ensure(
+            study.kind.adapts_grid() && !film,
+            "scene.mesh_smoothing",
+            "no smoothing flags (left out) in a study that does not refine the grid by the \
+             fixed-number marking (model-adaptive and solver studies, the model-adaptive film)",
+            format!("{} flags", scene.mesh_smoothing.len()),
+        )
     }
 
     /// The effect list and the data sections must agree: every effect needs its section, every
@@ -376,4 +432,14 @@ impl Check<'_> {
             }
         }
     }
+}
+
+/// The flags of a checked `scene.mesh_smoothing` list ([`Check::scene`] refused every name it
+/// does not implement).
+pub(super) fn mesh_smoothing(names: &[String]) -> MeshSmoothing {
+    let names: Vec<SmoothingName> = names
+        .iter()
+        .map(|n| SmoothingName::from_name(n).expect("checked by the loader"))
+        .collect();
+    MeshSmoothing::of(&names).expect("checked by the loader")
 }
