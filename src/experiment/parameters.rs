@@ -22,7 +22,7 @@ const SHOWN_DIGITS: usize = 7;
 /// The parameters of an experiment file's text: every key of `[scene]` and `[study]` and of
 /// their sub-tables (`[scene.substokes]` …), grouped by the table they are in, in the order of
 /// the file. Numbers are shown as written (`1.0607e+02` stays so) unless written with more
-/// than [`MAX_WRITTEN_DIGITS`] significant digits, inline tables and arrays on one line, except
+/// than `MAX_WRITTEN_DIGITS` significant digits, inline tables and arrays on one line, except
 /// a list of tables (the obstacles), one entry per line. Text that is not TOML gives no
 /// parameters (the loader rejects such a file before this is asked).
 pub fn of_file(text: &str) -> Vec<Parameter> {

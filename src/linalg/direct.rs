@@ -145,7 +145,7 @@ thread_local! {
 /// The memory limit of the solves on this thread until the guard is dropped (then the limit
 /// before it holds again). A study sets its budget here before its solves: the solvers are built
 /// deep inside the problems, and a study's solves run on the thread of its cycle loop (the
-/// factorisations are sequential, [`FACTORISATION_PARALLELISM`]).
+/// factorisations are sequential, `FACTORISATION_PARALLELISM`).
 pub fn limit_memory(bytes: f64) -> MemoryLimit {
     MemoryLimit {
         previous: MEMORY_LIMIT.with(|limit| limit.replace(Some(bytes))),

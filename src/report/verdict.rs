@@ -3,7 +3,7 @@
 //!
 //! Each family names its primary columns with a band per column (`text/families.toml`,
 //! [`families::primary_columns`]): dofs and estimate for elasticity, z-contact and the fluids
-//! (the fluids' estimate compared one solve late, [`compared_value`]), the contact and gap
+//! (the fluids' estimate compared one solve late, `compared_value`), the contact and gap
 //! estimates too for Signorini contact, the face split and the model error for the
 //! model-adaptive tables on their fixed mesh, and further the three estimate parts with the
 //! dofs for model and grid adaptivity. A table is *reproduced* only when every primary column
@@ -40,7 +40,7 @@ const DEFAULT_PRIMARY: [Band<'static>; 2] = [
 /// two near (amber).
 pub const FAR: f64 = 0.15;
 
-/// A primary column with its band, borrowed from the families file or [`DEFAULT_PRIMARY`].
+/// A primary column with its band, borrowed from the families file or `DEFAULT_PRIMARY`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Band<'a> {
     pub column: &'a str,
