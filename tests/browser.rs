@@ -77,6 +77,41 @@ fn field<'a>(json: &'a str, name: &str) -> &'a str {
     &rest[..end]
 }
 
+/// Open `page` (the quick report's `index.html`, read from `out`) in headless Chromium with
+/// `script` injected into its head and the extra `args`; the JSON the script writes into
+/// `<pre id="{id}">`, unescaped, and Chromium's stderr (its console lines); a panic with that
+/// stderr when the script did not finish.
+fn run_script(out: &Path, page: &str, script: &str, id: &str, args: &[&str]) -> (String, String) {
+    let chromium = Path::new("/usr/bin/chromium");
+    let copy = out.join(format!("{id}.html"));
+    fs::write(
+        &copy,
+        page.replacen("<head>", &format!("<head>\n{script}"), 1),
+    )
+    .unwrap();
+    let profile = out.join(format!("chromium-profile-{id}"));
+    let output = Command::new(chromium)
+        .args(FLAGS)
+        .arg(format!("--user-data-dir={}", profile.display()))
+        .args(args)
+        .arg("--dump-dom")
+        .arg(format!("file://{}", copy.display()))
+        .output()
+        .expect("chromium starts");
+    let _ = fs::remove_file(&copy);
+    let _ = fs::remove_dir_all(&profile);
+    let dom = String::from_utf8_lossy(&output.stdout);
+    let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
+    let json = dom
+        .split(&format!("<pre id=\"{id}\">"))
+        .nth(1)
+        .and_then(|rest| rest.split("</pre>").next())
+        .unwrap_or_else(|| panic!("the script {id} did not finish: {stderr}"))
+        .replace("&quot;", "\"")
+        .replace("&amp;", "&");
+    (json, stderr)
+}
+
 /// Needs Debian's `chromium`, which a bare machine with only the Rust toolchain does not have:
 /// `cargo test --release` leaves it out (and says why); `.ci/run` installs the package and runs
 /// it by name (`--ignored --exact browser::the_page_renders_in_headless_chromium`).
@@ -94,31 +129,13 @@ fn the_page_renders_in_headless_chromium() {
         !page.contains("<script"),
         "the report page has a script of its own"
     );
-    let copy = out.join("browser-check.html");
-    fs::write(
-        &copy,
-        page.replacen("<head>", &format!("<head>\n{CHECK}"), 1),
-    )
-    .unwrap();
-    let profile = out.join("chromium-profile");
-    let output = Command::new(chromium)
-        .args(FLAGS)
-        .arg(format!("--user-data-dir={}", profile.display()))
-        .arg("--virtual-time-budget=60000")
-        .arg("--dump-dom")
-        .arg(format!("file://{}", copy.display()))
-        .output()
-        .expect("chromium starts");
-    let _ = fs::remove_file(&copy);
-    let _ = fs::remove_dir_all(&profile);
-    let dom = String::from_utf8_lossy(&output.stdout);
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    let json = dom
-        .split("<pre id=\"browser-check\">")
-        .nth(1)
-        .and_then(|rest| rest.split("</pre>").next())
-        .unwrap_or_else(|| panic!("the check script did not finish: {stderr}"));
-    let json = json.replace("&quot;", "\"").replace("&amp;", "&");
+    let (json, stderr) = run_script(
+        out,
+        &page,
+        CHECK,
+        "browser-check",
+        &["--virtual-time-budget=60000"],
+    );
 
     let figures: usize = field(&json, "figures").parse().unwrap();
     let expected = page.matches("<img ").count();
@@ -174,30 +191,13 @@ fn the_page_is_folded_to_forty_screens_at_1400_px() {
     );
     let out = whole_quick_report();
     let page = fs::read_to_string(out.join("index.html")).expect("index.html");
-    let copy = out.join("browser-measure.html");
-    fs::write(
-        &copy,
-        page.replacen("<head>", &format!("<head>\n{MEASURE}"), 1),
-    )
-    .unwrap();
-    let profile = out.join("chromium-profile-measure");
-    let output = Command::new(chromium)
-        .args(FLAGS)
-        .arg(format!("--user-data-dir={}", profile.display()))
-        .arg("--window-size=1400,1000")
-        .arg("--dump-dom")
-        .arg(format!("file://{}", copy.display()))
-        .output()
-        .expect("chromium starts");
-    let _ = fs::remove_file(&copy);
-    let _ = fs::remove_dir_all(&profile);
-    let dom = String::from_utf8_lossy(&output.stdout);
-    let json = dom
-        .split("<pre id=\"page-measure\">")
-        .nth(1)
-        .and_then(|rest| rest.split("</pre>").next())
-        .unwrap_or_else(|| panic!("the measuring script did not run"))
-        .replace("&quot;", "\"");
+    let (json, _) = run_script(
+        out,
+        &page,
+        MEASURE,
+        "page-measure",
+        &["--window-size=1400,1000"],
+    );
     let number = |name: &str| -> u64 { field(&json, name).parse().unwrap() };
     println!(
         "load event {} ms, page {} × {} px",
