@@ -64,27 +64,7 @@ impl Mesh {
             ref_flag[c as usize] = refine[k];
             coa_flag[c as usize] = coarsen[k] && !refine[k];
         }
-        // Closure of refinement flags under the 2:1 rule: a flagged cell of level l needs every
-        // face neighbour to be of level ≥ l afterwards.
-        let mut stack: Vec<CellId> = self
-            .active
-            .iter()
-            .copied()
-            .filter(|&c| ref_flag[c as usize])
-            .collect();
-        while let Some(c) = stack.pop() {
-            let level = self.cells[c as usize].level;
-            for face in FACES {
-                if let Some(nb) = self.across(c, face) {
-                    let ncell = self.cells[nb as usize];
-                    if ncell.level < level && ncell.children == NONE && !ref_flag[nb as usize] {
-                        ref_flag[nb as usize] = true;
-                        coa_flag[nb as usize] = false;
-                        stack.push(nb);
-                    }
-                }
-            }
-        }
+        self.close_under_face_rule(&mut ref_flag, &mut coa_flag);
         // Coarsening: complete groups only, not level 0, and no face neighbour of the parent may
         // be (or become) two levels finer than the parent.
         let mut coarsen_parent = vec![false; n];
@@ -356,5 +336,32 @@ impl Mesh {
                 _ => true,
             })
         })
+    }
+}
+
+impl Mesh {
+    /// Closure of refinement flags (by cell id) under the 2:1 rule: a flagged cell of level l
+    /// needs every face neighbour to be of level ≥ l afterwards, so its coarser active face
+    /// neighbours are flagged too (and not coarsened), recursively.
+    pub(super) fn close_under_face_rule(&self, refine: &mut [bool], coarsen: &mut [bool]) {
+        let mut stack: Vec<CellId> = self
+            .active
+            .iter()
+            .copied()
+            .filter(|&c| refine[c as usize])
+            .collect();
+        while let Some(c) = stack.pop() {
+            let level = self.cells[c as usize].level;
+            for face in FACES {
+                if let Some(nb) = self.across(c, face) {
+                    let ncell = self.cells[nb as usize];
+                    if ncell.level < level && ncell.children == NONE && !refine[nb as usize] {
+                        refine[nb as usize] = true;
+                        coarsen[nb as usize] = false;
+                        stack.push(nb);
+                    }
+                }
+            }
+        }
     }
 }

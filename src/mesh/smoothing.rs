@@ -354,25 +354,7 @@ impl Mesh {
     /// deal.II's step 6, tribo's 2:1 rule: a flagged cell's coarser face neighbours are
     /// flagged too (and not coarsened).
     fn face_rule(&self, f: &mut Flags) {
-        let mut stack: Vec<CellId> = self
-            .active
-            .iter()
-            .copied()
-            .filter(|&c| f.refine[c as usize])
-            .collect();
-        while let Some(c) = stack.pop() {
-            let level = self.cells[c as usize].level;
-            for face in FACES {
-                if let Some(nb) = self.across(c, face) {
-                    let ncell = self.cells[nb as usize];
-                    if ncell.level < level && ncell.children == NONE && !f.refine[nb as usize] {
-                        f.refine[nb as usize] = true;
-                        f.coarsen[nb as usize] = false;
-                        stack.push(nb);
-                    }
-                }
-            }
-        }
+        self.close_under_face_rule(&mut f.refine, &mut f.coarsen);
     }
 
     /// deal.II's step 8: a sibling group is coarsened whole or not at all, so the coarsening
