@@ -1,7 +1,7 @@
 //! Shared helpers: loading experiments, running the quick tier once per table, comparisons.
 
 use std::collections::BTreeMap;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex, OnceLock};
 
 use tribo::experiment::{self, Experiment, Plan};
@@ -378,4 +378,18 @@ pub fn without_seconds(csv: &str) -> String {
         out += &pick(line);
     }
     out
+}
+
+/// The error of loading the experiment file at `path`: the file does not load, and the message
+/// names the file and `field` and contains `needle`.
+pub fn refused_at(path: &Path, field: &str, needle: &str) -> experiment::ExperimentError {
+    let error = match experiment::load(path) {
+        Ok(_) => panic!("{}: expected an error, the file loaded", path.display()),
+        Err(error) => error,
+    };
+    let message = error.to_string();
+    assert!(message.contains(&path.display().to_string()), "{message}");
+    assert_eq!(error.field(), Some(field), "{message}");
+    assert!(message.contains(needle), "no `{needle}` in: {message}");
+    error
 }

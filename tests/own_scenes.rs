@@ -10,7 +10,7 @@ use tribo::study::{self, Tier};
 use tribo::thesis::ThesisTable;
 
 use crate::cli::report;
-use crate::common::experiments_dir;
+use crate::common::{experiments_dir, refused_at};
 
 /// The templates, one per family; each one's id is its file name.
 const TEMPLATES: [&str; 6] = [
@@ -55,16 +55,7 @@ fn with(text: &str, from: &str, to: &str) -> String {
 /// contains `needle`.
 fn refused(file: &str, text: &str, field: &str, needle: &str) -> ExperimentError {
     let dir = scratch("refused");
-    let path = write(&dir, file, text);
-    let error = match experiment::load(&path) {
-        Ok(_) => panic!("{file}: expected an error, the file loaded"),
-        Err(error) => error,
-    };
-    let message = error.to_string();
-    assert!(message.contains(&path.display().to_string()), "{message}");
-    assert_eq!(error.field(), Some(field), "{message}");
-    assert!(message.contains(needle), "no `{needle}` in: {message}");
-    error
+    refused_at(&write(&dir, file, text), field, needle)
 }
 
 #[test]

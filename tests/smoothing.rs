@@ -3,12 +3,12 @@
 //! refine the grid, and a thesis file that sets it counts as edited.
 
 use std::fs;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
-use tribo::experiment::{self, ExperimentError};
+use tribo::experiment;
 use tribo::mesh::{MeshSmoothing, SmoothingName};
 
-use crate::common::experiments_dir;
+use crate::common::{experiments_dir, refused_at as refused};
 
 /// The shipped file `IV.<n>.toml` with `line` added after the scene's `effects`, written to a
 /// scratch folder under its own name.
@@ -28,15 +28,6 @@ fn with_smoothing(table: &str, line: &str) -> PathBuf {
     let path = dir.join(format!("{table}.toml"));
     fs::write(&path, text).unwrap();
     path
-}
-
-fn refused(path: &Path, field: &str, needle: &str) -> ExperimentError {
-    let error = experiment::load(path).expect_err("the file should be refused");
-    let message = error.to_string();
-    assert!(message.contains(&path.display().to_string()), "{message}");
-    assert_eq!(error.field(), Some(field), "{message}");
-    assert!(message.contains(needle), "no `{needle}` in: {message}");
-    error
 }
 
 #[test]
