@@ -74,7 +74,7 @@ fn malformed_experiment_file_names_file_and_field() {
         err.contains("IV.1.toml") && err.contains("study.rows"),
         "{err}"
     );
-    let html = std::fs::read_to_string(dir.join("out/index.html")).unwrap();
+    let html = tribo::report::read_pages(&dir.join("out")).unwrap();
     assert!(html.contains("not loaded") && html.contains("study.rows"));
 }
 
@@ -97,7 +97,7 @@ fn quick_run_of_one_table_writes_report_and_data() {
     let probes = std::fs::read_to_string(dir.join("data/IV.3.probes.csv")).unwrap();
     assert!(probes.starts_with("x,y,component,value"));
     assert_eq!(probes.lines().count(), 1 + 14);
-    let html = std::fs::read_to_string(dir.join("index.html")).unwrap();
+    let html = tribo::report::read_pages(&dir).unwrap();
     assert!(html.contains("IV.3") && html.contains("figures/"));
 }
 
@@ -179,7 +179,7 @@ fn model_adaptive_tables_draw_their_partitions() {
         );
     }
     assert!(out.join("data/IV.29.z-solution.csv").is_file());
-    let page = std::fs::read_to_string(out.join("index.html")).unwrap();
+    let page = tribo::report::read_pages(&out).unwrap();
     assert!(page.contains("Alternative reading: model error ε_P at the z-solution"));
     assert!(page.contains("<th>coarse_faces (alt.)</th>"));
     // The cost of accuracy of the scene: four variants over the ten cycles, the plot, the
@@ -263,7 +263,7 @@ fn progress_without_a_terminal_is_one_line_per_cycle() {
 fn the_header_records_commit_date_machine_and_command() {
     let out = temp_dir("provenance");
     assert!(quick_table("IV.52", &out, &[]).status.success());
-    let page = std::fs::read_to_string(out.join("index.html")).unwrap();
+    let page = tribo::report::read_pages(&out).unwrap();
     let field = |name: &str| -> String {
         let start = format!("<dt>{name}</dt><dd>");
         let at = page
@@ -321,7 +321,7 @@ fn cavitation_readings_run_only_where_cavitation_switches_on() {
     let data = |name: &str| out.join("data").join(name).exists();
     assert!(!data("IV.36.self-consistent.csv") && !data("IV.36.reynolds.csv"));
     assert!(data("IV.64.self-consistent.csv") && data("IV.64.reynolds.csv"));
-    let page = std::fs::read_to_string(out.join("index.html")).unwrap();
+    let page = tribo::report::read_pages(&out).unwrap();
     assert_eq!(
         page.matches("the cavitation model never switched on, so it would repeat the table")
             .count(),

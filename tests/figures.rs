@@ -151,7 +151,7 @@ fn the_detail_of_a_strip_zooms_onto_its_finest_cells() {
     assert!(a < 5.0 && 5.0 < b && b - a < 2.0, "{line}");
     assert!(c <= 0.1 && 0.1 <= d, "{line}");
     assert!(svg.contains("(level 3, width 0.0625)"), "{svg}");
-    let page = read(&dir, "index.html");
+    let page = tribo::report::read_pages(&dir).unwrap();
     assert!(
         page.contains("(cf. thesis Fig. IV.12)"),
         "grids of Table IV.7"
@@ -199,7 +199,7 @@ fn a_field_map_has_axes_and_names_its_thesis_figure() {
     ] {
         assert!(svg.contains(tick), "{tick}");
     }
-    let page = read(&dir, "index.html");
+    let page = tribo::report::read_pages(&dir).unwrap();
     assert!(page.contains("after cycle 2, x₁/x₂ axes (cf. thesis Fig. IV.57)"));
 }
 
@@ -251,6 +251,6 @@ fn an_obstacle_is_hatched_on_its_solid_side() {
         assert_eq!(edge > curve, below, "{file}: {d}");
         assert!(svg.contains("<g class=\"axes\">"), "{file}");
     }
-    let page = read(&dir, "index.html");
+    let page = tribo::report::read_pages(&dir).unwrap();
     assert!(page.contains("hatched on their solid side (cf. thesis Fig. IV.18)"));
 }

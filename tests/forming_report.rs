@@ -132,7 +132,7 @@ fn quick_forming_report_writes_frames_animation_chart_and_step_table() {
 
     // The page: the animation as an image with its frames as links, the per-step table, no
     // comparison with a thesis table that does not exist.
-    let html = read(&out.join("index.html"));
+    let html = tribo::report::read_pages(&out).unwrap();
     assert!(html.contains("<img src=\"figures/fig-IV.54-animation.svg\""));
     for step in ["00", "01", "02"] {
         assert!(html.contains(&format!("<a href=\"figures/fig-IV.54-step-{step}.svg\">")));
@@ -269,7 +269,7 @@ fn frames_and_deformed_pictures_draw_the_signorini_faces() {
     assert_eq!(deformed.matches(SIGNORINI_PATH).count(), 1);
     assert!(!figures.join("IV.99-step-00.svg").exists());
 
-    let html = read(&dir.join("index.html"));
+    let html = tribo::report::read_pages(&dir).unwrap();
     assert!(html.contains(
         "IV.99: deformed body after cycle 0, displacement × 1; Signorini faces thick black"
     ));
@@ -289,7 +289,7 @@ fn an_empty_figure_run_is_reported_without_frames() {
     let run = synthetic_run("fig-IV.98", vec![], vec![]);
     let (dir, _) = report_of("empty", &[(&run, &no_thesis("fig-IV.98", "IV.2.4.7"))]);
     assert!(!dir.join("figures/fig-IV.98-animation.svg").exists());
-    let html = read(&dir.join("index.html"));
+    let html = tribo::report::read_pages(&dir).unwrap();
     assert!(html.contains("figure: no printed table"));
     assert!(html.contains("0 cycles computed, no printed table"));
     let _ = fs::remove_dir_all(&dir);

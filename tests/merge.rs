@@ -159,7 +159,7 @@ fn parallel_shards_merge_into_the_single_run_page() {
         stderr(&out)
     );
 
-    let page = |d: &Path| fs::read_to_string(d.join("index.html")).unwrap();
+    let page = |d: &Path| tribo::report::read_pages(d).unwrap();
     let (single_page, merged_page) = (page(&single), page(&merged));
     let at = |id: &str| merged_page.find(&format!("id=\"t-{id}\"")).unwrap();
     assert!(at("IV.1") < at("IV.36"));
@@ -345,7 +345,7 @@ fn a_failed_entry_merges_with_exit_status_1() {
     let out = merge(&[&failed, &good], &merged);
     assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
     assert!(stderr(&out).contains("1 failed"), "{}", stderr(&out));
-    let html = fs::read_to_string(merged.join("index.html")).unwrap();
+    let html = tribo::report::read_pages(&merged).unwrap();
     assert!(html.contains("a panic on purpose (testing hook)"));
     assert!(
         html.contains("<dd>2 (1 failed)</dd>"),
@@ -381,14 +381,14 @@ fn related_tables_of_other_shards_are_drawn_as_in_one_run() {
         let run = quick(t, shard);
         assert!(run.status.success(), "{t}: {}", stderr(&run));
     }
-    let alone = fs::read_to_string(shards[2].join("index.html")).unwrap();
+    let alone = tribo::report::read_pages(&shards[2]).unwrap();
     assert!(alone.contains("not in this report"));
 
     let merged = dir.join("merged");
     let refs: Vec<&Path> = shards.iter().map(PathBuf::as_path).collect();
     let out = merge(&refs, &merged);
     assert!(out.status.success(), "{}", stderr(&out));
-    let page = fs::read_to_string(merged.join("index.html")).unwrap();
+    let page = tribo::report::read_pages(&merged).unwrap();
     assert!(!page.contains("not in this report"));
     for kind in ["substokes-cells", "related-cuts", "mesh", "convergence"] {
         let f = format!("figures/fig-IV.116-{kind}.svg");

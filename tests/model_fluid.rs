@@ -117,11 +117,11 @@ fn related_figures_set_the_pure_runs_beside_it() {
         let psi: f64 = line.split(',').nth(1).unwrap().parse().unwrap();
         assert!((psi - 200.0).abs() < 1e-9, "{line}");
     }
-    let page = std::fs::read_to_string(out.join("index.html")).unwrap();
+    let page = tribo::report::read_pages(&out).unwrap();
     assert!(!page.contains("not in this report"));
 
     let alone = crate::outputs::quick_report(&experiments, "related-alone", Some(FIGURE));
-    let page = std::fs::read_to_string(alone.join("index.html")).unwrap();
+    let page = tribo::report::read_pages(&alone).unwrap();
     assert!(
         page.contains("IV.46, IV.60 not in this report: run the report with them, e.g. --only fig-IV.116,IV.46,IV.60"),
         "the captions name the missing related tables"

@@ -318,7 +318,7 @@ fn the_report_says_what_is_not_compared() {
         "{}",
         String::from_utf8_lossy(&output.stderr)
     );
-    let html = fs::read_to_string(out.join("index.html")).unwrap();
+    let html = tribo::report::read_pages(&out).unwrap();
     assert!(html.contains("<td class=\"status ok\">own scene: not compared</td>"));
     assert!(html.contains("<td class=\"status ok\">edited: not scored</td>"));
     assert!(html.contains("Own scene: no thesis table, not compared."));

@@ -171,7 +171,7 @@ fn tables_side_by_side_and_the_solver_flag() {
     let direct = data_without_seconds(&direct_out);
     // The performance section names the solver of each table and draws its figure.
     let row = |out: &Path, table: &str| {
-        let page = std::fs::read_to_string(out.join("index.html")).unwrap();
+        let page = tribo::report::read_pages(out).unwrap();
         let start = page
             .find("<section id=\"performance\">")
             .expect("performance section");

@@ -69,7 +69,7 @@ fn read_csv(path: &Path) -> BTreeMap<String, Vec<Option<f64>>> {
 /// Check every reproduced table of the report in `out`; the failures, and the tables per
 /// verdict.
 fn check(out: &Path) -> (Vec<String>, BTreeMap<String, Vec<String>>) {
-    let page = fs::read_to_string(out.join("index.html")).expect("index.html");
+    let page = tribo::report::read_pages(out).expect("index.html");
     let mut failures = Vec::new();
     let mut by_verdict: BTreeMap<String, Vec<String>> = BTreeMap::new();
     for (table, verdict, _) in verdicts(&page) {

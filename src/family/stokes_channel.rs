@@ -20,7 +20,7 @@ impl Family for StokesChannel {
             id: "stokes-channel",
             effects: &[Effect::StokesChannel],
             kinds: &[StudyKind::SolverIterations],
-            report_family: None,
+            report_family: Some("family-uzawa"),
             components: &[],
             unknowns_per_vertex: 3,
             solver_choice: false,

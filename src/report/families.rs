@@ -145,7 +145,8 @@ fn check_verdicts(f: &Family) -> Result<(), String> {
     Ok(())
 }
 
-/// The six families, in the order of Chapter IV; parsed at first use.
+/// The seven families (six of Chapter IV, then the solver study of §III.2.3.4); parsed at first
+/// use.
 pub fn families() -> &'static [Family] {
     static FAMILIES: OnceLock<Vec<Family>> = OnceLock::new();
     FAMILIES.get_or_init(|| {
@@ -155,8 +156,8 @@ pub fn families() -> &'static [Family] {
     })
 }
 
-/// The family of a table id (`IV.36`, `fig-IV.54`); `None` for a table of no family (the Uzawa
-/// figure `fig-III.6`, a scene of the user's own with another id).
+/// The family of a table id (`IV.36`, `fig-IV.54`, `fig-III.6`); `None` for a table of no family
+/// (a scene of the user's own with another id).
 pub fn family_of(table: &str) -> Option<&'static Family> {
     families()
         .iter()
@@ -193,7 +194,7 @@ mod tests {
     #[test]
     fn the_families_file_parses() {
         let families = parse(FAMILIES_TOML).unwrap();
-        assert_eq!(families.len(), 6);
+        assert_eq!(families.len(), 7);
         let two = "[[family]]\nid = \"a\"\nname = \"A\"\nsections = \"\"\ntables = [\"IV.1\"]\n\
                    model = []\n[[family]]\nid = \"b\"\nname = \"B\"\nsections = \"\"\n\
                    tables = [\"IV.1\"]\nmodel = []";

@@ -1,15 +1,17 @@
-//! Layout of `index.html`: header, contents, summary, and one section per table.
+//! Layout of the report's pages: header, contents, summary, and one section per table.
 //!
-//! The page is built as a string with inline CSS and no scripts, so it renders identically from
-//! disk, from a CI artefact or from an archive. Every piece of text that comes from data (titles,
-//! notes, column names, captions, error messages) goes through [`escape`], which also makes
-//! control characters visible. Every table has a summary row with its status and a section, also
-//! a table that failed; its section holds the cycle and the message instead of data.
+//! The pages are built as strings with inline CSS and no scripts, so they render identically
+//! from disk, from a CI artefact or from an archive. Every piece of text that comes from data
+//! (titles, notes, column names, captions, error messages) goes through [`escape`], which also
+//! makes control characters visible. Every table has a summary row with its status and a
+//! section, also a table that failed; its section holds the cycle and the message instead of
+//! data.
 //!
-//! The summary (`summary`), the readings, family boxes and errata (`readings`) and the tables of
-//! a section (`tables`) have their own modules; this file holds the page, its sections and the
-//! formatting every part shares.
+//! Which page shows what (`pages`), the summaries (`summary`), the readings, family boxes and
+//! errata (`readings`) and the tables of a section (`tables`) have their own modules; this file
+//! holds the sections and the formatting every part shares.
 
+mod pages;
 mod readings;
 mod summary;
 mod tables;
@@ -31,6 +33,8 @@ use crate::thesis::ThesisTable;
 use readings::*;
 use summary::*;
 use tables::*;
+
+pub(crate) use pages::{page_files, pages, FRONT_PAGE};
 
 /// The figures written for one section, in the order they appear, or why there are none.
 #[derive(Default)]
@@ -230,59 +234,20 @@ figure.plot { flex: 1 1 520px; max-width: 780px; }
 figure.plot img { width: 100%; }
 figure img { display: block; max-width: 100%; height: auto; }
 figcaption { color: var(--muted); font-size: 13px; margin-top: 4px; max-width: 760px; }
+header.slim { padding: 12px 28px 10px; }
+header.slim h1 { font-size: 22px; margin: 4px 0; }
+header.slim p { margin: 2px 0; }
+header p.pages a { color: #cfe0ff; }
+table.compact th { white-space: normal; vertical-align: bottom; }
+table.compact td { white-space: nowrap; }
+table.compact td.title { max-width: 280px; overflow: hidden; text-overflow: ellipsis; white-space: nowrap; }
+table.compact td.verdict { white-space: nowrap; }
+table.compact td.status { white-space: normal; max-width: 120px; }
+table.compact td.worst { max-width: 250px; overflow: hidden; text-overflow: ellipsis; }
+table.compact tr.family-head th { text-align: left; background: #e6edf7; font-size: 14.5px; padding-top: 8px; }
+details.legend summary { cursor: pointer; }
 footer { color: var(--muted); font-size: 13px; margin-top: 40px; border-top: 1px solid var(--rule); padding-top: 10px; }
 "#;
-
-/// The whole page: one summary row and one section per entry, in the order given; `figures` has
-/// one element per entry (empty for a failed one).
-pub(crate) fn page(entries: &[Entry], figures: &[SectionFigures], meta: &ReportMeta) -> String {
-    let mut h = String::new();
-    let _ = write!(
-        h,
-        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
-         <meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n\
-         <title>tribo — Chapter IV report ({tier})</title>\n<style>{CSS}</style>\n</head>\n<body>\n",
-        tier = escape(&meta.tier)
-    );
-    header(&mut h, entries, meta);
-    h.push_str("<main>\n");
-    contents(&mut h, entries);
-    summary(&mut h, entries);
-    substokes_row_zero(&mut h, entries);
-    let mut boxes_shown = BTreeSet::new();
-    for (entry, figs) in entries.iter().zip(figures) {
-        let table = match entry {
-            Entry::Done(s) => s.run.table.as_str(),
-            Entry::Failed(f) => f.table.as_str(),
-        };
-        if let Some(family) = families::family_of(table) {
-            if boxes_shown.insert(family.id.as_str()) {
-                family_box(&mut h, family);
-            }
-        }
-        fold_open(&mut h, entry);
-        match entry {
-            Entry::Done(section) => table_section(&mut h, section, figs),
-            Entry::Failed(failure) => failed_section(&mut h, failure),
-        }
-        h.push_str("</details>\n");
-    }
-    performance_section(&mut h, entries, &meta.alongside);
-    errata_section(&mut h, entries);
-    let _ = writeln!(
-        h,
-        "<footer>Written by {}. {}</footer>",
-        escape(&meta.generated_by),
-        if any_thesis_entry(entries) {
-            "Thesis values are the printed tables of Chapter IV, shown for comparison only; \
-             every tribo value above was computed in this run."
-        } else {
-            "Every value above was computed in this run."
-        }
-    );
-    h.push_str("</main>\n</body>\n</html>\n");
-    h
-}
 
 /// The fold around an entry's section: a `<details>` closed by default, whose one-line
 /// `<summary>` names the table, so that the page opens as a list of the tables (a full report
@@ -379,36 +344,42 @@ fn intro(entries: &[Entry]) -> &'static str {
     }
 }
 
-fn contents(h: &mut String, entries: &[Entry]) {
-    h.push_str("<nav>\n<h2>Contents</h2>\n<ol>\n<li><a href=\"#summary\">Summary</a></li>\n");
-    if entries.iter().any(
-        |e| matches!(e, Entry::Done(s) if s.run.cuts.as_ref().is_some_and(Cuts::compares_models)),
-    ) {
-        h.push_str("<li><a href=\"#substokes-row-zero\">SubStokes: the estimate on the initial grid</a></li>\n");
-    }
-    for entry in entries {
-        let _ = match entry {
-            Entry::Done(s) => writeln!(
+/// The front page's contents: the summary, each page of tables with its model box, the
+/// performance section and the errata page.
+fn contents(h: &mut String, entries: &[Entry], groups: &[pages::Group]) {
+    h.push_str(
+        "<nav>\n<h2>Contents</h2>\n<ol>\n<li><a href=\"#summary\">Summary</a>, by family</li>\n",
+    );
+    for g in groups {
+        let n = g.members.len();
+        let what = if n == 1 { "entry" } else { "entries" };
+        let _ = match g.family {
+            Some(f) => writeln!(
                 h,
-                "<li><a href=\"#{}\">{} ({})</a> — {}</li>",
-                anchor(&s.run.table),
-                escape(&entry_name(&s.run.table)),
-                escape(&s.run.section),
-                escape(&s.run.title)
+                "<li><a href=\"{}\">{}</a> — {n} {what} ({}); \
+                 <a href=\"{}#{}\">model and conventions</a></li>",
+                escape(&g.file),
+                escape(&f.name),
+                escape(&f.sections),
+                escape(&g.file),
+                escape(&f.id),
             ),
-            Entry::Failed(f) => writeln!(
+            None => writeln!(
                 h,
-                "<li><a href=\"#{}\">{}</a> — {} <b>({})</b></li>",
-                anchor(&f.table),
-                escape(&entry_name(&f.table)),
-                escape(f.title.as_deref().unwrap_or("")),
-                f.kind.name()
+                "<li><a href=\"{}\">{}</a> — {n} {what}</li>",
+                escape(&g.file),
+                escape(g.name()),
             ),
         };
     }
     h.push_str("<li><a href=\"#performance\">Performance</a></li>\n");
-    if !errata_on_page(entries).is_empty() {
-        h.push_str("<li><a href=\"#errata\">Thesis errata</a></li>\n");
+    let errata = errata_on_page(entries).len();
+    if errata > 0 {
+        let _ = writeln!(
+            h,
+            "<li><a href=\"errata.html\">Thesis errata</a> — {errata} affecting the tables of \
+             this run</li>"
+        );
     }
     h.push_str("</ol>\n</nav>\n");
 }

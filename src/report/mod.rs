@@ -149,14 +149,15 @@ pub const MAX_SHOWN_THESIS_ROWS: usize = 1000;
 
 /// What [`write_report`] wrote, and which sections' figures could not be drawn.
 pub struct Written {
-    /// Every file written: figures first, `index.html` last.
+    /// Every file written: figures first, then the pages, `index.html` last.
     pub files: Vec<PathBuf>,
     /// One message per section whose figures failed (an I/O error or a panic while drawing);
     /// the page shows it in that section instead of the figures.
     pub figure_failures: Vec<String>,
 }
 
-/// Write `out_dir/index.html` and `out_dir/figures/<table>-<kind>.svg`.
+/// Write the pages (`out_dir/index.html`, the front page, and one page per family of tables)
+/// and `out_dir/figures/<table>-<kind>.svg`.
 ///
 /// A section gets only the figures it has data for: no mesh picture, no mesh figure. Figures of
 /// degenerate data (no rows, non-positive estimates on a log axis) are still written, showing
@@ -218,13 +219,55 @@ pub fn write_report(out_dir: &Path, entries: &[Entry], meta: &ReportMeta) -> io:
     let performance = fig_dir.join(html::PERFORMANCE_FIGURE);
     performance::solve_cost(&performance, &runs)?;
     files.push(performance);
-    let index = out_dir.join("index.html");
-    crate::fsio::write(&index, html::page(entries, &rendered, meta))?;
-    files.push(index);
+    let pages = html::pages(entries, &rendered, meta);
+    // A page an earlier run wrote that this one does not (a family no longer in the run) goes:
+    // the folder shows this run only.
+    for stale in html::page_files() {
+        if !pages.iter().any(|p| p.file == stale) {
+            let path = out_dir.join(&stale);
+            if path.is_file() {
+                fs::remove_file(&path)?;
+            }
+        }
+    }
+    // The front page last: until it is written, the folder's `index.html` says the report is
+    // incomplete.
+    for page in pages.iter().rev() {
+        let path = out_dir.join(&page.file);
+        crate::fsio::write(&path, &page.html)?;
+        files.push(path);
+    }
     Ok(Written {
         files,
         figure_failures,
     })
+}
+
+/// Remove the pages of an earlier run other than the front page, which a new run replaces
+/// with the page that says the report is incomplete: a family page left from the earlier run
+/// would link figures and data the new run may remove or rewrite.
+pub fn remove_pages(out_dir: &Path) -> io::Result<()> {
+    for file in html::page_files() {
+        let path = out_dir.join(&file);
+        if file != html::FRONT_PAGE && path.is_file() {
+            fs::remove_file(path)?;
+        }
+    }
+    Ok(())
+}
+
+/// Every page of the report in `out_dir`, concatenated: the front page (`index.html`) first,
+/// then the others a run writes (the family pages, the errata), those present. For reading a
+/// report as one text (the tests, a search); a browser follows the links instead.
+pub fn read_pages(out_dir: &Path) -> io::Result<String> {
+    let mut text = fs::read_to_string(out_dir.join(html::FRONT_PAGE))?;
+    for file in html::page_files() {
+        let path = out_dir.join(&file);
+        if file != html::FRONT_PAGE && path.is_file() {
+            text.push_str(&fs::read_to_string(path)?);
+        }
+    }
+    Ok(text)
 }
 
 /// The message of a caught panic: its `&str` or `String` payload, as `panic!` makes them.

@@ -335,6 +335,25 @@ impl Verdict {
         }
     }
 
+    /// The verdict in a few words, for the front page's summary: `reproduced`, or how many
+    /// primary columns differ and why (`3 of 7 columns differ: uncalibrated estimator`); the
+    /// columns themselves are in [`Verdict::label`].
+    pub fn short_label(&self) -> String {
+        match self {
+            Verdict::Differs { score, known } => {
+                let off = score.columns.iter().filter(|c| !c.holds()).count();
+                let why = match known {
+                    Some(r) => format!(": {}", r.kind),
+                    None => ", unexplained".into(),
+                };
+                let verb = if off == 1 { "differs" } else { "differ" };
+                format!("{off} of {} columns {verb}{why}", score.columns.len())
+            }
+            Verdict::Duplicate { of } => format!("duplicate of {of}"),
+            _ => self.label(),
+        }
+    }
+
     /// The score, for a table that was scored.
     pub fn score(&self) -> Option<&Score> {
         match self {

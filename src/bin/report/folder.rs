@@ -107,7 +107,8 @@ impl Drop for FolderLock {
 
 /// Check, before any table is solved, that the page can take its place: `out/index.html` must
 /// be a file or absent (a folder there would be found only when the page is written, after
-/// every table); then remove what interrupted runs left under temporary names.
+/// every table); then remove what interrupted runs left under temporary names, and the pages of
+/// an earlier run other than `index.html`, which the page of the run in progress replaces.
 pub fn check(out: &Path) -> Result<(), String> {
     let index = out.join("index.html");
     if index.exists() && !index.is_file() {
@@ -131,7 +132,12 @@ pub fn check(out: &Path) -> Result<(), String> {
             )
         })?;
     }
-    Ok(())
+    tribo::report::remove_pages(out).map_err(|e| {
+        format!(
+            "cannot write the report into {}: cannot remove the pages of an earlier run: {e}",
+            out.display()
+        )
+    })
 }
 
 /// The page of a run that has not finished: when and by which process it started, the tables

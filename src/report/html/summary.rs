@@ -45,35 +45,36 @@ pub(super) fn section_verdict(s: &Section) -> Verdict {
     verdict::of(s, known_reason(s), not_scored)
 }
 
-/// Columns of a summary row after the title (for the rows of absent and failed tables).
+/// Columns of a detailed summary row after the title (for the rows of failed tables).
 const SUMMARY_DATA_COLUMNS: usize = 11;
 
-pub(super) fn summary(h: &mut String, entries: &[Entry]) {
+/// What the columns of the summaries mean, folded under the table.
+const SUMMARY_LEGEND: &str = "<details class=\"legend\"><summary>How to read the summary\
+     </summary><p>Status: ok, error (the run stopped with an error), panic (a bug in tribo, \
+     caught) or not loaded (the experiment file was rejected); a failed table's section has the \
+     message; figure: no printed table (the thesis shows the result as a figure only, so tribo's \
+     rows are shown alone). Verdict: decided on the table's primary columns, the ones its family \
+     is about (dofs and estimate; the contact and gap estimates of Signorini contact; the face \
+     split and model error of model adaptivity, with the three estimate parts where the grid \
+     adapts too), each with its band (3 % for dofs, 5 % for the others): reproduced when every \
+     primary column of every printed row tribo computed is within its band; otherwise the \
+     columns that differ, with the reason where it is known (the tooltip gives the whole \
+     verdict and the reason, the link leads to the evidence) or unexplained. A table the thesis \
+     prints as a copy of another, and a figure, are not scored. Rows within bands: the computed \
+     rows whose primary columns are all within their bands, of the printed rows compared. Worst \
+     primary Δ: the severity, the largest relative difference of a primary column; \
+     <span class=\"verdict ok\">within the bands</span>, <span class=\"verdict near\">up to 15 \
+     %</span>, <span class=\"verdict off\">beyond 15 %</span>. Order: the experimental order of \
+     convergence, the least-squares slope of log estimate against log dofs over the rows (−½ is \
+     optimal for Q₁ elements in two dimensions). On a family's page also: the geometric mean of \
+     the estimate ratio over the cycles that have one (the mean reduction per cycle), and max Δ, \
+     the largest relative difference to the thesis over the computed cycles; <span \
+     class=\"swatch\"></span> beyond 3 % (dofs) or 5 % (estimate).</p></details>\n";
+
+/// The summary of a family's page: every column for each of its tables.
+pub(super) fn family_summary(h: &mut String, entries: &[&Entry]) {
     h.push_str(
-        "<section id=\"summary\">\n<h2>Summary</h2>\n\
-         <p class=\"legend\">Status: ok, error (the run stopped with an error), panic (a bug in \
-         tribo, caught) or not loaded (the experiment file was rejected); a failed table's \
-         section has the message; figure: no printed table (the thesis shows the result as a \
-         figure only, so tribo's rows are shown alone). Verdict: decided on the table's \
-         primary columns, the ones its family is about (dofs and estimate; the contact and gap \
-         estimates of Signorini contact; the face split and model error of model adaptivity, \
-         with the three estimate parts where the grid adapts too), each with its band (3 % for \
-         dofs, 5 % for the others): reproduced when every primary column of every printed row \
-         tribo computed is within its band; otherwise the columns that hold and those that \
-         differ (worst Δ), with the reason where it is known (the tooltip says it, the link \
-         leads to the evidence) or unexplained. A table the thesis prints as a copy of another, \
-         and a figure, are not scored. Rows within bands: the computed rows whose primary \
-         columns are all within their bands, of the printed rows compared. Worst primary Δ: the \
-         severity, the largest relative difference of a primary column; \
-         <span class=\"verdict ok\">within the bands</span>, \
-         <span class=\"verdict near\">up to 15 %</span>, \
-         <span class=\"verdict off\">beyond 15 %</span> (the table below the summary orders \
-         each family by it). Tables of Chapter IV not on this page are listed as such. \
-         Geometric mean of the estimate ratio over the cycles that have one (the mean reduction \
-         per cycle). Order: the experimental order of convergence, the least-squares slope of \
-         log estimate against log dofs over the rows (−½ is optimal for Q₁ elements in two \
-         dimensions). Max Δ: largest relative difference to the thesis over the computed \
-         cycles; <span class=\"swatch\"></span> beyond 3 % (dofs) or 5 % (estimate).</p>\n\
+        "<section id=\"family-summary\">\n<h2>The tables of this page</h2>\n\
          <div class=\"scroll\"><table>\n<thead><tr><th class=\"text\">table</th><th class=\"text\">section</th>\
          <th class=\"text\">title</th><th class=\"text\">status</th><th class=\"text\">verdict</th>\
          <th>rows within bands</th><th>worst primary Δ</th><th>rows (tribo / thesis)</th>\
@@ -81,40 +82,225 @@ pub(super) fn summary(h: &mut String, entries: &[Entry]) {
          <th>order (tribo / thesis)</th><th>max Δ dofs</th>\
          <th>max Δ estimate</th><th>seconds</th></tr></thead>\n<tbody>\n",
     );
-    let mut next_thesis_table = 1;
-    let mut ranked: Vec<(&Section, Verdict)> = Vec::new();
     for entry in entries {
-        let id = match entry {
-            Entry::Done(s) => &s.run.table,
-            Entry::Failed(f) => &f.table,
-        };
-        if let Some(n) = verdict::thesis_table_number(id) {
-            absent_summary_rows(h, next_thesis_table..n);
-            next_thesis_table = next_thesis_table.max(n + 1);
+        match entry {
+            Entry::Done(s) => summary_row(h, s, &section_verdict(s)),
+            Entry::Failed(f) => failed_summary_row(h, f),
         }
-        let s = match entry {
-            Entry::Done(s) => s,
-            Entry::Failed(f) => {
-                failed_summary_row(h, f);
-                continue;
-            }
-        };
-        let verdict = section_verdict(s);
-        summary_row(h, s, &verdict);
-        if verdict.score().is_some() {
-            ranked.push((s, verdict));
-        }
-    }
-    if next_thesis_table > 1 {
-        absent_summary_rows(h, next_thesis_table..verdict::THESIS_TABLES + 1);
     }
     h.push_str("</tbody></table></div>\n");
+    h.push_str(SUMMARY_LEGEND);
+    h.push_str("</section>\n");
+}
+
+/// Columns of a compact summary row after the table id.
+const COMPACT_DATA_COLUMNS: usize = 7;
+
+/// The front page's summary: one compact row per table (id, title, status, verdict, rows within
+/// bands, worst primary Δ, order, seconds), grouped by family, each family headed by a link to
+/// its page; where the run has a thesis table, every Chapter IV table not in the run has a row
+/// saying so, under its family. `data-table`, `data-verdict` and `data-severity` let a check
+/// read the verdicts off the page.
+pub(super) fn front_summary(h: &mut String, entries: &[Entry], groups: &[pages::Group]) {
+    h.push_str(
+        "<section id=\"summary\">\n<h2>Summary</h2>\n<div class=\"scroll\"><table class=\"compact\">\n\
+         <thead><tr><th class=\"text\">table</th><th class=\"text\">title</th>\
+         <th class=\"text\">status</th><th class=\"text\">verdict</th><th>rows within bands</th>\
+         <th class=\"text\">worst primary Δ</th><th>order (tribo / thesis)</th><th>seconds</th>\
+         </tr></thead>\n",
+    );
+    let thesis_run = any_thesis_entry(entries);
+    let mut ranked: Vec<(&Section, Verdict)> = Vec::new();
+    let families: Vec<&Family> = if thesis_run {
+        families::families().iter().collect()
+    } else {
+        groups.iter().filter_map(|g| g.family).collect()
+    };
+    for family in families {
+        let group = groups
+            .iter()
+            .find(|g| g.family.is_some_and(|f| f.id == family.id));
+        family_rows(h, family.name.as_str(), group, &family.tables, &mut ranked);
+    }
+    if let Some(own) = groups.iter().find(|g| g.family.is_none()) {
+        family_rows(h, own.name(), Some(own), &[], &mut ranked);
+    }
+    h.push_str("</table></div>\n");
+    h.push_str(SUMMARY_LEGEND);
     by_severity(h, &ranked);
     h.push_str("</section>\n");
 }
 
-/// The summary row of a table that ran; `data-table`, `data-verdict` and `data-severity` let a
-/// check read the verdicts off the page.
+/// One family's rows of the front summary: a heading row (a link to its page when it has one),
+/// then its tables in the order of `tables` (the family's list; the run's order for a group
+/// without one), a row for each run of tables not in the run.
+fn family_rows<'a>(
+    h: &mut String,
+    name: &str,
+    group: Option<&pages::Group<'a>>,
+    tables: &[String],
+    ranked: &mut Vec<(&'a Section<'a>, Verdict)>,
+) {
+    let heading = match group {
+        Some(g) => format!("<a href=\"{}\">{}</a>", escape(&g.file), escape(name)),
+        None => format!(
+            "{} <span class=\"meta\">(no table of it in this run)</span>",
+            escape(name)
+        ),
+    };
+    let _ = writeln!(
+        h,
+        "<tbody><tr class=\"family-head\"><th class=\"text\" colspan=\"{}\">{heading}</th></tr>",
+        COMPACT_DATA_COLUMNS + 1
+    );
+    let members: Vec<&'a Entry> = group.map_or_else(Vec::new, |g| g.entries.clone());
+    let mut absent: Vec<&str> = Vec::new();
+    for t in tables {
+        match members.iter().find(|e| pages::entry_id(e) == t) {
+            Some(e) => {
+                absent_compact_row(h, &absent);
+                absent.clear();
+                compact_entry(h, e, ranked);
+            }
+            None => {
+                // A run of absent tables is consecutive in Chapter IV's numbering.
+                let follows = |a: &str, b: &str| match (
+                    verdict::thesis_table_number(a),
+                    verdict::thesis_table_number(b),
+                ) {
+                    (Some(a), Some(b)) => a + 1 == b,
+                    _ => false,
+                };
+                if absent.last().is_some_and(|last| !follows(last, t)) {
+                    absent_compact_row(h, &absent);
+                    absent.clear();
+                }
+                absent.push(t);
+            }
+        }
+    }
+    absent_compact_row(h, &absent);
+    // The entries its list does not name: all of a group without a list (the own scenes).
+    for e in members
+        .iter()
+        .filter(|e| !tables.iter().any(|t| t == pages::entry_id(e)))
+    {
+        compact_entry(h, e, ranked);
+    }
+    h.push_str("</tbody>\n");
+}
+
+/// The compact row of one entry; a scored section joins `ranked`.
+fn compact_entry<'a>(h: &mut String, e: &'a Entry, ranked: &mut Vec<(&'a Section<'a>, Verdict)>) {
+    match e {
+        Entry::Done(s) => {
+            let verdict = section_verdict(s);
+            compact_row(h, s, &verdict);
+            if verdict.score().is_some() {
+                ranked.push((s, verdict));
+            }
+        }
+        Entry::Failed(f) => {
+            let why = failure_words(f);
+            let _ = writeln!(
+                h,
+                "<tr><td class=\"text\"><a href=\"#{}\">{}</a></td>\
+                 <td class=\"text title\" title=\"{t}\">{t}</td><td class=\"status failed\">{}</td>\
+                 <td class=\"text na\" colspan=\"{}\">{why}</td></tr>",
+                anchor(&f.table),
+                escape(&f.table),
+                f.kind.name(),
+                COMPACT_DATA_COLUMNS - 2,
+                t = escape(f.title.as_deref().unwrap_or("—")),
+            );
+        }
+    }
+}
+
+/// The compact summary row of a table that ran.
+fn compact_row(h: &mut String, s: &Section, verdict: &Verdict) {
+    let sm = Summary::of(s);
+    let within = match verdict.score() {
+        Some(score) if score.rows.scored > 0 => {
+            format!("{} / {}", score.rows.within, score.rows.scored)
+        }
+        _ => "—".to_string(),
+    };
+    let dup = if s.thesis.duplicate_of.is_some() {
+        " <span title=\"the printed table is a copy of another table\">⚠</span>"
+    } else {
+        ""
+    };
+    let _ = writeln!(
+        h,
+        "<tr data-table=\"{}\" data-verdict=\"{}\" data-severity=\"{}\"><td class=\"text\">\
+         <a href=\"#{}\">{}</a>{dup}</td><td class=\"text title\" title=\"{t}\">{t}</td>{}{}\
+         <td>{within}</td>{}<td>{} / {}</td><td>{}</td></tr>",
+        escape(&s.run.table),
+        verdict.kind(),
+        verdict
+            .score()
+            .map_or(String::new(), |sc| format!("{:.6}", sc.severity())),
+        anchor(&s.run.table),
+        escape(&s.run.table),
+        status_cell(s),
+        compact_verdict_cell(verdict),
+        worst_cell(verdict),
+        sm.order.map_or("—".into(), fmt_order),
+        sm.thesis_order.map_or("—".into(), fmt_order),
+        fmt_seconds(sm.total_seconds),
+        t = escape(&s.run.title),
+    );
+}
+
+/// The verdict in a few words ([`Verdict::short_label`]); the whole verdict and its reason as
+/// the tooltip, and the link to the evidence.
+fn compact_verdict_cell(v: &Verdict) -> String {
+    let (tooltip, link) = match v {
+        Verdict::Differs { known: Some(r), .. } => {
+            (format!("{} — {}", v.label(), r.reason), r.anchor.as_deref())
+        }
+        _ => (v.label(), None),
+    };
+    let words = escape(&v.short_label());
+    let words = match link {
+        Some(a) => format!("<a href=\"#{}\">{words}</a>", escape(a)),
+        None => words,
+    };
+    format!(
+        "<td class=\"text {}\" title=\"{}\">{words}</td>",
+        v.class(),
+        escape(&tooltip)
+    )
+}
+
+/// The compact row of tables of a family not in the run (nothing for none).
+fn absent_compact_row(h: &mut String, tables: &[&str]) {
+    let (Some(first), Some(last)) = (tables.first(), tables.last()) else {
+        return;
+    };
+    let (ids, how) = if tables.len() == 1 {
+        (
+            escape(first),
+            format!(
+                "not run here: <code>report --only {}</code> runs it",
+                escape(first)
+            ),
+        )
+    } else {
+        (
+            format!("{} – {}", escape(first), escape(last)),
+            "not run here (left out with <code>--only</code>)".to_string(),
+        )
+    };
+    let _ = writeln!(
+        h,
+        "<tr class=\"absent\"><td class=\"text\">{ids}</td>\
+         <td class=\"text na\" colspan=\"{COMPACT_DATA_COLUMNS}\">{how}</td></tr>"
+    );
+}
+
+/// The detailed summary row of a table that ran (a family's page).
 fn summary_row(h: &mut String, s: &Section, verdict: &Verdict) {
     let sm = Summary::of(s);
     let scored = verdict.score().is_some();
@@ -131,12 +317,9 @@ fn summary_row(h: &mut String, s: &Section, verdict: &Verdict) {
     };
     let _ = writeln!(
         h,
-        "<tr data-table=\"{}\" data-verdict=\"{}\" data-severity=\"{}\"><td class=\"text\">\
+        "<tr><td class=\"text\">\
          <a href=\"#{}\">{}</a>{dup}</td><td class=\"text\">{}</td>\
          <td class=\"text\">{}</td>{}{}<td>{within}</td>{}<td>{} / {}</td>{}{}{}<td>{} / {}</td>{}{}<td>{}</td></tr>",
-        escape(&s.run.table),
-        verdict.kind(),
-        verdict.score().map_or(String::new(), |sc| format!("{:.6}", sc.severity())),
         anchor(&s.run.table),
         escape(&s.run.table),
         escape(&s.run.section),
@@ -166,11 +349,11 @@ fn summary_row(h: &mut String, s: &Section, verdict: &Verdict) {
 pub(super) fn worst_cell(v: &Verdict) -> String {
     match v.score().and_then(Score::worst) {
         Some(column) => format!(
-            "<td class=\"worst {}\" title=\"band {} %\">{} {}</td>",
+            "<td class=\"worst {}\" title=\"{name} {describe} (band {} %)\">{name} {describe}</td>",
             v.class(),
             fmt_short(column.band * 100.0),
-            escape(&column.name),
-            escape(&column.describe()),
+            name = escape(&column.name),
+            describe = escape(&column.describe()),
         ),
         None => "<td class=\"na\">—</td>".into(),
     }
@@ -250,33 +433,6 @@ pub(super) fn verdict_cell(v: &Verdict) -> String {
     }
 }
 
-/// One summary row for the Chapter IV tables `numbers` that are not on this page (left out
-/// with `--only`, or without an experiment file), so that the summary of a report with any of
-/// them accounts for all 75; a run of consecutive tables shares the row.
-pub(super) fn absent_summary_rows(h: &mut String, numbers: std::ops::Range<usize>) {
-    let (first, last) = match (numbers.clone().next(), numbers.clone().last()) {
-        (Some(first), Some(last)) => (first, last),
-        _ => return,
-    };
-    let (ids, how) = if first == last {
-        (
-            format!("IV.{first}"),
-            format!("not run here: <code>report --only IV.{first}</code> runs it"),
-        )
-    } else {
-        (
-            format!("IV.{first} – IV.{last}"),
-            "not run here (left out with <code>--only</code>)".to_string(),
-        )
-    };
-    let _ = writeln!(
-        h,
-        "<tr class=\"absent\"><td class=\"text\">{ids}</td><td class=\"text na\">—</td>\
-         <td class=\"text na\">—</td><td class=\"status na\">not on this page</td>\
-         <td class=\"text na\" colspan=\"{SUMMARY_DATA_COLUMNS}\">{how}</td></tr>"
-    );
-}
-
 /// Why the section's numbers differ from the printed ones, where the report knows it
 /// ([`errata::known_difference`]), linked to the first thesis erratum affecting the table, or
 /// else to the table's own section, whose readings give the evidence.
@@ -297,7 +453,7 @@ pub(super) fn known_reason(section: &Section) -> Option<KnownReason> {
 /// The first printed estimate of every SubStokes table of the page (runs with a Reynolds
 /// comparison on their last mesh) beside the thesis's: the uniform 8×8 grid's estimate, on which
 /// δ_ε is calibrated (IV.50) and which holds out the others. Nothing without SubStokes tables.
-pub(super) fn substokes_row_zero(h: &mut String, entries: &[Entry]) {
+pub(super) fn substokes_row_zero(h: &mut String, entries: &[&Entry]) {
     let sections: Vec<&Section> = entries
         .iter()
         .filter_map(|e| match e {
@@ -369,13 +525,7 @@ pub(super) fn status_cell(s: &Section) -> String {
 
 /// The summary row of a table that failed: what is known of it, its status, and no numbers.
 pub(super) fn failed_summary_row(h: &mut String, f: &Failure) {
-    let why = match f.kind {
-        FailureKind::NotLoaded => "no data: the experiment file did not load".to_string(),
-        _ => match f.cycle {
-            Some(cycle) => format!("no data: the run failed in cycle {cycle}"),
-            None => "no data: the run failed".to_string(),
-        },
-    };
+    let why = failure_words(f);
     let _ = writeln!(
         h,
         "<tr><td class=\"text\"><a href=\"#{}\">{}</a></td><td class=\"text\">{}</td>\
@@ -388,4 +538,15 @@ pub(super) fn failed_summary_row(h: &mut String, f: &Failure) {
         f.kind.name(),
         why
     );
+}
+
+/// What a failed table has instead of numbers, in the summaries.
+fn failure_words(f: &Failure) -> String {
+    match f.kind {
+        FailureKind::NotLoaded => "no data: the experiment file did not load".to_string(),
+        _ => match f.cycle {
+            Some(cycle) => format!("no data: the run failed in cycle {cycle}"),
+            None => "no data: the run failed".to_string(),
+        },
+    }
 }
