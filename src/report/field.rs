@@ -293,7 +293,7 @@ fn colour_bar(
             svg,
             x,
             bar_top + 35.0,
-            12.0,
+            13.0,
             anchor,
             &fmt_short(lo + t * (hi - lo)),
         );

@@ -246,6 +246,9 @@ table.compact td.status { white-space: normal; max-width: 120px; }
 table.compact td.worst { max-width: 250px; overflow: hidden; text-overflow: ellipsis; }
 table.compact tr.family-head th { text-align: left; background: #e6edf7; font-size: 14.5px; padding-top: 8px; }
 details.legend summary { cursor: pointer; }
+table.family-table td.title { max-width: 280px; overflow: hidden; text-overflow: ellipsis; white-space: nowrap; }
+table.family-table td.verdict { min-width: 280px; max-width: 440px; }
+details.shared summary { cursor: pointer; font-weight: 600; margin: 12px 0 4px; }
 footer { color: var(--muted); font-size: 13px; margin-top: 40px; border-top: 1px solid var(--rule); padding-top: 10px; }
 "#;
 

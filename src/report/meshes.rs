@@ -191,7 +191,7 @@ fn level_legend(svg: &mut String, x: f64, y: f64, range: (u8, u8)) -> f64 {
             svg,
             at + 18.0,
             y + 11.0,
-            12.0,
+            13.0,
             "start",
             &format!("level {k}"),
         );
@@ -316,6 +316,9 @@ fn draw_mesh_shaded(
 ///
 /// With `partitions` (model-and-grid adaptivity), the Signorini faces of each drawn cycle are
 /// thick black lines on the boundary (thesis Figs IV.46–IV.51).
+///
+/// A mesh the cycles do not change ([`fixed_mesh`]: the model-adaptive tables IV.18–IV.29
+/// adapt the model only) is drawn once, labelled with every cycle drawn.
 pub fn meshes(
     path: &Path,
     meshes: &[MeshPicture],
@@ -324,6 +327,23 @@ pub fn meshes(
 ) -> io::Result<()> {
     let signorini = |body: &mut String, cycle: usize, frame: &Frame| {
         signorini_faces(body, partitions, domain, cycle, frame)
+    };
+    let cycles_label = |m: &MeshPicture| {
+        if fixed_mesh(meshes) {
+            let cycles: Vec<String> = meshes.iter().map(|m| m.cycle.to_string()).collect();
+            format!(
+                "cycles {}: the same mesh  ({} cells)",
+                cycles.join(", "),
+                m.cells.len()
+            )
+        } else {
+            format!("cycle {}  ({} cells)", m.cycle, m.cells.len())
+        }
+    };
+    let meshes = if fixed_mesh(meshes) {
+        &meshes[..1]
+    } else {
+        meshes
     };
     let Some(win) = picture_window(domain, meshes.iter().flat_map(|m| &m.cells)) else {
         return placeholder(path, "mesh", "no cells with a finite extent to draw");
@@ -368,14 +388,7 @@ pub fn meshes(
         let detail_w = strip_w * 0.5;
         let mut y = margin + legend_h;
         for (i, m) in meshes.iter().enumerate() {
-            text(
-                &mut body,
-                left,
-                y + 15.0,
-                15.0,
-                "start",
-                &format!("cycle {}  ({} cells)", m.cycle, m.cells.len()),
-            );
+            text(&mut body, left, y + 15.0, 15.0, "start", &cycles_label(m));
             y += label_h;
             let strip = Frame::new(win, left, y, strip_w);
             draw(&mut body, i, &strip, &format!("m{i}"));
@@ -421,14 +434,7 @@ pub fn meshes(
         for (i, m) in meshes.iter().enumerate() {
             let left = left + (i % per_row) as f64 * step_x;
             let top = top0 + (i / per_row) as f64 * step_y;
-            text(
-                &mut body,
-                left,
-                top + 15.0,
-                15.0,
-                "start",
-                &format!("cycle {}  ({} cells)", m.cycle, m.cells.len()),
-            );
+            text(&mut body, left, top + 15.0, 15.0, "start", &cycles_label(m));
             let f = Frame::new(win, left, top + label_h, panel_w);
             draw(&mut body, i, &f, &format!("m{i}"));
         }
@@ -441,6 +447,11 @@ pub fn meshes(
     svg.push_str(&body);
     svg.push_str("</svg>\n");
     crate::fsio::write(path, svg)
+}
+
+/// Whether the drawn meshes are one mesh: more than one cycle drawn, all with the same cells.
+fn fixed_mesh(meshes: &[MeshPicture]) -> bool {
+    meshes.len() > 1 && meshes.windows(2).all(|w| w[0].cells == w[1].cells)
 }
 
 /// The Signorini faces of `partitions` in cycle `cycle` as thick black lines on the side of the
@@ -526,8 +537,13 @@ impl Figures for Meshes {
         let (figure, path) = at.figure(
             "mesh",
             format!(
-                "{}: active cells after cycle {}{}{}",
+                "{}: {} {}{}{}",
                 run.table,
+                if fixed_mesh(&run.meshes) {
+                    "the fixed mesh of cycles"
+                } else {
+                    "active cells after cycle"
+                },
                 cycles.join(", "),
                 if !partitions.is_empty() {
                     "; Signorini faces thick black"

@@ -26,6 +26,11 @@ use crate::thesis::ThesisTable;
 /// wider plot SVGs are scaled down to it.
 const PLOT_WIDTH: f64 = 762.0;
 
+/// Width in pixels at which a page in a 1 400 px window shows a picture of the whole domain
+/// (`figure.wide`: the 1 329 px of the page's content less the figure's padding and border);
+/// wider pictures (1 600 px) are scaled down to it.
+const WIDE_WIDTH: f64 = 1311.0;
+
 /// Smallest readable text, pixels as shown.
 const MIN_TEXT_PX: f64 = 10.0;
 
@@ -451,6 +456,50 @@ fn performance_figure_shows_own_scenes() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// A mesh the cycles do not change (a model-adaptive table) is drawn once, labelled with every
+/// cycle; meshes that differ get a panel each. The axis labels of a 1 600 px picture stay
+/// readable at the width the page shows it.
+#[test]
+fn a_fixed_mesh_is_drawn_once() {
+    use crate::results::{CellBox, MeshPicture};
+    let dir = temp_dir("fixed-mesh");
+    let cells = |n: usize| -> Vec<CellBox> {
+        (0..n)
+            .map(|i| {
+                let x0 = i as f64 / n as f64;
+                CellBox {
+                    x0,
+                    y0: 0.0,
+                    x1: x0 + 1.0 / n as f64,
+                    y1: 1.0,
+                }
+            })
+            .collect()
+    };
+    let picture = |cycle: usize, n: usize| MeshPicture {
+        cycle,
+        cells: cells(n),
+        levels: Vec::new(),
+        shaded: Vec::new(),
+    };
+    let domain = [0.0, 1.0, 0.0, 1.0];
+    let path = dir.join("fixed.svg");
+    let fixed = [picture(3, 4), picture(6, 4), picture(9, 4)];
+    super::meshes::meshes(&path, &fixed, domain, &[]).unwrap();
+    let svg = std::fs::read_to_string(&path).unwrap();
+    assert!(
+        svg.contains("cycles 3, 6, 9: the same mesh  (4 cells)"),
+        "{svg}"
+    );
+    assert!(!svg.contains(">cycle "), "one panel only");
+    let changing = [picture(3, 4), picture(6, 8)];
+    super::meshes::meshes(&path, &changing, domain, &[]).unwrap();
+    let svg = std::fs::read_to_string(&path).unwrap();
+    assert!(svg.contains("cycle 3  (4 cells)") && svg.contains("cycle 6  (8 cells)"));
+    assert_eq!(check_svg_text(&svg, WIDE_WIDTH), Vec::<String>::new());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// A `<text>` element of an SVG: position, size, anchor and content.
 struct SvgText {
     x: f64,
@@ -609,7 +658,8 @@ fn report_folder_figures_are_readable() {
         }
         let name = path.file_name().unwrap().to_string_lossy().to_string();
         let svg = std::fs::read_to_string(&path).unwrap();
-        // The page shows pictures of the domain across its width, plots at most PLOT_WIDTH.
+        // The page shows pictures of the domain across its width (WIDE_WIDTH in a 1 400 px
+        // window), plots at most PLOT_WIDTH.
         let wide = [
             "-mesh",
             "-deformed",
@@ -620,7 +670,7 @@ fn report_folder_figures_are_readable() {
         ]
         .iter()
         .any(|k| name.contains(k));
-        let shown = if wide { f64::INFINITY } else { PLOT_WIDTH };
+        let shown = if wide { WIDE_WIDTH } else { PLOT_WIDTH };
         for p in check_svg_text(&svg, shown)
             .into_iter()
             .chain(check_svg_legends(&svg))

@@ -604,10 +604,10 @@ pub(super) const STRIP_ASPECT: f64 = 3.0;
 pub(super) const MESH_LINE: &str = "#1f3a5f";
 
 /// Left margin in pixels of a picture with x₂ tick labels and the x₂ axis name.
-pub(super) const AXIS_LEFT: f64 = 56.0;
+pub(super) const AXIS_LEFT: f64 = 64.0;
 
 /// Room in pixels under a picture for the x₁ tick labels and the x₁ axis name.
-pub(super) const AXIS_BELOW: f64 = 34.0;
+pub(super) const AXIS_BELOW: f64 = 37.0;
 
 /// Round tick values inside `[lo, hi]`: the multiples of one step 1, 2 or 5 × 10^k, at most
 /// `max` of them; none for an empty or non-finite range.
@@ -643,24 +643,24 @@ pub(super) fn axes(svg: &mut String, f: &Frame) {
     for x in xs {
         let px = f.px(x);
         let _ = write!(d, "M{px:.1} {b:.1}v4");
-        text(svg, px, b + 15.0, 11.0, "middle", &fmt_short(x));
+        text(svg, px, b + 16.0, 13.0, "middle", &fmt_short(x));
     }
-    let ys = ticks(f.win[2], f.win[3], ((h / 24.0) as usize).clamp(2, 10));
+    let ys = ticks(f.win[2], f.win[3], ((h / 28.0) as usize).clamp(2, 10));
     for y in ys {
         let py = f.py(y);
         let _ = write!(d, "M{l:.1} {py:.1}h-4");
-        text(svg, l - 6.0, py + 4.0, 11.0, "end", &fmt_short(y));
+        text(svg, l - 6.0, py + 4.5, 13.0, "end", &fmt_short(y));
     }
     let _ = writeln!(
         svg,
         "<path d=\"{d}\" stroke=\"#444\" stroke-width=\"1\" fill=\"none\"/>"
     );
-    text(svg, l + 0.5 * w, b + 29.0, 12.0, "middle", "x₁");
+    text(svg, l + 0.5 * w, b + 32.0, 14.0, "middle", "x₁");
     text(
         svg,
         l - AXIS_LEFT + 8.0,
         t + 0.5 * h + 4.0,
-        12.0,
+        14.0,
         "start",
         "x₂",
     );

@@ -146,7 +146,12 @@ pub(super) fn family_box(h: &mut String, family: &Family) {
     }
     h.push_str("</dl>\n");
     if !family.notes.is_empty() {
-        h.push_str("<h3>Notes shared by the family</h3>\n<ul class=\"notes\">\n");
+        let _ = writeln!(
+            h,
+            "<details class=\"shared\"><summary>Notes shared by the family ({})</summary>\n\
+             <ul class=\"notes\">",
+            family.notes.len()
+        );
         for n in &family.notes {
             let tables = if n.tables.is_empty() {
                 "All tables".to_string()
@@ -164,7 +169,7 @@ pub(super) fn family_box(h: &mut String, family: &Family) {
                 escape(&n.text)
             );
         }
-        h.push_str("</ul>\n");
+        h.push_str("</ul></details>\n");
     }
     h.push_str("</section>\n");
 }

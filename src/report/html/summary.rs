@@ -75,7 +75,7 @@ const SUMMARY_LEGEND: &str = "<details class=\"legend\"><summary>How to read the
 pub(super) fn family_summary(h: &mut String, entries: &[&Entry]) {
     h.push_str(
         "<section id=\"family-summary\">\n<h2>The tables of this page</h2>\n\
-         <div class=\"scroll\"><table>\n<thead><tr><th class=\"text\">table</th><th class=\"text\">section</th>\
+         <div class=\"scroll\"><table class=\"family-table\">\n<thead><tr><th class=\"text\">table</th><th class=\"text\">section</th>\
          <th class=\"text\">title</th><th class=\"text\">status</th><th class=\"text\">verdict</th>\
          <th>rows within bands</th><th>worst primary Δ</th><th>rows (tribo / thesis)</th>\
          <th>last dofs</th><th>last estimate</th><th>geo-mean ratio</th>\
@@ -319,11 +319,10 @@ fn summary_row(h: &mut String, s: &Section, verdict: &Verdict) {
         h,
         "<tr><td class=\"text\">\
          <a href=\"#{}\">{}</a>{dup}</td><td class=\"text\">{}</td>\
-         <td class=\"text\">{}</td>{}{}<td>{within}</td>{}<td>{} / {}</td>{}{}{}<td>{} / {}</td>{}{}<td>{}</td></tr>",
+         <td class=\"text title\" title=\"{t}\">{t}</td>{}{}<td>{within}</td>{}<td>{} / {}</td>{}{}{}<td>{} / {}</td>{}{}<td>{}</td></tr>",
         anchor(&s.run.table),
         escape(&s.run.table),
         escape(&s.run.section),
-        escape(&s.run.title),
         status_cell(s),
         verdict_cell(verdict),
         worst_cell(verdict),
@@ -341,6 +340,7 @@ fn summary_row(h: &mut String, s: &Section, verdict: &Verdict) {
         summary_diff_cell("dofs", sm.max_dofs_diff, scored),
         summary_diff_cell("estimate", sm.max_estimate_diff, scored),
         fmt_seconds(sm.total_seconds),
+        t = escape(&s.run.title),
     );
 }
 
