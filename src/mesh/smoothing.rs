@@ -169,8 +169,8 @@ struct Flags {
 }
 
 impl Mesh {
-    /// [`Mesh::refine_and_coarsen`] after the smoothing flags have added refinement flags and
-    /// removed coarsening flags ([`Mesh::smooth_flags`]). With no flag it is
+    /// [`Mesh::refine_and_coarsen`] after the smoothing flags have changed the refinement and
+    /// coarsening flags ([`Mesh::smooth_flags`]). With no flag it is
     /// `refine_and_coarsen` itself, bit for bit.
     pub fn refine_and_coarsen_smoothed(
         &mut self,
@@ -186,7 +186,8 @@ impl Mesh {
     }
 
     /// The flags (indexed like [`Mesh::active`]) after deal.II's smoothing loop
-    /// (module docs): refinement flags only added, coarsening flags only removed.
+    /// (module docs): refinement flags added and coarsening flags removed, and with the
+    /// refined-island flags the reverse for the islands.
     pub fn smooth_flags(
         &self,
         refine: &[bool],
@@ -215,12 +216,11 @@ impl Mesh {
         // Steps 1 and 2 walk all cells level by level (deal.II's cell order); without
         // `patch_level_1` only, which fulfils them.
         let coarsening = !smoothing.has(MeshSmoothing::PATCH);
-        let by_level = || {
-            let mut cells: Vec<CellId> = (0..self.cells.len() as CellId).collect();
-            cells.sort_by_key(|&c| self.cells[c as usize].level);
-            cells
-        };
-        let by_level = if coarsening { by_level() } else { Vec::new() };
+        let mut by_level: Vec<CellId> = Vec::new();
+        if coarsening {
+            by_level = (0..n as CellId).collect();
+            by_level.sort_by_key(|&c| self.cells[c as usize].level);
+        }
         loop {
             let before = (f.refine.clone(), f.coarsen.clone());
             if coarsening && smoothing.has(MeshSmoothing::NO_UNREFINED_ISLANDS) {
