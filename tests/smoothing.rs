@@ -1,5 +1,5 @@
 //! `[scene] mesh_smoothing`: deal.II's mesh-smoothing flags as a scene option. The loader
-//! types the names, refuses unknown and unimplemented ones and those of studies that never
+//! types the names, refuses unknown ones and those of studies that never
 //! refine the grid, and a thesis file that sets it counts as edited.
 
 use std::fs;
@@ -52,19 +52,32 @@ fn names_are_typed_and_the_file_counts_as_edited() {
     assert!(!spec.comparison.is_printed(), "{:?}", spec.comparison);
 }
 
+/// The coarsening smoothers are accepted, alone and as deal.II's combination.
 #[test]
-fn unknown_unimplemented_and_repeated_names_are_refused() {
+fn coarsening_smoothers_are_accepted() {
+    let path = with_smoothing(
+        "IV.50",
+        "mesh_smoothing = [\"patch-level-1\", \"smoothing-on-coarsening\"]",
+    );
+    let spec = experiment::load(&path).unwrap();
+    let expected = MeshSmoothing::of(&[
+        SmoothingName::PatchLevel1,
+        SmoothingName::EliminateRefinedInnerIslands,
+        SmoothingName::EliminateRefinedBoundaryIslands,
+        SmoothingName::DoNotProduceUnrefinedIslands,
+    ])
+    .unwrap();
+    assert_eq!(spec.scene.mesh_smoothing, expected);
+}
+
+#[test]
+fn unknown_and_repeated_names_are_refused() {
     let path = with_smoothing("IV.50", "mesh_smoothing = [\"patch-level-2\"]");
     refused(
         &path,
         "scene.mesh_smoothing[0]",
         "limit-level-difference-at-vertices",
     );
-    let path = with_smoothing(
-        "IV.50",
-        "mesh_smoothing = [\"patch-level-1\", \"smoothing-on-coarsening\"]",
-    );
-    refused(&path, "scene.mesh_smoothing[1]", "not implemented");
     let path = with_smoothing(
         "IV.50",
         "mesh_smoothing = [\"patch-level-1\", \"patch-level-1\"]",

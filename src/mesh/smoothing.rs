@@ -2,9 +2,9 @@
 //! `prepare_coarsening_and_refinement` applies to the marked cells before every refinement.
 //!
 //! The thesis's runs were made with deal.II, whose triangulation takes these flags at
-//! construction; they add refinement flags beyond the marked cells and remove coarsening flags.
+//! construction; they add and remove refinement and coarsening flags beyond the marked cells.
 //! tribo's own rule, the 2:1 balance across faces ([`Mesh::refine_and_coarsen`]), is deal.II's
-//! basic rule and is applied in any case; the flags here go beyond it:
+//! basic rule and is applied in any case; the flags here go beyond it. On refinement:
 //!
 //! - `limit_level_difference_at_vertices`: no two active cells that share a *vertex* (not only
 //!   a face) differ by more than one level;
@@ -15,16 +15,31 @@
 //!   whole;
 //! - `coarsest_level_1`: no cell of level 1 is coarsened (no level-0 cell is created).
 //!
-//! The combinations: `smoothing_on_refinement` = the first two; `maximum_smoothing` = all flags,
-//! where `patch_level_1` makes deal.II skip its coarsening flags (`eliminate_refined_*_islands`,
-//! `do_not_produce_unrefined_islands`), so it is the four flags above. Those coarsening flags
-//! (and `smoothing_on_coarsening`) are not implemented.
+//! On coarsening (deal.II's definitions, which differ from the unrefined islands on purpose: a
+//! majority rule would eat a chain of refined cells from its ends):
+//!
+//! - `do_not_produce_unrefined_islands`: a cell whose children are to be coarsened keeps them
+//!   if every face neighbour will be refined at the common face, or all but one and the cell
+//!   has four neighbours (is inside the domain);
+//! - `eliminate_refined_inner_islands` / `eliminate_refined_boundary_islands`: a cell refined
+//!   into four active children, or flagged for refinement, none of whose face neighbours will
+//!   be refined at the common face, is an island: its children are flagged for coarsening, or
+//!   its refinement flag is removed. The inner flag acts on cells away from the boundary, the
+//!   boundary flag on cells with a face on it.
+//!
+//! The combinations: `smoothing_on_refinement` = the first two; `smoothing_on_coarsening` =
+//! the three coarsening flags; `maximum_smoothing` = all seven, where `patch_level_1` makes
+//! deal.II skip the three coarsening flags (a mesh of patches has no islands of either kind),
+//! so it acts as the four refinement flags.
 //!
 //! deal.II's loop, reproduced in [`Mesh::smooth_flags`]: before it, `coarsest_level_1` and
 //! `patch_level_1` clear the coarsening flags of level-1 cells; then, until no flag changes,
-//! (3) the vertex limit, (4) the unrefined islands, (5) patch level 1, (6) the 2:1 rule across
-//! faces, (8) coarsening of complete sibling groups only. Every step only adds refinement flags
-//! or removes coarsening flags, so the loop ends.
+//! (1) no unrefined islands made by coarsening, (2) the refined islands, (3) the vertex limit,
+//! (4) the unrefined islands, (5) patch level 1, (6) the 2:1 rule across faces, (8) coarsening
+//! of complete sibling groups only. Steps 1 and 2 run only without `patch_level_1`, and walk
+//! the cells level by level as deal.II does. Steps 3–8 only add refinement flags or remove
+//! coarsening flags; step 2 is the one that removes refinement flags and adds coarsening
+//! flags, at the lowest priority: what a later step needs, it flags again.
 
 use std::collections::HashMap;
 
@@ -84,10 +99,13 @@ impl SmoothingName {
         SmoothingName::ALL.into_iter().find(|n| n.name() == name)
     }
 
-    /// The flags the name sets, or `None` for a deal.II flag tribo does not implement (the
-    /// coarsening smoothers, which `maximum_smoothing` switches off through `patch_level_1`).
+    /// The flags the name sets (deal.II's values of the combinations). `Option` so that a
+    /// flag tribo does not implement can be refused by the loader; today every name has flags.
     pub fn flags(self) -> Option<MeshSmoothing> {
         let m = |bits| Some(MeshSmoothing { bits });
+        let coarsening = MeshSmoothing::INNER_ISLANDS
+            | MeshSmoothing::BOUNDARY_ISLANDS
+            | MeshSmoothing::NO_UNREFINED_ISLANDS;
         match self {
             SmoothingName::LimitLevelDifferenceAtVertices => m(MeshSmoothing::VERTICES),
             SmoothingName::EliminateUnrefinedIslands => m(MeshSmoothing::ISLANDS),
@@ -96,14 +114,15 @@ impl SmoothingName {
             SmoothingName::SmoothingOnRefinement => {
                 m(MeshSmoothing::VERTICES | MeshSmoothing::ISLANDS)
             }
+            SmoothingName::EliminateRefinedInnerIslands => m(MeshSmoothing::INNER_ISLANDS),
+            SmoothingName::EliminateRefinedBoundaryIslands => m(MeshSmoothing::BOUNDARY_ISLANDS),
+            SmoothingName::DoNotProduceUnrefinedIslands => m(MeshSmoothing::NO_UNREFINED_ISLANDS),
+            SmoothingName::SmoothingOnCoarsening => m(coarsening),
             SmoothingName::MaximumSmoothing => m(MeshSmoothing::VERTICES
                 | MeshSmoothing::ISLANDS
                 | MeshSmoothing::PATCH
-                | MeshSmoothing::COARSEST),
-            SmoothingName::EliminateRefinedInnerIslands
-            | SmoothingName::EliminateRefinedBoundaryIslands
-            | SmoothingName::DoNotProduceUnrefinedIslands
-            | SmoothingName::SmoothingOnCoarsening => None,
+                | MeshSmoothing::COARSEST
+                | coarsening),
         }
     }
 }
@@ -120,6 +139,9 @@ impl MeshSmoothing {
     const ISLANDS: u8 = 2;
     const PATCH: u8 = 4;
     const COARSEST: u8 = 8;
+    const INNER_ISLANDS: u8 = 16;
+    const BOUNDARY_ISLANDS: u8 = 32;
+    const NO_UNREFINED_ISLANDS: u8 = 64;
 
     /// The union of the flags of `names`, or the first name tribo does not implement.
     pub fn of(names: &[SmoothingName]) -> Result<MeshSmoothing, SmoothingName> {
@@ -147,8 +169,8 @@ struct Flags {
 }
 
 impl Mesh {
-    /// [`Mesh::refine_and_coarsen`] after the smoothing flags have added refinement flags and
-    /// removed coarsening flags ([`Mesh::smooth_flags`]). With no flag it is
+    /// [`Mesh::refine_and_coarsen`] after the smoothing flags have changed the refinement and
+    /// coarsening flags ([`Mesh::smooth_flags`]). With no flag it is
     /// `refine_and_coarsen` itself, bit for bit.
     pub fn refine_and_coarsen_smoothed(
         &mut self,
@@ -164,7 +186,8 @@ impl Mesh {
     }
 
     /// The flags (indexed like [`Mesh::active`]) after deal.II's smoothing loop
-    /// (module docs): refinement flags only added, coarsening flags only removed.
+    /// (module docs): refinement flags added and coarsening flags removed, and with the
+    /// refined-island flags the reverse for the islands.
     pub fn smooth_flags(
         &self,
         refine: &[bool],
@@ -190,8 +213,33 @@ impl Mesh {
                 }
             }
         }
+        // Steps 1 and 2 walk all cells level by level (deal.II's cell order); without
+        // `patch_level_1` only, which fulfils them.
+        let coarsening = !smoothing.has(MeshSmoothing::PATCH);
+        let mut by_level: Vec<CellId> = Vec::new();
+        if coarsening {
+            by_level = (0..n as CellId).collect();
+            by_level.sort_by_key(|&c| self.cells[c as usize].level);
+        }
         loop {
             let before = (f.refine.clone(), f.coarsen.clone());
+            if coarsening && smoothing.has(MeshSmoothing::NO_UNREFINED_ISLANDS) {
+                for &p in &by_level {
+                    if self.cells[p as usize].children != NONE && self.will_be_coarsened(p, &mut f)
+                    {
+                        self.keep_unrefined_island_out(p, &mut f);
+                    }
+                }
+            }
+            if coarsening {
+                let inner = smoothing.has(MeshSmoothing::INNER_ISLANDS);
+                let boundary = smoothing.has(MeshSmoothing::BOUNDARY_ISLANDS);
+                if inner || boundary {
+                    for &c in &by_level {
+                        self.eliminate_refined_island(c, inner, boundary, &mut f);
+                    }
+                }
+            }
             if smoothing.has(MeshSmoothing::VERTICES) {
                 self.limit_level_difference_at_vertices(&mut f);
             }
@@ -214,6 +262,111 @@ impl Mesh {
         let refine = self.active.iter().map(|&c| f.refine[c as usize]).collect();
         let coarsen = self.active.iter().map(|&c| f.coarsen[c as usize]).collect();
         (refine, coarsen)
+    }
+
+    /// deal.II's `cell_will_be_coarsened` for a refined cell `p`: its four children are active
+    /// and flagged for coarsening. An incomplete group loses its coarsening flags on the way,
+    /// as in deal.II (step 8 would remove them at the end of the round anyway; removed here,
+    /// the vertex limit of the same round no longer counts them).
+    fn will_be_coarsened(&self, p: CellId, f: &mut Flags) -> bool {
+        let first = self.cells[p as usize].children;
+        let kids = first..first + 4;
+        let active = |k: CellId| self.cells[k as usize].children == NONE;
+        if kids.clone().all(|k| active(k) && f.coarsen[k as usize]) {
+            return true;
+        }
+        for k in kids.filter(|&k| active(k)) {
+            f.coarsen[k as usize] = false;
+        }
+        false
+    }
+
+    /// [`Mesh::face_refined_by_neighbor`] as steps 1 and 2 ask it: a refined neighbour is
+    /// first asked [`Mesh::will_be_coarsened`], with its side effect.
+    fn face_refined_by_neighbor_mut(
+        &self,
+        c: CellId,
+        face: super::Face,
+        f: &mut Flags,
+    ) -> Option<bool> {
+        let nb = self.across(c, face)?;
+        let ncell = self.cells[nb as usize];
+        if ncell.children != NONE && ncell.level == self.cells[c as usize].level {
+            self.will_be_coarsened(nb, f);
+        }
+        self.face_refined_by_neighbor(c, face, f)
+    }
+
+    /// deal.II's step 1 for a cell `p` whose children are to be coarsened: if every face
+    /// neighbour will be refined at the common face, or all but one and `p` lies inside the
+    /// domain (four neighbours), coarsening would leave an unrefined island, so the children
+    /// keep their cells; then the neighbours about to be coarsened are looked at again (a
+    /// cascade).
+    fn keep_unrefined_island_out(&self, p: CellId, f: &mut Flags) {
+        let (mut neighbours, mut refined) = (0, 0);
+        for face in FACES {
+            if let Some(r) = self.face_refined_by_neighbor_mut(p, face, f) {
+                neighbours += 1;
+                refined += usize::from(r);
+            }
+        }
+        if !(refined == neighbours || (refined + 1 >= neighbours && neighbours == FACES.len())) {
+            return;
+        }
+        let first = self.cells[p as usize].children;
+        for k in first..first + 4 {
+            f.coarsen[k as usize] = false;
+        }
+        for face in FACES {
+            let Some(nb) = self.across(p, face) else {
+                continue;
+            };
+            if self.cells[nb as usize].children != NONE && self.will_be_coarsened(nb, f) {
+                self.keep_unrefined_island_out(nb, f);
+            }
+        }
+    }
+
+    /// deal.II's step 2 for one cell `c`, refined into four active children or active and
+    /// flagged for refinement: if none of its face neighbours will be refined at the common
+    /// face (a coarser neighbour counts as unrefined) and it has at least one, it is a refined
+    /// island: inside the domain under `inner`, at the boundary under `boundary`. Its children
+    /// are then flagged for coarsening (and not refinement), or its refinement flag goes.
+    fn eliminate_refined_island(&self, c: CellId, inner: bool, boundary: bool, f: &mut Flags) {
+        let cell = self.cells[c as usize];
+        let kids = cell.children..cell.children + 4;
+        if cell.children == NONE {
+            if !f.refine[c as usize] {
+                return;
+            }
+        } else if kids
+            .clone()
+            .any(|k| self.cells[k as usize].children != NONE)
+        {
+            return;
+        }
+        let (mut neighbours, mut unrefined, mut at_boundary) = (0, 0, false);
+        for face in FACES {
+            match self.face_refined_by_neighbor_mut(c, face, f) {
+                Some(r) => {
+                    neighbours += 1;
+                    unrefined += usize::from(!r);
+                }
+                None => at_boundary = true,
+            }
+        }
+        let island = if at_boundary { boundary } else { inner };
+        if !island || unrefined != neighbours || neighbours == 0 {
+            return;
+        }
+        if cell.children == NONE {
+            f.refine[c as usize] = false;
+        } else {
+            for k in kids {
+                f.refine[k as usize] = false;
+                f.coarsen[k as usize] = true;
+            }
+        }
     }
 
     /// deal.II's step 3: the highest level each vertex will touch (a coarsening-flagged cell
@@ -533,9 +686,108 @@ mod tests {
         }
     }
 
-    /// Names: the combinations expand, the unimplemented coarsening smoothers are refused.
+    /// Refine the coarse cells `refine` and coarsen the children of the coarse cells
+    /// `coarsen` (all at (x, y) of level 0) with the given smoothing; the active cells after.
+    fn refine_and_coarsen_at(
+        mesh: &mut Mesh,
+        refine: &[(u64, u64)],
+        coarsen: &[(u64, u64)],
+        s: MeshSmoothing,
+    ) -> usize {
+        let w = Mesh::width(0);
+        let at = |&(x, y): &(u64, u64)| mesh.descend(x * w, y * w, 0);
+        let refined: Vec<CellId> = refine.iter().map(at).collect();
+        let coarsened: Vec<CellId> = coarsen.iter().map(at).collect();
+        let parent_in =
+            |c: &CellId, set: &[CellId]| mesh.parent(*c).is_some_and(|p| set.contains(&p));
+        let r: Vec<bool> = mesh.active().iter().map(|c| refined.contains(c)).collect();
+        let k: Vec<bool> = mesh
+            .active()
+            .iter()
+            .map(|c| parent_in(c, &coarsened))
+            .collect();
+        mesh.refine_and_coarsen_smoothed(&r, &k, s).unwrap();
+        mesh.n_active()
+    }
+
+    /// `eliminate_refined_*_islands` on flagged cells: on a 3 × 3 grid, the centre flagged
+    /// alone has four unrefined neighbours and is an inner island (its flag goes: 9 cells, not
+    /// 12); a corner cell flagged alone is a boundary island. Each flag acts on its kind only,
+    /// and two flagged neighbours are not islands (9 + 2·3 cells).
     #[test]
-    fn names_expand_and_refuse() {
+    fn refined_islands_lose_their_refinement_flags() {
+        let inner = smoothing(&[SmoothingName::EliminateRefinedInnerIslands]);
+        let boundary = smoothing(&[SmoothingName::EliminateRefinedBoundaryIslands]);
+        let both = smoothing(&[SmoothingName::SmoothingOnCoarsening]);
+        let grid = || Mesh::new([0.0, 3.0], [0.0, 3.0], 3, 3);
+        for (flagged, s, n_active) in [
+            (vec![(1, 1)], MeshSmoothing::default(), 12),
+            (vec![(1, 1)], inner, 9),
+            (vec![(1, 1)], boundary, 12),
+            (vec![(0, 0)], inner, 12),
+            (vec![(0, 0)], boundary, 9),
+            (vec![(0, 1), (1, 1)], both, 15),
+        ] {
+            let n = refine_and_coarsen_at(&mut grid(), &flagged, &[], s);
+            assert_eq!(n, n_active, "{flagged:?} {s:?}");
+        }
+    }
+
+    /// `eliminate_refined_inner_islands` on a refined cell: a 3 × 3 grid whose centre is
+    /// refined, with no flag at all, has its centre coarsened back (12 → 9 cells); the same
+    /// centre with its right neighbour refined too is no island (stays at 15).
+    #[test]
+    fn a_refined_island_is_coarsened() {
+        let inner = smoothing(&[SmoothingName::EliminateRefinedInnerIslands]);
+        for (refined, n_before, n_after) in [(vec![(1, 1)], 12, 9), (vec![(1, 1), (2, 1)], 15, 15)]
+        {
+            let mut mesh = Mesh::new([0.0, 3.0], [0.0, 3.0], 3, 3);
+            refine_and_coarsen_at(&mut mesh, &refined, &[], MeshSmoothing::default());
+            assert_eq!(mesh.n_active(), n_before);
+            assert_eq!(refine_and_coarsen_at(&mut mesh, &[], &[], inner), n_after);
+        }
+    }
+
+    /// `do_not_produce_unrefined_islands` on a 3 × 1 strip refined once (12 cells): coarsening
+    /// the middle cell, both of whose neighbours stay refined, is refused (without the flag:
+    /// 9 cells); a boundary cell needs every neighbour refined, so the left and middle cells
+    /// coarsen together (6 cells).
+    #[test]
+    fn coarsening_into_an_unrefined_island_is_refused() {
+        let s = smoothing(&[SmoothingName::DoNotProduceUnrefinedIslands]);
+        for (coarsened, s, n_active) in [
+            (vec![(1, 0)], MeshSmoothing::default(), 9),
+            (vec![(1, 0)], s, 12),
+            (vec![(0, 0), (1, 0)], s, 6),
+        ] {
+            let mut mesh = Mesh::new([0.0, 3.0], [0.0, 1.0], 3, 1);
+            mesh.refine_global().unwrap();
+            let n = refine_and_coarsen_at(&mut mesh, &[], &coarsened, s);
+            assert_eq!(n, n_active, "{coarsened:?} {s:?}");
+        }
+    }
+
+    /// `do_not_produce_unrefined_islands` inside the domain and its cascade: a 3 × 3 grid
+    /// refined once (36 cells), the centre and its left neighbour flagged for coarsening. The
+    /// centre would have three of four neighbours refined (all but one: refused); then the
+    /// left cell has all three neighbours refined (refused too). Without the flag: 30 cells.
+    #[test]
+    fn unrefined_islands_cascade() {
+        let s = smoothing(&[SmoothingName::DoNotProduceUnrefinedIslands]);
+        for (s, n_active) in [(MeshSmoothing::default(), 30), (s, 36)] {
+            let mut mesh = Mesh::new([0.0, 3.0], [0.0, 3.0], 3, 3);
+            mesh.refine_global().unwrap();
+            let n = refine_and_coarsen_at(&mut mesh, &[], &[(0, 1), (1, 1)], s);
+            assert_eq!(n, n_active, "{s:?}");
+        }
+    }
+
+    /// `maximum_smoothing` sets the coarsening flags too, but `patch_level_1` switches them
+    /// off: on a 3 × 3 grid refined twice, with one cell flagged for refinement and the
+    /// sixteen grandchildren of the centre and of a corner cell for coarsening, it flags
+    /// exactly as the four refinement flags do.
+    #[test]
+    fn maximum_smoothing_acts_as_the_refinement_flags() {
         let max = smoothing(&[SmoothingName::MaximumSmoothing]);
         let four = smoothing(&[
             SmoothingName::LimitLevelDifferenceAtVertices,
@@ -543,10 +795,37 @@ mod tests {
             SmoothingName::PatchLevel1,
             SmoothingName::CoarsestLevel1,
         ]);
-        assert_eq!(max, four);
+        assert_ne!(max, four);
+        let mut mesh = Mesh::new([0.0, 3.0], [0.0, 3.0], 3, 3);
+        mesh.refine_global().unwrap();
+        mesh.refine_global().unwrap();
+        let w = Mesh::width(0);
+        let grand = [mesh.descend(w, w, 0), mesh.descend(0, 0, 0)];
+        let refine: Vec<bool> = (0..mesh.n_active()).map(|k| k == 70).collect();
+        let coarsen: Vec<bool> = mesh
+            .active()
+            .iter()
+            .map(|&c| grand.contains(&mesh.ancestor_at(c, 0)))
+            .collect();
+        let (r_max, c_max) = mesh.smooth_flags(&refine, &coarsen, max);
+        assert_eq!((r_max, c_max), mesh.smooth_flags(&refine, &coarsen, four));
+    }
+
+    /// Names: the combinations expand to deal.II's values.
+    #[test]
+    fn names_expand() {
+        let all: Vec<SmoothingName> = SmoothingName::ALL[..7].to_vec();
         assert_eq!(
-            MeshSmoothing::of(&[SmoothingName::SmoothingOnCoarsening]),
-            Err(SmoothingName::SmoothingOnCoarsening)
+            smoothing(&[SmoothingName::MaximumSmoothing]),
+            smoothing(&all)
+        );
+        assert_eq!(
+            smoothing(&[SmoothingName::SmoothingOnCoarsening]),
+            smoothing(&SmoothingName::ALL[4..7])
+        );
+        assert_eq!(
+            smoothing(&[SmoothingName::SmoothingOnRefinement]),
+            smoothing(&SmoothingName::ALL[..2])
         );
         assert!(MeshSmoothing::default().is_empty());
     }

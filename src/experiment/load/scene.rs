@@ -156,15 +156,8 @@ impl Check<'_> {
                 parsed.is_some_and(|n| n.flags().is_some()),
                 &field,
                 &format!(
-                    "one of deal.II's mesh-smoothing flags tribo implements: {}{}",
-                    known.join(", "),
-                    if parsed.is_some() {
-                        " (the coarsening smoothers eliminate-refined-*-islands, \
-                         do-not-produce-unrefined-islands and smoothing-on-coarsening are not \
-                         implemented)"
-                    } else {
-                        ""
-                    }
+                    "one of deal.II's mesh-smoothing flags tribo implements: {}",
+                    known.join(", ")
                 ),
                 format!("{name:?}"),
             )?;
