@@ -73,15 +73,11 @@ estimator = "z-code"
 obstacles = [{ side = "bottom", shape = { kind = "constant", level = -2.0 } }]
 "#;
 
-/// A fresh, empty directory under the system temp dir, unique per call.
+/// A fresh, empty directory, unique per call.
 fn scratch_dir(name: &str) -> PathBuf {
     static COUNTER: AtomicUsize = AtomicUsize::new(0);
     let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-    let dir =
-        std::env::temp_dir().join(format!("tribo-bad-input-{}-{n}-{name}", std::process::id()));
-    let _ = fs::remove_dir_all(&dir);
-    fs::create_dir_all(&dir).expect("create a scratch directory");
-    dir
+    crate::common::scratch(&format!("bad-input-{n}-{name}"))
 }
 
 /// Write `text` as `dir/file_name` and return its path.

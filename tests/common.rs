@@ -12,6 +12,35 @@ use tribo::results::{Row, RunResult, Value};
 use tribo::study::{self, Tier};
 use tribo::thesis::ThesisTable;
 
+/// A fresh, empty folder for a test's files: `<target>/tmp/tribo-tests/<process>/<name>`,
+/// inside the target directory rather than the system's temporary folder. The first call of a
+/// test run removes the folders of earlier runs whose process has ended (on Linux, where
+/// `/proc` tells), so the suite leaves at most one run's files behind, where `cargo clean`
+/// removes them.
+pub fn scratch(name: &str) -> PathBuf {
+    static ROOT: OnceLock<PathBuf> = OnceLock::new();
+    let root = ROOT.get_or_init(|| {
+        let base = Path::new(env!("CARGO_TARGET_TMPDIR")).join("tribo-tests");
+        if Path::new("/proc/self").exists() {
+            for entry in std::fs::read_dir(&base).into_iter().flatten().flatten() {
+                let ended = entry
+                    .file_name()
+                    .to_str()
+                    .and_then(|p| p.parse::<u32>().ok())
+                    .is_some_and(|pid| !Path::new(&format!("/proc/{pid}")).exists());
+                if ended {
+                    let _ = std::fs::remove_dir_all(entry.path());
+                }
+            }
+        }
+        base.join(std::process::id().to_string())
+    });
+    let dir = root.join(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("a scratch folder for the test");
+    dir
+}
+
 pub fn experiments_dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("experiments")
 }

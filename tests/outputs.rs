@@ -62,9 +62,7 @@ fn scan_html(page: &Path) -> Vec<String> {
 }
 
 fn out_dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("tribo-outputs-{}-{name}", std::process::id()));
-    let _ = fs::remove_dir_all(&d);
-    d
+    crate::common::scratch(&format!("outputs-{name}"))
 }
 
 /// Run the report on `experiments` at the quick tier into a fresh folder and return it;

@@ -33,10 +33,7 @@ fn template(name: &str) -> String {
 fn scratch(name: &str) -> PathBuf {
     static COUNTER: AtomicUsize = AtomicUsize::new(0);
     let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-    let dir = std::env::temp_dir().join(format!("tribo-own-{}-{n}-{name}", std::process::id()));
-    let _ = fs::remove_dir_all(&dir);
-    fs::create_dir_all(&dir).unwrap();
-    dir
+    crate::common::scratch(&format!("own-{n}-{name}"))
 }
 
 fn write(dir: &Path, file: &str, text: &str) -> PathBuf {

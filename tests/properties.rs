@@ -192,9 +192,7 @@ const FIXED_LENGTH: [(&str, usize); 5] = [
 ];
 
 fn scratch(case: u64) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("tribo-properties-{}-{case}", std::process::id()));
-    fs::create_dir_all(&dir).expect("scratch directory");
-    dir
+    crate::common::scratch(&format!("properties-{case}"))
 }
 
 proptest! {

@@ -19,12 +19,7 @@ fn with_smoothing(table: &str, line: &str) -> PathBuf {
         .find(|l| l.starts_with("effects = "))
         .expect("a scene with effects");
     let text = text.replacen(effects, &format!("{effects}\n{line}"), 1);
-    let dir = std::env::temp_dir().join(format!(
-        "tribo-smoothing-{}-{}",
-        std::process::id(),
-        line.len() + table.len() * 1000
-    ));
-    fs::create_dir_all(&dir).unwrap();
+    let dir = crate::common::scratch(&format!("smoothing-{}", line.len() + table.len() * 1000));
     let path = dir.join(format!("{table}.toml"));
     fs::write(&path, text).unwrap();
     path

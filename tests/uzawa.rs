@@ -43,7 +43,7 @@ fn the_cg_accelerated_variant_is_far_ahead() {
 #[test]
 fn data_file_has_one_row_per_iteration() {
     let r = quick(FIGURE);
-    let dir = std::env::temp_dir().join(format!("tribo-uzawa-{}", std::process::id()));
+    let dir = crate::common::scratch("uzawa");
     tribo::report::data::write_frames(&dir, &r).unwrap();
     let text = std::fs::read_to_string(dir.join("fig-III.6.csv")).unwrap();
     let mut lines = text.lines();

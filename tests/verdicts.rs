@@ -145,8 +145,7 @@ fn reproduced_verdicts_of_the_quick_tier_hold_in_its_data() {
 /// A report folder that does not claim what its data show fails the check.
 #[test]
 fn the_check_catches_a_verdict_its_data_do_not_show() {
-    let out = std::env::temp_dir().join(format!("tribo-verdicts-{}", std::process::id()));
-    let _ = fs::remove_dir_all(&out);
+    let out = crate::common::scratch("verdicts");
     fs::create_dir_all(out.join("data")).unwrap();
     fs::write(
         out.join("index.html"),
