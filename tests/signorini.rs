@@ -131,8 +131,7 @@ fn the_converged_reading_is_the_solution_the_table_uses() {
 #[test]
 fn a_cycling_fixed_point_ends_the_run_naming_table_cycle_and_iteration() {
     let error = study::run(&converged("IV.16"), Tier::Quick, &|_, _, _| {})
-        .err()
-        .expect("the fixed point cycles");
+        .expect_err("the fixed point cycles");
     let message = error.to_string();
     assert_eq!(
         (error.table.as_str(), error.cycle),

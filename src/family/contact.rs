@@ -62,7 +62,7 @@ impl Family for Contact {
     fn build(&self, experiment: &Experiment) -> Result<Box<dyn study::Problem>, StudyError> {
         let (elasticity, contact) = contact_data(experiment)?;
         let mut problem = ContactProblem::new(elasticity, contact);
-        problem.unprinted = experiment.study.unprinted_cycles;
+        problem.failures.unprinted = experiment.study.unprinted_cycles;
         Ok(Box::new(problem))
     }
 }

@@ -16,7 +16,7 @@ use super::clock::PhaseClock;
 use super::elasticity::{deformed_picture, displacement_component};
 use super::error::StudyError;
 use super::problem::{setup_system, Discretisation, Estimate, Pictures, Problem, Solution};
-use super::signorini::{converge, Comparison, Converged, FixedPoint};
+use super::signorini::{converge, Comparison, ComparisonFailures, Converged, FixedPoint};
 use super::transfer::PreviousSolution;
 use crate::estimators::contact::{self as contact_estimator, ContactEstimate, ContactEstimator};
 use crate::experiment::{ContactData, ElasticityData, Rectangle, SignoriniReading};
@@ -92,13 +92,9 @@ pub struct ContactProblem {
     pub fixed_point: FixedPoint,
     /// The current cycle's linearised solution against the converged one (after `solve`).
     comparison: Option<Comparison>,
-    /// Solves before the first printed cycle (`study.unprinted_cycles`), and solves so far:
-    /// the printed cycle a failed comparison names.
-    pub unprinted: usize,
-    solves: usize,
     /// Where the fixed point of the comparison failed with `signorini = "linearised"` (the
     /// table goes on; the notes of its section say it).
-    failures: Vec<String>,
+    pub failures: ComparisonFailures,
 }
 
 impl ContactProblem {
@@ -136,9 +132,7 @@ impl ContactProblem {
             reading: SignoriniReading::Linearised,
             fixed_point: FixedPoint::default(),
             comparison: None,
-            unprinted: 0,
-            solves: 0,
-            failures: Vec::new(),
+            failures: ComparisonFailures::default(),
         }
     }
 
@@ -188,29 +182,17 @@ impl ContactProblem {
             boundaries: &self.boundaries,
             face_model: &*self.face_models,
         };
-        let solve = self.solves;
-        self.solves += 1;
-        let converged = match converge(
+        self.failures.start_solve();
+        let fixed_point = converge(
             system,
             &mut self.solver,
             &builder,
             &self.constraints,
             linearised,
             &self.fixed_point,
-        ) {
-            Ok(converged) => converged,
-            Err(e) if self.reading == SignoriniReading::Linearised => {
-                // Only the comparison is lost: the table goes on with the linearised solution.
-                let cycle = solve
-                    .checked_sub(self.unprinted)
-                    .map_or(format!("unprinted solve {solve}"), |c| format!("cycle {c}"));
-                self.failures.push(format!(
-                    "{cycle}: no converged Signorini solution to compare the linearised one \
-                     with (its signorini_* columns are empty): {e}"
-                ));
-                return Ok(None);
-            }
-            Err(e) => return Err(e),
+        );
+        let Some(converged) = self.failures.settle(self.reading, fixed_point)? else {
+            return Ok(None);
         };
         self.comparison = Some(Comparison::of(
             &self.model,
@@ -488,7 +470,7 @@ impl Problem for ContactProblem {
     }
 
     fn notes(&self) -> Vec<String> {
-        self.failures.clone()
+        self.failures.notes()
     }
 }
 

@@ -42,6 +42,7 @@ use std::collections::{BTreeSet, VecDeque};
 
 use super::cost::energy_norm;
 use super::error::StudyError;
+use crate::experiment::SignoriniReading;
 use crate::fe::{DofMap, System};
 use crate::linalg::SolveConstrained;
 use crate::mesh::Mesh;
@@ -185,10 +186,12 @@ fn solve_small(mut a: Vec<Vec<f64>>) -> Option<Vec<f64>> {
             return None;
         }
         a.swap(c, p);
-        for r in c + 1..m {
-            let factor = a[r][c] / a[c][c];
-            for k in c..=m {
-                a[r][k] -= factor * a[c][k];
+        let (upper, lower) = a.split_at_mut(c + 1);
+        let pivot = &upper[c];
+        for row in lower.iter_mut() {
+            let factor = row[c] / pivot[c];
+            for (x, q) in row[c..].iter_mut().zip(&pivot[c..]) {
+                *x -= factor * q;
             }
         }
     }
@@ -419,5 +422,54 @@ impl Comparison {
             real(columns::PENETRATION, self.penetration),
             real(columns::PENETRATION_CONVERGED, self.penetration_converged),
         ]
+    }
+}
+
+/// The fixed points of a run's comparisons that failed with the linearised reading: the table
+/// goes on with its linearised solutions, the cycle's comparison is empty, and a note of the
+/// section names the cycle and says why.
+#[derive(Clone, Debug, Default)]
+pub struct ComparisonFailures {
+    /// Solves before the first printed cycle (`study.unprinted_cycles`).
+    pub unprinted: usize,
+    /// Solves started so far.
+    solves: usize,
+    notes: Vec<String>,
+}
+
+impl ComparisonFailures {
+    /// Count a solve of the run (every solve, with or without Signorini faces).
+    pub fn start_solve(&mut self) {
+        self.solves += 1;
+    }
+
+    /// The fixed point of the current solve: with `signorini = "converged"` a failure stays
+    /// the error it is (the table fails); with the linearised reading it becomes a note and
+    /// `None`.
+    pub fn settle(
+        &mut self,
+        reading: SignoriniReading,
+        fixed_point: Result<Converged, StudyError>,
+    ) -> Result<Option<Converged>, StudyError> {
+        match fixed_point {
+            Ok(converged) => Ok(Some(converged)),
+            Err(e) if reading == SignoriniReading::Linearised => {
+                let solve = self.solves.saturating_sub(1);
+                let cycle = solve
+                    .checked_sub(self.unprinted)
+                    .map_or(format!("unprinted solve {solve}"), |c| format!("cycle {c}"));
+                self.notes.push(format!(
+                    "{cycle}: no converged Signorini solution to compare the linearised one \
+                     with (its signorini_* columns are empty): {e}"
+                ));
+                Ok(None)
+            }
+            Err(e) => Err(e),
+        }
+    }
+
+    /// The notes of the failures, in the order of the cycles.
+    pub fn notes(&self) -> Vec<String> {
+        self.notes.clone()
     }
 }
