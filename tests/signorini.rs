@@ -8,7 +8,8 @@ use std::path::PathBuf;
 use tribo::experiment::{self, Experiment, SignoriniReading};
 use tribo::results::RunResult;
 use tribo::study::signorini::columns;
-use tribo::study::{self, Tier};
+use tribo::study::table::Solves;
+use tribo::study::{self, TableHost, TableOptions, TableRun, Tier};
 use tribo::thesis::ThesisTable;
 
 use crate::common::{experiments_dir, quick, refused_at, report_of, spec};
@@ -196,4 +197,67 @@ fn the_comparison_columns_are_in_the_data_file_and_on_the_page() {
     let page = fs::read_to_string(dir.join("index.html")).unwrap();
     assert!(page.contains("Signorini: the linearised solution against the converged one"));
     assert!(!page.contains("<th>signorini_iterations</th>"));
+}
+
+/// A host that runs and keeps every run as it is.
+struct Keep;
+
+impl TableHost for Keep {
+    type Failure = String;
+
+    fn isolate(&self, _run: TableRun, solves: Solves) -> Result<RunResult, String> {
+        solves(&|_, _, _| {}).map_err(|e| e.to_string())
+    }
+
+    fn keep(&self, _run: TableRun, result: RunResult) -> Result<RunResult, String> {
+        Ok(result)
+    }
+}
+
+/// Whether any row of `run` has the comparison.
+fn compared(run: &RunResult) -> bool {
+    run.rows
+        .iter()
+        .any(|r| r.count_of(columns::ITERATIONS).is_some())
+}
+
+/// The model-adaptive Table IV.18 compares its mixed solutions with the converged ones; its
+/// alternative reading does not repeat the comparison, and `--no-alternatives` leaves it out.
+#[test]
+fn the_comparison_runs_with_the_alternatives_only() {
+    let experiment = spec("IV.18");
+    let options = |alternatives| TableOptions {
+        tier: Tier::Quick,
+        budget: study::Budget::machine(),
+        alternatives,
+    };
+    let table = study::run_table(&experiment, options(true), &Keep).unwrap();
+    assert!(compared(&table.run));
+    assert!(!table.alternatives.is_empty());
+    for reading in &table.alternatives {
+        assert!(
+            !compared(reading.outcome.as_ref().unwrap()),
+            "{}",
+            reading.label
+        );
+    }
+    let alone = study::run_table(&experiment, options(false), &Keep).unwrap();
+    assert!(!compared(&alone.run));
+    let strip = |run: &RunResult| -> Vec<Vec<(String, tribo::results::Value)>> {
+        run.rows
+            .iter()
+            .map(|r| {
+                r.columns
+                    .iter()
+                    .filter(|(n, _)| !columns::is_comparison(n))
+                    .cloned()
+                    .collect()
+            })
+            .collect()
+    };
+    assert_eq!(
+        strip(&table.run),
+        strip(&alone.run),
+        "the same table either way"
+    );
 }

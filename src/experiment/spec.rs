@@ -780,6 +780,12 @@ pub struct Study {
     pub ties: Ties,
     /// The linear solver of the SPD systems, if the file names one ([`StudyFile::solver`]).
     pub solver: Option<crate::linalg::SolverKind>,
+    /// Whether a scene with Signorini faces also computes, per cycle, the converged solution
+    /// beside the linearised one for its `signorini_*` columns (`crate::study::signorini`): on
+    /// as loaded, off for `report --no-alternatives` and the alternative readings (it costs
+    /// about as much as the contact tables themselves). The converged reading computes it
+    /// anyway.
+    pub signorini_comparison: bool,
     /// What the kind iterates, with its fields.
     pub plan: Plan,
 }

@@ -63,6 +63,7 @@ impl Family for Contact {
         let (elasticity, contact) = contact_data(experiment)?;
         let mut problem = ContactProblem::new(elasticity, contact);
         problem.failures.unprinted = experiment.study.unprinted_cycles;
+        problem.compares = experiment.study.signorini_comparison;
         Ok(Box::new(problem))
     }
 }

@@ -115,7 +115,7 @@ impl Family for ModelContact {
             _ => ModelAdaptiveContact::new(elasticity, contact),
         };
         // The table records its linearised mixed solutions against the converged ones.
-        problem.compares = true;
+        problem.compares = experiment.study.signorini_comparison;
         problem.failures.unprinted = experiment.study.unprinted_cycles;
         Ok(Box::new(problem))
     }

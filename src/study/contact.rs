@@ -90,6 +90,8 @@ pub struct ContactProblem {
     pub reading: SignoriniReading,
     /// The stopping rule of the fixed point.
     pub fixed_point: FixedPoint,
+    /// Whether the linearised reading computes the converged solution for the comparison.
+    pub compares: bool,
     /// The current cycle's linearised solution against the converged one (after `solve`).
     comparison: Option<Comparison>,
     /// Where the fixed point of the comparison failed with `signorini = "linearised"` (the
@@ -131,6 +133,7 @@ impl ContactProblem {
             previous_parts: None,
             reading: SignoriniReading::Linearised,
             fixed_point: FixedPoint::default(),
+            compares: true,
             comparison: None,
             failures: ComparisonFailures::default(),
         }
@@ -175,7 +178,8 @@ impl ContactProblem {
         linearised: &ContactSolution,
     ) -> Result<Option<Converged>, StudyError> {
         self.comparison = None;
-        if !self.uses_signorini {
+        let compared = self.compares || self.reading == SignoriniReading::Converged;
+        if !self.uses_signorini || !compared {
             return Ok(None);
         }
         let builder = ConstraintBuilder {
