@@ -65,7 +65,15 @@ fn signorini_cycle_zero_equals_the_z_solution() {
     ] {
         let (rz, rs) = (quick(z), quick(s));
         let (a, b) = (&rz.rows[0], &rs.rows[0]);
-        assert_eq!(a.counts(), b.counts(), "{z} vs {s}: active sets of cycle 0");
+        // The Signorini table's comparison with the converged solution aside.
+        let counts = |r: &tribo::results::Row| -> Vec<(String, i64)> {
+            r.counts()
+                .into_iter()
+                .filter(|(n, _)| !tribo::study::signorini::columns::is_comparison(n))
+                .map(|(n, c)| (n.to_string(), c))
+                .collect()
+        };
+        assert_eq!(counts(a), counts(b), "{z} vs {s}: active sets of cycle 0");
         assert_eq!(
             a.value("penetration"),
             b.value("penetration"),

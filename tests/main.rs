@@ -26,6 +26,7 @@ mod properties;
 mod report_failures;
 mod reynolds;
 mod settings;
+mod signorini;
 mod smoothing;
 mod solvers;
 mod substokes;

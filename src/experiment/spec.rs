@@ -226,6 +226,11 @@ pub struct ContactData {
     /// evaluated ([`ModelErrorSolution`]).
     #[serde(default)]
     pub model_error_solution: ModelErrorSolution,
+    /// How the Signorini constraints of a cycle are solved ([`SignoriniReading`]); left out,
+    /// the thesis's single linearisation. Only for scenes with Signorini faces (`signorini`,
+    /// `model-adaptive`): the loader refuses it with `model = "z"`.
+    #[serde(default)]
+    pub signorini: Option<SignoriniReading>,
     /// One obstacle per contact side: `bottom` means s₂ ≥ b(x₁) on x₂ = y0 (n = −e₂),
     /// `top` means s₂ ≤ b(x₁) on x₂ = y1 (n = +e₂).
     pub obstacles: Vec<Obstacle>,
@@ -245,7 +250,37 @@ pub enum ModelErrorSolution {
     Z,
 }
 
+/// How the Signorini constraints of a cycle are solved. §IV.2.2 linearises the Signorini
+/// condition about an initial guess s₀ (the previous cycle's solution, or the z-solution of
+/// the cycle in the model-adaptive tables) and solves once; whether the thesis iterated the
+/// linearisation to a fixed point it does not say.
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum SignoriniReading {
+    /// One linearised solve per cycle (the thesis's reading, the default).
+    #[default]
+    Linearised,
+    /// The linearisation point iterated to a fixed point in every cycle
+    /// (`crate::study::signorini`): the table uses the converged solution.
+    Converged,
+}
+
+impl SignoriniReading {
+    /// The experiment-file spelling.
+    pub fn name(self) -> &'static str {
+        match self {
+            SignoriniReading::Linearised => "linearised",
+            SignoriniReading::Converged => "converged",
+        }
+    }
+}
+
 impl ContactData {
+    /// The Signorini reading of the scene: as written, else the thesis's linearised one.
+    pub fn signorini_reading(&self) -> SignoriniReading {
+        self.signorini.unwrap_or_default()
+    }
+
     /// The term set of the grid estimator of a grid-adaptive study: as written, or the thesis's
     /// pairing with the model (z-code for z, Signorini-code for Signorini). The model-adaptive
     /// studies refuse an estimator: on a fixed mesh there is none, and the model-and-grid
@@ -745,6 +780,12 @@ pub struct Study {
     pub ties: Ties,
     /// The linear solver of the SPD systems, if the file names one ([`StudyFile::solver`]).
     pub solver: Option<crate::linalg::SolverKind>,
+    /// Whether a scene with Signorini faces also computes, per cycle, the converged solution
+    /// beside the linearised one for its `signorini_*` columns (`crate::study::signorini`): on
+    /// as loaded, off for `report --no-alternatives` and the alternative readings (it costs
+    /// about as much as the contact tables themselves). The converged reading computes it
+    /// anyway.
+    pub signorini_comparison: bool,
     /// What the kind iterates, with its fields.
     pub plan: Plan,
 }

@@ -61,7 +61,10 @@ impl Family for Contact {
 
     fn build(&self, experiment: &Experiment) -> Result<Box<dyn study::Problem>, StudyError> {
         let (elasticity, contact) = contact_data(experiment)?;
-        Ok(Box::new(ContactProblem::new(elasticity, contact)))
+        let mut problem = ContactProblem::new(elasticity, contact);
+        problem.failures.unprinted = experiment.study.unprinted_cycles;
+        problem.compares = experiment.study.signorini_comparison;
+        Ok(Box::new(problem))
     }
 }
 

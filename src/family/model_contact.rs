@@ -105,7 +105,7 @@ impl Family for ModelContact {
 
     fn build(&self, experiment: &Experiment) -> Result<Box<dyn study::Problem>, StudyError> {
         let (elasticity, contact) = contact_data(experiment)?;
-        Ok(Box::new(match experiment.study.plan {
+        let mut problem = match experiment.study.plan {
             Plan::ModelAndGridAdaptive { .. } => {
                 ModelAdaptiveContact::with_grid(elasticity, contact)
             }
@@ -113,6 +113,10 @@ impl Family for ModelContact {
                 ModelAdaptiveContact::forming(elasticity, contact, lift_per_step)
             }
             _ => ModelAdaptiveContact::new(elasticity, contact),
-        }))
+        };
+        // The table records its linearised mixed solutions against the converged ones.
+        problem.compares = experiment.study.signorini_comparison;
+        problem.failures.unprinted = experiment.study.unprinted_cycles;
+        Ok(Box::new(problem))
     }
 }

@@ -13,6 +13,7 @@
 
 mod pages;
 mod readings;
+mod signorini;
 mod summary;
 mod tables;
 
@@ -570,6 +571,7 @@ fn table_section(h: &mut String, s: &Section, figs: &SectionFigures) {
     } else {
         comparison_table(h, s);
     }
+    signorini::signorini_comparison(h, run);
     for alt in s.alternatives {
         match &alt.outcome {
             Ok(alt_run) => alternative_table(h, run, thesis, &alt.label, alt_run),

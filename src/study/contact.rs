@@ -5,14 +5,21 @@
 //! (z: fixed direction; Signorini: linearised about s₀ = the previous cycle's solution
 //! transferred to the new mesh, s₀ = 0 in cycle 0, one linearised solve per cycle), solve by the
 //! primal–dual active set method warm-started from the previous cycle's contact set, estimate.
+//!
+//! With Signorini faces every cycle also iterates the linearisation to a fixed point on the same
+//! mesh ([`super::signorini`]): with `signorini = "linearised"` (the default) only to record how
+//! far the linearised solution is from the converged one (the `signorini_*` columns), the
+//! table and its mesh adaptation continuing from the linearised solution; with
+//! `signorini = "converged"` the converged solution is the cycle's solution.
 
 use super::clock::PhaseClock;
 use super::elasticity::{deformed_picture, displacement_component};
 use super::error::StudyError;
 use super::problem::{setup_system, Discretisation, Estimate, Pictures, Problem, Solution};
+use super::signorini::{converge, Comparison, ComparisonFailures, Converged, FixedPoint};
 use super::transfer::PreviousSolution;
 use crate::estimators::contact::{self as contact_estimator, ContactEstimate, ContactEstimator};
-use crate::experiment::{ContactData, ElasticityData, Rectangle};
+use crate::experiment::{ContactData, ElasticityData, Rectangle, SignoriniReading};
 use crate::fe::{DofMap, System};
 use crate::linalg::DirectSolver;
 use crate::mesh::{BoundaryFace, Mesh, Side};
@@ -79,16 +86,30 @@ pub struct ContactProblem {
     pub state: Option<CycleState>,
     /// Contact parts of the previous cycle (Σ hη_C², Σ h⁻¹η_{−C}²), for the ratio columns.
     previous_parts: Option<(f64, f64)>,
+    /// Which Signorini solution the table uses (with Signorini faces).
+    pub reading: SignoriniReading,
+    /// The stopping rule of the fixed point.
+    pub fixed_point: FixedPoint,
+    /// Whether the linearised reading computes the converged solution for the comparison.
+    pub compares: bool,
+    /// The current cycle's linearised solution against the converged one (after `solve`).
+    comparison: Option<Comparison>,
+    /// Where the fixed point of the comparison failed with `signorini = "linearised"` (the
+    /// table goes on; the notes of its section say it).
+    pub failures: ComparisonFailures,
 }
 
 impl ContactProblem {
     pub fn new(elasticity: &ElasticityData, contact: &ContactData) -> ContactProblem {
-        ContactProblem::uniform(
-            elasticity.into(),
-            contact_boundaries(contact),
-            contact.model.into(),
-            contact.grid_estimator().into(),
-        )
+        ContactProblem {
+            reading: contact.signorini_reading(),
+            ..ContactProblem::uniform(
+                elasticity.into(),
+                contact_boundaries(contact),
+                contact.model.into(),
+                contact.grid_estimator().into(),
+            )
+        }
     }
 
     /// One contact model on every face.
@@ -110,6 +131,11 @@ impl ContactProblem {
             initial: None,
             state: None,
             previous_parts: None,
+            reading: SignoriniReading::Linearised,
+            fixed_point: FixedPoint::default(),
+            compares: true,
+            comparison: None,
+            failures: ComparisonFailures::default(),
         }
     }
 
@@ -139,6 +165,48 @@ impl ContactProblem {
             .as_ref()
             .map(|p| p.at_contact_vertices(&self.boundaries, &system.dofs))
             .transpose()
+    }
+
+    /// With Signorini faces: the fixed point of the linearisation from the cycle's linearised
+    /// solve `linearised` (with the constraints of `assemble`), its constraints, solution and
+    /// active-set iterations over all its solves; the comparison of the two is kept for the
+    /// row. `None` without Signorini faces.
+    fn converged(
+        &mut self,
+        disc: &Discretisation,
+        system: &System,
+        linearised: &ContactSolution,
+    ) -> Result<Option<Converged>, StudyError> {
+        self.comparison = None;
+        let compared = self.compares || self.reading == SignoriniReading::Converged;
+        if !self.uses_signorini || !compared {
+            return Ok(None);
+        }
+        let builder = ConstraintBuilder {
+            boundaries: &self.boundaries,
+            face_model: &*self.face_models,
+        };
+        self.failures.start_solve();
+        let fixed_point = converge(
+            system,
+            &mut self.solver,
+            &builder,
+            &self.constraints,
+            linearised,
+            &self.fixed_point,
+        );
+        let Some(converged) = self.failures.settle(self.reading, fixed_point)? else {
+            return Ok(None);
+        };
+        self.comparison = Some(Comparison::of(
+            &self.model,
+            &disc.mesh,
+            &system.dofs,
+            &self.boundaries,
+            (&self.constraints, &linearised.u),
+            &converged,
+        ));
+        Ok(Some(converged))
     }
 
     /// The indicators of Theorem III.15 for the current state.
@@ -264,24 +332,41 @@ impl Problem for ContactProblem {
         Ok(())
     }
 
+    /// The linearised solve; with Signorini faces also the fixed point from it, which is the
+    /// cycle's solution with `signorini = "converged"` (its active-set iterations are then
+    /// those of every solve of the cycle).
     fn solve(
         &mut self,
-        _disc: &Discretisation,
+        disc: &Discretisation,
         system: &mut System,
         _clock: &PhaseClock,
     ) -> Result<Solution, StudyError> {
-        let solution = solve_contact(
+        let solved = solve_contact(
             system,
             &mut self.solver,
             &self.constraints,
             self.initial.as_deref(),
-        );
+        )
+        .map_err(StudyError::from)
+        .and_then(|linearised| {
+            let converged = self.converged(disc, system, &linearised)?;
+            Ok((linearised, converged))
+        });
         self.solver.release_pattern();
-        let solution = solution?;
+        let (linearised, converged) = solved?;
+        let linearised_iterations = linearised.iterations;
+        let (constraints, solution) = match (self.reading, converged) {
+            (SignoriniReading::Converged, Some(converged)) => {
+                let mut solution = converged.solution;
+                solution.iterations = linearised_iterations + converged.active_set_iterations;
+                (converged.constraints, solution)
+            }
+            _ => (std::mem::take(&mut self.constraints), linearised),
+        };
         let iterations = solution.iterations as i64;
         Ok(CycleState::keep(
             &mut self.state,
-            std::mem::take(&mut self.constraints),
+            constraints,
             solution,
             vec![("active_set_iterations".to_string(), iterations)],
         ))
@@ -317,10 +402,14 @@ impl Problem for ContactProblem {
             estimate = estimate.with("obstacle_estimate", e.obstacle.sqrt());
         }
         self.previous_parts = Some((e.contact, e.gap));
-        Ok(estimate.with(
+        estimate = estimate.with(
             "penetration",
             penetration(&self.boundaries, dofs, u, PENETRATION_SAMPLES),
-        ))
+        );
+        if let Some(comparison) = self.comparison.take() {
+            estimate.columns.extend(comparison.columns());
+        }
+        Ok(estimate)
     }
 
     fn finish_cycle(&mut self, disc: &Discretisation, dofs: DofMap, solution: Solution) {
@@ -382,6 +471,10 @@ impl Problem for ContactProblem {
 
     fn point_sets(&self, dofs: &DofMap) -> Vec<MeshField> {
         contact_set_field(&self.state, dofs)
+    }
+
+    fn notes(&self) -> Vec<String> {
+        self.failures.notes()
     }
 }
 

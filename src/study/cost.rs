@@ -223,7 +223,7 @@ fn solve_reference(
 
 /// ‖u − v‖_a = (∫_Ω σ(u − v) : ∇(u − v))^{1/2} (v = 0 when `minus` is None), with the 2×2
 /// Gauss rule on each cell's map ([`CellValues`]; exact for Q₁ on rectangles).
-fn energy_norm(
+pub(super) fn energy_norm(
     model: &Elasticity,
     mesh: &Mesh,
     dofs: &DofMap,

@@ -21,6 +21,7 @@ pub mod problem;
 pub mod readings;
 pub mod record;
 pub mod reynolds;
+pub mod signorini;
 pub mod solver_iterations;
 pub mod substokes;
 pub mod table;

@@ -115,7 +115,20 @@ pub fn run_table<H: TableHost>(
     host: &H,
 ) -> Result<TableOutcome<H::Failure>, H::Failure> {
     let TableOptions { tier, budget, .. } = options;
-    let readings = options.readings(experiment);
+    // The comparison of the linearised Signorini solutions with the converged ones is part of
+    // what `--no-alternatives` leaves out, and no reading repeats it.
+    let mut without_comparison;
+    let experiment = if options.alternatives {
+        experiment
+    } else {
+        without_comparison = experiment.clone();
+        without_comparison.study.signorini_comparison = false;
+        &without_comparison
+    };
+    let mut readings = options.readings(experiment);
+    for reading in &mut readings {
+        reading.experiment.study.signorini_comparison = false;
+    }
     let written = TableRun {
         experiment,
         suffix: None,

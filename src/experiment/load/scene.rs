@@ -383,6 +383,16 @@ impl Check<'_> {
                 format!("{estimator:?}"),
             )?;
         }
+        if let Some(reading) = data.signorini {
+            self.ensure(
+                data.model != ContactModel::Z,
+                "scene.contact.signorini",
+                "no `signorini` with model = \"z\": the option says how the Signorini \
+                 constraints are solved (\"linearised\" or \"converged\"), and a z-contact \
+                 scene has none",
+                format!("\"{}\"", reading.name()),
+            )?;
+        }
         Ok(())
     }
 

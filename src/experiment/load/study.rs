@@ -249,6 +249,7 @@ impl Check<'_> {
             unprinted_cycles: study.unprinted_cycles,
             ties: study.ties,
             solver: study.solver,
+            signorini_comparison: true,
             plan,
         })
     }

@@ -1,12 +1,13 @@
 //! The tables of a section: tribo's rows beside the printed ones (comparison), the rows of a
 //! figure experiment or a run that is not compared, and the alternative readings of a scene.
 
+use super::signorini::is_signorini_column;
 use super::*;
 
 /// Names of tribo's columns the thesis does not print, in first-appearance order.
 pub(super) fn tribo_only_columns(rows: &[Row], thesis_columns: &[String]) -> Vec<(String, bool)> {
     let mut out: Vec<(String, bool)> = Vec::new();
-    let known = |n: &str| thesis_columns.iter().any(|c| c == n);
+    let known = |n: &str| thesis_columns.iter().any(|c| c == n) || is_signorini_column(n);
     for r in rows {
         for (name, value) in &r.columns {
             if !known(name) && !out.iter().any(|(n, _)| n == name) {
