@@ -18,10 +18,7 @@ const MODEL: &str = "model = \"signorini\"\n";
 
 /// A scratch folder of this test process.
 fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("tribo-signorini-{}-{name}", std::process::id()));
-    let _ = fs::remove_dir_all(&dir);
-    fs::create_dir_all(&dir).unwrap();
-    dir
+    crate::common::scratch(&format!("signorini-{name}"))
 }
 
 /// `IV.<n>.toml` with `from` replaced by `to` (once; `from` must occur), written to a scratch
@@ -194,7 +191,7 @@ fn the_comparison_columns_are_in_the_data_file_and_on_the_page() {
     let first = csv.lines().nth(1).unwrap().split(',').collect::<Vec<_>>();
     let at = |c: &str| first[header.iter().position(|h| *h == c).unwrap()];
     assert_eq!(at(columns::ITERATIONS), "4");
-    let page = fs::read_to_string(dir.join("index.html")).unwrap();
+    let page = tribo::report::read_pages(&dir).unwrap();
     assert!(page.contains("Signorini: the linearised solution against the converged one"));
     assert!(!page.contains("<th>signorini_iterations</th>"));
 }
