@@ -95,6 +95,8 @@ pub(super) fn family_summary(h: &mut String, entries: &[&Entry]) {
 
 /// Columns of a compact summary row after the table id.
 const COMPACT_DATA_COLUMNS: usize = 7;
+/// … on a page without a thesis entry, whose rows have no verdict, bands or printed order.
+const OWN_DATA_COLUMNS: usize = 4;
 
 /// The front page's summary: one compact row per table (id, title, status, verdict, rows within
 /// bands, worst primary Δ, order, seconds), grouped by family, each family headed by a link to
@@ -102,14 +104,19 @@ const COMPACT_DATA_COLUMNS: usize = 7;
 /// saying so, under its family. `data-table`, `data-verdict` and `data-severity` let a check
 /// read the verdicts off the page.
 pub(super) fn front_summary(h: &mut String, entries: &[Entry], groups: &[pages::Group]) {
+    let thesis_run = any_thesis_entry(entries);
     h.push_str(
         "<section id=\"summary\">\n<h2>Summary</h2>\n<div class=\"scroll\"><table class=\"compact\">\n\
          <thead><tr><th class=\"text\">table</th><th class=\"text\">title</th>\
-         <th class=\"text\">status</th><th class=\"text\">verdict</th><th>rows within bands</th>\
-         <th class=\"text\">worst primary Δ</th><th>order (tribo / thesis)</th><th>seconds</th>\
-         </tr></thead>\n",
+         <th class=\"text\">status</th>",
     );
-    let thesis_run = any_thesis_entry(entries);
+    h.push_str(if thesis_run {
+        "<th class=\"text\">verdict</th><th>rows within bands</th>\
+         <th class=\"text\">worst primary Δ</th><th>order (tribo / thesis)</th><th>seconds</th>\
+         </tr></thead>\n"
+    } else {
+        "<th>order</th><th>seconds</th></tr></thead>\n"
+    });
     let mut ranked: Vec<(&Section, Verdict)> = Vec::new();
     let families: Vec<&Family> = if thesis_run {
         families::families().iter().collect()
@@ -120,13 +127,22 @@ pub(super) fn front_summary(h: &mut String, entries: &[Entry], groups: &[pages::
         let group = groups
             .iter()
             .find(|g| g.family.is_some_and(|f| f.id == family.id));
-        family_rows(h, family.name.as_str(), group, &family.tables, &mut ranked);
+        family_rows(
+            h,
+            family.name.as_str(),
+            group,
+            &family.tables,
+            thesis_run,
+            &mut ranked,
+        );
     }
     if let Some(own) = groups.iter().find(|g| g.family.is_none()) {
-        family_rows(h, own.name(), Some(own), &[], &mut ranked);
+        family_rows(h, own.name(), Some(own), &[], thesis_run, &mut ranked);
     }
     h.push_str("</table></div>\n");
-    h.push_str(SUMMARY_LEGEND);
+    if thesis_run {
+        h.push_str(SUMMARY_LEGEND);
+    }
     by_severity(h, &ranked);
     h.push_str("</section>\n");
 }
@@ -139,6 +155,7 @@ fn family_rows<'a>(
     name: &str,
     group: Option<&pages::Group<'a>>,
     tables: &[String],
+    thesis_run: bool,
     ranked: &mut Vec<(&'a Section<'a>, Verdict)>,
 ) {
     let heading = match group {
@@ -151,7 +168,7 @@ fn family_rows<'a>(
     let _ = writeln!(
         h,
         "<tbody><tr class=\"family-head\"><th class=\"text\" colspan=\"{}\">{heading}</th></tr>",
-        COMPACT_DATA_COLUMNS + 1
+        data_columns(thesis_run) + 1
     );
     let members: Vec<&'a Entry> = group.map_or_else(Vec::new, |g| g.entries.clone());
     let mut absent: Vec<&str> = Vec::new();
@@ -160,7 +177,7 @@ fn family_rows<'a>(
             Some(e) => {
                 absent_compact_row(h, &absent);
                 absent.clear();
-                compact_entry(h, e, ranked);
+                compact_entry(h, e, thesis_run, ranked);
             }
             None => {
                 // A run of absent tables is consecutive in Chapter IV's numbering.
@@ -185,14 +202,45 @@ fn family_rows<'a>(
         .iter()
         .filter(|e| !tables.iter().any(|t| t == pages::entry_id(e)))
     {
-        compact_entry(h, e, ranked);
+        compact_entry(h, e, thesis_run, ranked);
     }
     h.push_str("</tbody>\n");
 }
 
+/// The data columns of a compact row: those of a page with a thesis entry, or of a page of
+/// own scenes.
+fn data_columns(thesis_run: bool) -> usize {
+    if thesis_run {
+        COMPACT_DATA_COLUMNS
+    } else {
+        OWN_DATA_COLUMNS
+    }
+}
+
 /// The compact row of one entry; a scored section joins `ranked`.
-fn compact_entry<'a>(h: &mut String, e: &'a Entry, ranked: &mut Vec<(&'a Section<'a>, Verdict)>) {
+fn compact_entry<'a>(
+    h: &mut String,
+    e: &'a Entry,
+    thesis_run: bool,
+    ranked: &mut Vec<(&'a Section<'a>, Verdict)>,
+) {
     match e {
+        Entry::Done(s) if !thesis_run => {
+            let sm = Summary::of(s);
+            let _ = writeln!(
+                h,
+                "<tr data-table=\"{}\" data-verdict=\"not-scored\" data-severity=\"\">\
+                 <td class=\"text\"><a href=\"#{}\">{}</a></td>\
+                 <td class=\"text title\" title=\"{t}\">{t}</td>{}<td>{}</td><td>{}</td></tr>",
+                escape(&s.run.table),
+                anchor(&s.run.table),
+                escape(&s.run.table),
+                status_cell(s),
+                sm.order.map_or("—".into(), fmt_order),
+                fmt_seconds(sm.total_seconds),
+                t = escape(&s.run.title),
+            );
+        }
         Entry::Done(s) => {
             let verdict = section_verdict(s);
             compact_row(h, s, &verdict);
@@ -210,7 +258,7 @@ fn compact_entry<'a>(h: &mut String, e: &'a Entry, ranked: &mut Vec<(&'a Section
                 anchor(&f.table),
                 escape(&f.table),
                 f.kind.name(),
-                COMPACT_DATA_COLUMNS - 2,
+                data_columns(thesis_run) - 2,
                 t = escape(f.title.as_deref().unwrap_or("—")),
             );
         }
