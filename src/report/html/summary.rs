@@ -265,20 +265,29 @@ fn compact_entry<'a>(
     }
 }
 
-/// The compact summary row of a table that ran.
-fn compact_row(h: &mut String, s: &Section, verdict: &Verdict) {
-    let sm = Summary::of(s);
-    let within = match verdict.score() {
+/// The rows within bands of a scored table (`9 / 10`), `—` for one not scored.
+fn rows_within(verdict: &Verdict) -> String {
+    match verdict.score() {
         Some(score) if score.rows.scored > 0 => {
             format!("{} / {}", score.rows.within, score.rows.scored)
         }
         _ => "—".to_string(),
-    };
-    let dup = if s.thesis.duplicate_of.is_some() {
+    }
+}
+
+/// The mark after the id of a table the thesis prints as a copy of another.
+fn duplicate_mark(s: &Section) -> &'static str {
+    if s.thesis.duplicate_of.is_some() {
         " <span title=\"the printed table is a copy of another table\">⚠</span>"
     } else {
         ""
-    };
+    }
+}
+
+/// The compact summary row of a table that ran.
+fn compact_row(h: &mut String, s: &Section, verdict: &Verdict) {
+    let sm = Summary::of(s);
+    let (within, dup) = (rows_within(verdict), duplicate_mark(s));
     let _ = writeln!(
         h,
         "<tr data-table=\"{}\" data-verdict=\"{}\" data-severity=\"{}\"><td class=\"text\">\
@@ -352,17 +361,7 @@ fn absent_compact_row(h: &mut String, tables: &[&str]) {
 fn summary_row(h: &mut String, s: &Section, verdict: &Verdict) {
     let sm = Summary::of(s);
     let scored = verdict.score().is_some();
-    let within = match verdict.score() {
-        Some(score) if score.rows.scored > 0 => {
-            format!("{} / {}", score.rows.within, score.rows.scored)
-        }
-        _ => "—".to_string(),
-    };
-    let dup = if s.thesis.duplicate_of.is_some() {
-        " <span title=\"the printed table is a copy of another table\">⚠</span>"
-    } else {
-        ""
-    };
+    let (within, dup) = (rows_within(verdict), duplicate_mark(s));
     let _ = writeln!(
         h,
         "<tr><td class=\"text\">\
