@@ -142,6 +142,19 @@ pub struct ElasticityData {
     /// traction-free.
     #[serde(default)]
     pub tractions: Vec<Traction>,
+    /// A manufactured solution: the displacement is known in closed form, the volume load is
+    /// derived from it ([`crate::models::manufactured`]) and the rows get the true error and
+    /// the effectivity of the estimate.
+    #[serde(default)]
+    pub exact: Option<ExactSolution>,
+}
+
+/// The closed-form displacements a scene can name as `exact` ([`crate::models::manufactured`]).
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum ExactSolution {
+    /// s = (w, w), w = p(x₁)p(x₂), p(t) = t(1 − t) atan(25(t − ½)) on the unit square.
+    ArctanCross,
 }
 
 #[derive(Clone, Debug, Deserialize, PartialEq)]

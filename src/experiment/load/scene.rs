@@ -127,6 +127,9 @@ impl Check<'_> {
         self.effects(scene)?;
         if let Some(elasticity) = &scene.elasticity {
             self.elasticity(elasticity)?;
+            if elasticity.exact.is_some() {
+                self.manufactured(scene, elasticity)?;
+            }
         }
         if let Some(contact) = &scene.contact {
             self.contact(contact, scene)?;
@@ -310,6 +313,38 @@ impl Check<'_> {
             self.finite_all(&format!("{field}.value"), &traction.value)?;
         }
         Ok(())
+    }
+
+    /// A scene with `exact`: the closed-form field lives on the unit square and vanishes on its
+    /// boundary, so the scene clamps every side, has no load or traction of its own (the load is
+    /// derived from the field) and no other effect.
+    fn manufactured(&self, scene: &SceneFile, data: &ElasticityData) -> Checked {
+        const F: &str = "scene.elasticity";
+        self.ensure(
+            scene.effects == [Effect::Elasticity],
+            "scene.effects",
+            "[\"elasticity\"] alone with scene.elasticity.exact",
+            format!("{:?}", names(&scene.effects)),
+        )?;
+        self.ensure(
+            scene.domain.x == [0.0, 1.0] && scene.domain.y == [0.0, 1.0],
+            "scene.domain",
+            "the unit square { x = [0.0, 1.0], y = [0.0, 1.0] } (the domain of the exact field)",
+            format!("x = {:?}, y = {:?}", scene.domain.x, scene.domain.y),
+        )?;
+        let all = [Side::Left, Side::Right, Side::Bottom, Side::Top];
+        self.ensure(
+            all.iter().all(|s| data.dirichlet.contains(s)),
+            &format!("{F}.dirichlet"),
+            "all four sides with scene.elasticity.exact (the exact field is 0 on the boundary)",
+            format!("{} sides", data.dirichlet.len()),
+        )?;
+        self.ensure(
+            data.volume_load.is_none(),
+            &format!("{F}.volume_load"),
+            "no volume_load with scene.elasticity.exact (the load is derived from the field)",
+            "a volume_load",
+        )
     }
 
     fn profile(&self, field: &str, profile: &Profile) -> Checked {
