@@ -3,11 +3,13 @@
 //! an estimator itself — it needs the exact field.
 
 use super::per_cell;
+use crate::fe::cell_values::evaluate_at;
 use crate::fe::quadrature::square_rule;
 use crate::fe::DofMap;
 use crate::mesh::Mesh;
 use crate::models::elasticity::Elasticity;
-use crate::models::manufactured::ExactDisplacement;
+use crate::models::manufactured::{ExactDisplacement, ExactPressure};
+use crate::models::thin_film::ThinFilm;
 
 /// ‖s − s_h‖_a = √a(e, e), e = s − s_h, the energy norm (III.35) of Theorem III.12 with the
 /// thesis's a(e, e) = 2μ‖ε(e)‖² + 2λ‖div e‖² = ∫ σ(e) : ε(e).
@@ -39,6 +41,35 @@ pub fn elasticity_energy(
             // σ(e) : ε(e), σ symmetric: σ₁₁e₁₁ + σ₂₂e₂₂ + σ₁₂(e₁₂ + e₂₁)
             sum +=
                 (s[0][0] * e[0][0] + s[1][1] * e[1][1] + s[0][1] * (e[0][1] + e[1][0])) * cv.jxw(q);
+        }
+        sum
+    });
+    cells.iter().sum::<f64>().sqrt()
+}
+
+/// ‖ψ − ψ_h‖_R, the Reynolds norm (II.9) of Theorem III.16:
+/// ‖e‖_R² = ∫ |∇e − e∇g/g|² = ∫ g²|∇(e/g)|², with the gap g of `film`.
+///
+/// 4×4 Gauss points per cell, as [`elasticity_energy`]: e_h is bilinear, ψ and g smooth.
+pub fn reynolds_norm(
+    mesh: &Mesh,
+    dofs: &DofMap,
+    psi: &[f64],
+    film: &ThinFilm,
+    exact: &ExactPressure,
+) -> f64 {
+    let rule = square_rule::<16>();
+    let cells = per_cell(mesh, &rule, |k, _, cv| {
+        let values = dofs.corner_values(psi, k, 0);
+        let mut sum = 0.0;
+        for q in 0..rule.len() {
+            let x = cv.point(q);
+            let (v, grad) = evaluate_at(cv.shape(), values, x);
+            let (g, dg, _) = film.gap(x);
+            let e = exact.value(x) - v;
+            let de = exact.gradient(x);
+            let r = [0, 1].map(|i| de[i] - grad[i] - e * dg[i] / g);
+            sum += (r[0] * r[0] + r[1] * r[1]) * cv.jxw(q);
         }
         sum
     });

@@ -27,11 +27,24 @@
 //! ∂_i(div s) = ∂_i1 w + ∂_i2 w. The load is evaluated at the quadrature points of the
 //! assembly and of the estimator's cell residual, so both see the same f; the data
 //! oscillation h_Q‖f − f_h‖ that a projected load would add does not arise.
+//!
+//! # The Reynolds solution `arctan-cross`
+//!
+//! The same w on the unit square as a pressure: ψ = ψ₀ + A·w with ψ₀ the scene's
+//! `boundary_pressure` and A = [`PRESSURE_AMPLITUDE`], so ψ = ψ₀ on ∂Ω₂ exactly (the Dirichlet
+//! data of the Reynolds problem, taken exactly by Q₁). The load replaces l_R (II.37): from the
+//! strong form −(1/g)∂_μ(g²∂_μ(ψ/g)) = −Δψ + ψΔg/g of (I.77),
+//!
+//! l = −A(∂₁₁w + ∂₂₂w) + ψ Δg/g,
+//!
+//! for the scene's gap g, evaluated where the model evaluates l_R (the 2×2 Gauss points shared by
+//! the assembly and the cell residual of Theorem III.16), so the estimator sees the same load.
 
 use std::sync::Arc;
 
 use crate::experiment::ExactSolution;
 use crate::models::elasticity::VolumeForce;
+use crate::models::thin_film::ThinFilm;
 
 /// α of `arctan-cross`: the front is ~1/α = 0.04 wide, a few cells of a coarse 8×8 grid
 /// refined three to four times.
@@ -50,6 +63,52 @@ fn profile(t: f64) -> [f64; 3] {
     [b * a, db * a + b * da, ddb * a + 2.0 * db * da + b * dda]
 }
 
+/// A of the Reynolds solution: the pressure rises by up to A·max w ≈ 139 above ψ₀ (ψ₀ = 200 in
+/// the thesis's examples), so ψ > 0 everywhere and the film needs no cavitation.
+pub const PRESSURE_AMPLITUDE: f64 = 1000.0;
+
+/// w, its gradient and its Hessian at x.
+fn scalar(name: ExactSolution, x: [f64; 2]) -> (f64, [f64; 2], [[f64; 2]; 2]) {
+    match name {
+        ExactSolution::ArctanCross => {
+            let [p1, d1, dd1] = profile(x[0]);
+            let [p2, d2, dd2] = profile(x[1]);
+            (
+                p1 * p2,
+                [d1 * p2, p1 * d2],
+                [[dd1 * p2, d1 * d2], [d1 * d2, p1 * dd2]],
+            )
+        }
+    }
+}
+
+/// A closed-form pressure ψ = ψ₀ + A·w of the Reynolds problem (I.79) on its domain.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ExactPressure {
+    pub name: ExactSolution,
+    /// ψ₀, the boundary value.
+    pub base: f64,
+}
+
+impl ExactPressure {
+    /// ψ(x).
+    pub fn value(&self, x: [f64; 2]) -> f64 {
+        self.base + PRESSURE_AMPLITUDE * scalar(self.name, x).0
+    }
+
+    /// ∇ψ(x).
+    pub fn gradient(&self, x: [f64; 2]) -> [f64; 2] {
+        scalar(self.name, x).1.map(|d| PRESSURE_AMPLITUDE * d)
+    }
+
+    /// The load l = −Δψ + ψΔg/g at x for the gap of `film`.
+    pub fn load(&self, film: &ThinFilm, x: [f64; 2]) -> f64 {
+        let (_, _, h) = scalar(self.name, x);
+        let (g, _, laplace_g) = film.gap(x);
+        -PRESSURE_AMPLITUDE * (h[0][0] + h[1][1]) + self.value(x) * laplace_g / g
+    }
+}
+
 /// A closed-form displacement field s of linear elasticity (I.17) on its domain.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ExactDisplacement {
@@ -64,17 +123,7 @@ impl ExactDisplacement {
 
     /// w, its gradient and its Hessian at x.
     fn scalar(&self, x: [f64; 2]) -> (f64, [f64; 2], [[f64; 2]; 2]) {
-        match self.name {
-            ExactSolution::ArctanCross => {
-                let [p1, d1, dd1] = profile(x[0]);
-                let [p2, d2, dd2] = profile(x[1]);
-                (
-                    p1 * p2,
-                    [d1 * p2, p1 * d2],
-                    [[dd1 * p2, d1 * d2], [d1 * d2, p1 * dd2]],
-                )
-            }
-        }
+        scalar(self.name, x)
     }
 
     /// s(x).

@@ -136,6 +136,9 @@ impl Check<'_> {
         }
         if let Some(reynolds) = &scene.reynolds {
             self.reynolds(reynolds, &scene.domain)?;
+            if reynolds.exact.is_some() {
+                self.manufactured_film(scene, reynolds)?;
+            }
         }
         if let Some(substokes) = &scene.substokes {
             self.substokes(substokes, &scene.domain)?;
@@ -326,12 +329,7 @@ impl Check<'_> {
             "[\"elasticity\"] alone with scene.elasticity.exact",
             format!("{:?}", names(&scene.effects)),
         )?;
-        self.ensure(
-            scene.domain.x == [0.0, 1.0] && scene.domain.y == [0.0, 1.0],
-            "scene.domain",
-            "the unit square { x = [0.0, 1.0], y = [0.0, 1.0] } (the domain of the exact field)",
-            format!("x = {:?}, y = {:?}", scene.domain.x, scene.domain.y),
-        )?;
+        self.unit_square(scene)?;
         let all = [Side::Left, Side::Right, Side::Bottom, Side::Top];
         self.ensure(
             all.iter().all(|s| data.dirichlet.contains(s)),
@@ -344,6 +342,43 @@ impl Check<'_> {
             &format!("{F}.volume_load"),
             "no volume_load with scene.elasticity.exact (the load is derived from the field)",
             "a volume_load",
+        )
+    }
+
+    /// A Reynolds scene with `exact`: the pressure lives on the unit square and equals ψ₀ on its
+    /// boundary and stays positive, so the scene is the Reynolds film alone, on the unit square,
+    /// without cavitation and with the estimator of Theorem III.16 as stated (the thesis-code
+    /// reading leaves out the squeeze part of l_R, which a manufactured load does not have).
+    fn manufactured_film(&self, scene: &SceneFile, data: &ReynoldsData) -> Checked {
+        const F: &str = "scene.reynolds";
+        self.ensure(
+            scene.effects == [Effect::Reynolds],
+            "scene.effects",
+            "[\"reynolds\"] alone with scene.reynolds.exact",
+            format!("{:?}", names(&scene.effects)),
+        )?;
+        self.unit_square(scene)?;
+        self.ensure(
+            data.cavitation == Cavitation::Off,
+            &format!("{F}.cavitation"),
+            "\"off\" with scene.reynolds.exact (the exact pressure is positive)",
+            format!("{:?}", data.cavitation),
+        )?;
+        self.ensure(
+            data.estimator == ReynoldsEstimator::Theorem,
+            &format!("{F}.estimator"),
+            "\"theorem\" with scene.reynolds.exact (the load is derived from the pressure)",
+            format!("{:?}", data.estimator),
+        )
+    }
+
+    /// The domain of the exact fields of [`crate::models::manufactured`].
+    fn unit_square(&self, scene: &SceneFile) -> Checked {
+        self.ensure(
+            scene.domain.x == [0.0, 1.0] && scene.domain.y == [0.0, 1.0],
+            "scene.domain",
+            "the unit square { x = [0.0, 1.0], y = [0.0, 1.0] } (the domain of the exact field)",
+            format!("x = {:?}, y = {:?}", scene.domain.x, scene.domain.y),
         )
     }
 
