@@ -84,7 +84,7 @@ fn manufactured_elasticity_converges_at_order_one_half_with_a_steady_effectivity
     check_scene("manufactured-elasticity", [4, 9], [8.0, 13.0]);
 }
 
-/// `manufactured-reynolds` (ψ = 200 + 1000·w on the linear gap of (IV.8), Theorem III.16): the
+/// `manufactured-reynolds` (ψ = 200 + 1000·w on the linear gap of §IV.3.1, Theorem III.16): the
 /// order over cycles 4–9 and an effectivity in [4.5, 8.5] in every cycle.
 /// Measured at the quick tier: 5.3 to 7.1, 7.1 on the coarse grid that does not resolve the
 /// front, then 5.3 and rising to 6.3 from cycle 5 on. The band has the same reasons and margins
@@ -95,11 +95,10 @@ fn manufactured_reynolds_converges_at_order_one_half_with_a_steady_effectivity()
 }
 
 /// A scene with `exact` is refused, naming the field, where the exact field would not solve it:
-/// another domain, a side that is not clamped, a load of its own.
+/// another domain, a side that is not clamped, a load of its own; a Reynolds film with
+/// cavitation or with the thesis-code estimator.
 #[test]
 fn manufactured_scene_refuses_data_the_exact_field_does_not_meet() {
-    let text = std::fs::read_to_string(experiments_dir().join("manufactured-elasticity.toml"))
-        .expect("shipped scene");
     let dir = scratch("manufactured-refused");
     let cases = [
         (
@@ -122,9 +121,32 @@ fn manufactured_scene_refuses_data_the_exact_field_does_not_meet() {
             "derived from the field",
         ),
     ];
-    for (i, (from, to, field, needle)) in cases.into_iter().enumerate() {
+    refuse_edits("manufactured-elasticity", &cases, &dir);
+    let cases = [
+        (
+            r#"cavitation = "off""#,
+            r#"cavitation = "auto""#,
+            "scene.reynolds.cavitation",
+            "the exact pressure is positive",
+        ),
+        (
+            r#"estimator = "theorem""#,
+            r#"estimator = "thesis-code""#,
+            "scene.reynolds.estimator",
+            "derived from the pressure",
+        ),
+    ];
+    refuse_edits("manufactured-reynolds", &cases, &dir);
+}
+
+/// Each of `cases` (text replaced, its replacement, the field and a phrase of the message)
+/// applied to the shipped file `id` alone is refused naming the field.
+fn refuse_edits(id: &str, cases: &[(&str, &str, &str, &str)], dir: &std::path::Path) {
+    let text =
+        std::fs::read_to_string(experiments_dir().join(format!("{id}.toml"))).expect("shipped");
+    for (i, (from, to, field, needle)) in cases.iter().enumerate() {
         assert!(text.contains(from), "test setup: `{from}` not found");
-        let path = dir.join(format!("case{i}/manufactured-elasticity.toml"));
+        let path = dir.join(format!("{id}-case{i}/{id}.toml"));
         std::fs::create_dir_all(path.parent().unwrap()).unwrap();
         std::fs::write(&path, text.replacen(from, to, 1)).unwrap();
         refused_at(&path, field, needle);
