@@ -97,6 +97,11 @@ pub mod columns {
     /// CG iterations of the multigrid-preconditioned solve (the most over the solves of the
     /// cycle, e.g. of an active-set iteration); absent with the direct solver.
     pub const CG_ITERATIONS: &str = "cg_iterations";
+    /// Scenes with a manufactured solution only: the true error in the estimator's norm
+    /// (‖s − s_h‖_a for elasticity, ‖ψ − ψ_h‖_R for Reynolds, [`crate::estimators::true_error`]).
+    pub const ERROR: &str = "error";
+    /// Scenes with a manufactured solution only: estimate / error, the effectivity index.
+    pub const EFFECTIVITY: &str = "effectivity";
 }
 
 /// The value of one column in one row.

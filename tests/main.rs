@@ -11,6 +11,7 @@ mod figures;
 mod forming;
 mod forming_report;
 mod full_tier;
+mod manufactured;
 mod merge;
 mod mesh;
 mod mesh_limits;

@@ -115,7 +115,11 @@ fn templates_are_commented() {
 fn the_default_experiment_folder_does_not_pick_up_the_templates() {
     let loaded = experiment::load_each(&experiments_dir(), None).unwrap();
     let stems: Vec<&str> = loaded.iter().map(|(stem, _)| stem.as_str()).collect();
-    assert_eq!(stems.len(), 78, "75 tables and 3 figures: {stems:?}");
+    assert_eq!(
+        stems.len(),
+        80,
+        "75 tables, 3 figures and the 2 manufactured scenes: {stems:?}"
+    );
     for id in TEMPLATES {
         assert!(!stems.contains(&id), "{id} picked up");
     }

@@ -8,6 +8,7 @@ pub mod contact_model;
 pub mod elasticity;
 pub mod reynolds;
 pub mod substokes;
+pub mod true_error;
 
 use rayon::prelude::*;
 

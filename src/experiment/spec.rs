@@ -142,6 +142,20 @@ pub struct ElasticityData {
     /// traction-free.
     #[serde(default)]
     pub tractions: Vec<Traction>,
+    /// A manufactured solution: the displacement is known in closed form, the volume load is
+    /// derived from it ([`crate::models::manufactured`]) and the rows get the true error and
+    /// the effectivity of the estimate.
+    #[serde(default)]
+    pub exact: Option<ExactSolution>,
+}
+
+/// The closed-form fields a scene can name as `exact` ([`crate::models::manufactured`]).
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum ExactSolution {
+    /// w = p(x₁)p(x₂), p(t) = t(1 − t) atan(25(t − ½)) on the unit square: the displacement
+    /// s = (w, w), or the pressure ψ = ψ₀ + 1000·w.
+    ArctanCross,
 }
 
 #[derive(Clone, Debug, Deserialize, PartialEq)]
@@ -504,6 +518,11 @@ pub struct ReynoldsData {
     /// notes of IV.64 quote. Only meaningful with cavitation `on` or `auto`.
     #[serde(default)]
     pub zone_residual: ZoneResidual,
+    /// A manufactured solution: the pressure is ψ₀ + A·w in closed form, the load is derived
+    /// from it ([`crate::models::manufactured`]) and the rows get the true error and the
+    /// effectivity.
+    #[serde(default)]
+    pub exact: Option<ExactSolution>,
 }
 
 /// The stabilisation term of the Theorem III.23 estimate

@@ -6,6 +6,7 @@ use crate::fe::cell_values::{evaluate_at, CellValues};
 use crate::fe::quadrature::{self, square_rule};
 use crate::fe::{DofMap, LocalDofs, System};
 use crate::mesh::{Mesh, Neighbor, Side, FACES};
+use crate::models::manufactured::ExactDisplacement;
 
 /// A scalar profile of x₁: the loads of §IV.1.1–IV.1.5 and §IV.2.1.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -46,7 +47,7 @@ impl Profile {
 pub enum VolumeForce {
     /// direction · profile(x₁), the loads of §IV.1 and §IV.2.
     Profile([f64; 2], Profile),
-    /// Any field (manufactured solutions in the tests).
+    /// Any field (the loads of manufactured solutions, [`crate::models::manufactured`]).
     Field(std::sync::Arc<dyn Fn([f64; 2]) -> [f64; 2] + Send + Sync>),
 }
 
@@ -223,10 +224,14 @@ impl From<&crate::experiment::ElasticityData> for Elasticity {
             mu: d.mu,
             lambda: d.lambda,
             dirichlet: d.dirichlet.clone(),
-            load: d
-                .volume_load
-                .as_ref()
-                .map(|l| VolumeForce::Profile(l.direction, l.profile.into())),
+            // A manufactured solution brings its load; the loader forbids both together.
+            load: match d.exact {
+                Some(name) => Some(ExactDisplacement::of(name).load(d.mu, d.lambda)),
+                None => d
+                    .volume_load
+                    .as_ref()
+                    .map(|l| VolumeForce::Profile(l.direction, l.profile.into())),
+            },
             tractions: d.tractions.iter().map(|t| (t.side, t.value)).collect(),
         }
     }

@@ -105,6 +105,7 @@ impl Comparison {
             boundary_pressure: self.boundary_pressure,
             cavitation_source: self.cavitation.unwrap_or_default(),
             form: Form::default(),
+            exact: None,
         }
     }
 

@@ -409,6 +409,7 @@ impl Coupling {
                 boundary_pressure,
                 cavitation_source: Default::default(),
                 form: Default::default(),
+                exact: None,
             },
             substokes: SubStokesProblem::new(film, boundary_pressure),
         }

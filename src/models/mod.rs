@@ -5,6 +5,7 @@ pub mod elasticity;
 pub mod error;
 pub mod film_comparison;
 pub mod film_coupling;
+pub mod manufactured;
 pub mod obstacle;
 pub mod reynolds;
 pub mod stokes_channel;

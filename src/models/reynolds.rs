@@ -42,6 +42,7 @@ use crate::linalg::active_set::{
     ViolationTolerance,
 };
 use crate::mesh::{ActiveCells, CellId, Mesh};
+use crate::models::manufactured::ExactPressure;
 use crate::models::thin_film::{CavitationSource, ThinFilm};
 
 /// Which expression of the Reynolds product (II.9) to assemble (module docs).
@@ -134,6 +135,8 @@ pub struct ReynoldsProblem {
     pub boundary_pressure: f64,
     pub cavitation_source: CavitationSource,
     pub form: Form,
+    /// A manufactured pressure: its load −Δψ + ψΔg/g replaces l_R ([`ExactPressure::load`]).
+    pub exact: Option<ExactPressure>,
 }
 
 /// Result of the cavitation solve.
@@ -161,6 +164,10 @@ impl From<&crate::experiment::ReynoldsData> for ReynoldsProblem {
             boundary_pressure: d.boundary_pressure,
             cavitation_source: d.cavitation_source.into(),
             form: Form::default(),
+            exact: d.exact.map(|name| ExactPressure {
+                name,
+                base: d.boundary_pressure,
+            }),
         }
     }
 }
@@ -169,6 +176,9 @@ impl ReynoldsProblem {
     /// l_R (II.37) or l_{R,c} (II.39) at `x`.
     #[inline]
     pub fn load(&self, x: [f64; 2], load: Load) -> f64 {
+        if let Some(exact) = &self.exact {
+            return exact.load(&self.film, x);
+        }
         match load {
             Load::Reynolds => self.film.reynolds_load(x),
             Load::Cavitation => self.film.cavitation_load(x, self.cavitation_source),
@@ -220,7 +230,8 @@ impl ReynoldsProblem {
     fn fresh_point_data(&self, mesh: &Mesh, cells: &[CellId], load: Load) -> FreshData {
         let evaluate = |c: CellId| Self::point_data(mesh, c, |x| self.point_values(x, load));
         let gap = &self.film.gap;
-        if gap.varies_in_x2() || mesh.is_moved() {
+        // A manufactured load varies in x₂ whatever the gap.
+        if gap.varies_in_x2() || mesh.is_moved() || self.exact.is_some() {
             return FreshData::PerCell(cells.par_iter().map(|&c| evaluate(c)).collect());
         }
         if !gap.varies_in_x1() {

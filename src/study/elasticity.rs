@@ -1,4 +1,5 @@
-//! Tables IV.1–IV.5: linear elasticity (I.17) with the estimator of Theorem III.12.
+//! Tables IV.1–IV.5: linear elasticity (I.17) with the estimator of Theorem III.12; scenes with
+//! a manufactured solution add the true error and the effectivity to each row.
 
 use super::clock::PhaseClock;
 use super::error::StudyError;
@@ -11,7 +12,8 @@ use crate::fe::{DofMap, System};
 use crate::linalg::{LinearSolver, SolverKind};
 use crate::mesh::Mesh;
 use crate::models::elasticity::Elasticity;
-use crate::results::{sig4, DeformedPicture};
+use crate::models::manufactured::ExactDisplacement;
+use crate::results::{columns, sig4, DeformedPicture};
 
 /// The elasticity problem of one experiment.
 pub struct ElasticityProblem {
@@ -20,6 +22,9 @@ pub struct ElasticityProblem {
     solver: LinearSolver,
     /// Height of the domain, the scale of the deformed-body picture.
     height: f64,
+    /// The manufactured solution of the scene, if it has one: then each row gets the true
+    /// error and the effectivity.
+    exact: Option<ExactDisplacement>,
 }
 
 impl ElasticityProblem {
@@ -30,6 +35,7 @@ impl ElasticityProblem {
             terms: BoundaryTerms::default(),
             solver: LinearSolver::spd(solver),
             height: domain.y[1] - domain.y[0],
+            exact: data.exact.map(ExactDisplacement::of),
         }
     }
 }
@@ -74,13 +80,27 @@ impl Problem for ElasticityProblem {
         dofs: &DofMap,
         solution: &Solution,
     ) -> Result<Estimate, StudyError> {
-        Ok(Estimate::of_cells(estimators::elasticity::indicators(
+        let estimate = Estimate::of_cells(estimators::elasticity::indicators(
             &disc.mesh,
             dofs,
             &solution.u,
             &self.model,
             &self.terms,
-        )))
+        ));
+        let Some(exact) = &self.exact else {
+            return Ok(estimate);
+        };
+        let error = estimators::true_error::elasticity_energy(
+            &disc.mesh,
+            dofs,
+            &solution.u,
+            &self.model,
+            exact,
+        );
+        let effectivity = estimators::total(&estimate.cells) / error;
+        Ok(estimate
+            .with(columns::ERROR, error)
+            .with(columns::EFFECTIVITY, effectivity))
     }
 
     fn pictures(

@@ -7,7 +7,8 @@
 //! the printed row-0 estimates, [`VolumeResidual::thesis_code`]); with `thesis-code` the
 //! theorem's estimate on the same mesh is recorded as [`columns::THEOREM_ESTIMATE`]. The rows carry
 //! the estimate of the previous solve ([`PreviousEstimate`]), and the marking ignores indicators
-//! below the rounding noise of ψ_h ([`noise_floor`]).
+//! below the rounding noise of ψ_h ([`noise_floor`]). A scene with a manufactured pressure adds
+//! the true error in the Reynolds norm and the effectivity to each row.
 
 use super::clock::{Phase, PhaseClock};
 use super::error::StudyError;
@@ -224,6 +225,13 @@ impl Problem for ReynoldsFilm {
             estimate = estimate.with(columns::THEOREM_ESTIMATE, t);
         }
         estimate.noise_floor = Some(noise_floor(self.psi_scale));
+        if let Some(exact) = &self.problem.exact {
+            let film = &self.problem.film;
+            let error = estimators::true_error::reynolds_norm(mesh, dofs, psi, film, exact);
+            estimate = estimate
+                .with(columns::ERROR, error)
+                .with(columns::EFFECTIVITY, total / error);
+        }
         Ok(estimate)
     }
 

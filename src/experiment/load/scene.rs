@@ -127,12 +127,18 @@ impl Check<'_> {
         self.effects(scene)?;
         if let Some(elasticity) = &scene.elasticity {
             self.elasticity(elasticity)?;
+            if elasticity.exact.is_some() {
+                self.manufactured(scene, elasticity)?;
+            }
         }
         if let Some(contact) = &scene.contact {
             self.contact(contact, scene)?;
         }
         if let Some(reynolds) = &scene.reynolds {
             self.reynolds(reynolds, &scene.domain)?;
+            if reynolds.exact.is_some() {
+                self.manufactured_film(scene, reynolds)?;
+            }
         }
         if let Some(substokes) = &scene.substokes {
             self.substokes(substokes, &scene.domain)?;
@@ -310,6 +316,70 @@ impl Check<'_> {
             self.finite_all(&format!("{field}.value"), &traction.value)?;
         }
         Ok(())
+    }
+
+    /// A scene with `exact`: the closed-form field lives on the unit square and vanishes on its
+    /// boundary, so the scene clamps every side, has no load or traction of its own (the load is
+    /// derived from the field) and no other effect.
+    fn manufactured(&self, scene: &SceneFile, data: &ElasticityData) -> Checked {
+        const F: &str = "scene.elasticity";
+        self.ensure(
+            scene.effects == [Effect::Elasticity],
+            "scene.effects",
+            "[\"elasticity\"] alone with scene.elasticity.exact",
+            format!("{:?}", names(&scene.effects)),
+        )?;
+        self.unit_square(scene)?;
+        let all = [Side::Left, Side::Right, Side::Bottom, Side::Top];
+        self.ensure(
+            all.iter().all(|s| data.dirichlet.contains(s)),
+            &format!("{F}.dirichlet"),
+            "all four sides with scene.elasticity.exact (the exact field is 0 on the boundary)",
+            format!("{} sides", data.dirichlet.len()),
+        )?;
+        self.ensure(
+            data.volume_load.is_none(),
+            &format!("{F}.volume_load"),
+            "no volume_load with scene.elasticity.exact (the load is derived from the field)",
+            "a volume_load",
+        )
+    }
+
+    /// A Reynolds scene with `exact`: the pressure lives on the unit square and equals ψ₀ on its
+    /// boundary and stays positive, so the scene is the Reynolds film alone, on the unit square,
+    /// without cavitation and with the estimator of Theorem III.16 as stated (the thesis-code
+    /// reading leaves out the squeeze part of l_R, which a manufactured load does not have).
+    fn manufactured_film(&self, scene: &SceneFile, data: &ReynoldsData) -> Checked {
+        const F: &str = "scene.reynolds";
+        self.ensure(
+            scene.effects == [Effect::Reynolds],
+            "scene.effects",
+            "[\"reynolds\"] alone with scene.reynolds.exact",
+            format!("{:?}", names(&scene.effects)),
+        )?;
+        self.unit_square(scene)?;
+        self.ensure(
+            data.cavitation == Cavitation::Off,
+            &format!("{F}.cavitation"),
+            "\"off\" with scene.reynolds.exact (the exact pressure is positive)",
+            format!("{:?}", data.cavitation),
+        )?;
+        self.ensure(
+            data.estimator == ReynoldsEstimator::Theorem,
+            &format!("{F}.estimator"),
+            "\"theorem\" with scene.reynolds.exact (the load is derived from the pressure)",
+            format!("{:?}", data.estimator),
+        )
+    }
+
+    /// The domain of the exact fields of [`crate::models::manufactured`].
+    fn unit_square(&self, scene: &SceneFile) -> Checked {
+        self.ensure(
+            scene.domain.x == [0.0, 1.0] && scene.domain.y == [0.0, 1.0],
+            "scene.domain",
+            "the unit square { x = [0.0, 1.0], y = [0.0, 1.0] } (the domain of the exact field)",
+            format!("x = {:?}, y = {:?}", scene.domain.x, scene.domain.y),
+        )
     }
 
     fn profile(&self, field: &str, profile: &Profile) -> Checked {
