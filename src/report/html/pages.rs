@@ -21,7 +21,8 @@ pub(crate) struct Page {
     pub html: String,
 }
 
-/// The page of the entries that belong to no family: scenes of the user's own.
+/// The page of the entries that belong to no family: scenes without a thesis table (the user's
+/// own, and the shipped scenes with a known solution).
 const SCENES_PAGE: &str = "scenes.html";
 /// The page of the thesis errata.
 const ERRATA_PAGE: &str = "errata.html";
@@ -63,7 +64,7 @@ impl Group<'_> {
     pub fn name(&self) -> &str {
         match self.family {
             Some(f) => &f.name,
-            None => "Scenes of your own",
+            None => "Scenes without a thesis table",
         }
     }
 }
