@@ -328,8 +328,9 @@ pub fn meshes(
     let signorini = |body: &mut String, cycle: usize, frame: &Frame| {
         signorini_faces(body, partitions, domain, cycle, frame)
     };
+    let fixed = fixed_mesh(meshes);
     let cycles_label = |m: &MeshPicture| {
-        if fixed_mesh(meshes) {
+        if fixed {
             let cycles: Vec<String> = meshes.iter().map(|m| m.cycle.to_string()).collect();
             format!(
                 "cycles {}: the same mesh  ({} cells)",
@@ -340,11 +341,7 @@ pub fn meshes(
             format!("cycle {}  ({} cells)", m.cycle, m.cells.len())
         }
     };
-    let meshes = if fixed_mesh(meshes) {
-        &meshes[..1]
-    } else {
-        meshes
-    };
+    let meshes = if fixed { &meshes[..1] } else { meshes };
     let Some(win) = picture_window(domain, meshes.iter().flat_map(|m| &m.cells)) else {
         return placeholder(path, "mesh", "no cells with a finite extent to draw");
     };

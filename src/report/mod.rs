@@ -222,14 +222,8 @@ pub fn write_report(out_dir: &Path, entries: &[Entry], meta: &ReportMeta) -> io:
     let pages = html::pages(entries, &rendered, meta);
     // A page an earlier run wrote that this one does not (a family no longer in the run) goes:
     // the folder shows this run only.
-    for stale in html::page_files() {
-        if !pages.iter().any(|p| p.file == stale) {
-            let path = out_dir.join(&stale);
-            if path.is_file() {
-                fs::remove_file(&path)?;
-            }
-        }
-    }
+    let written: Vec<&str> = pages.iter().map(|p| p.file.as_str()).collect();
+    remove_pages_but(out_dir, &written)?;
     // The front page last: until it is written, the folder's `index.html` says the report is
     // incomplete.
     for page in pages.iter().rev() {
@@ -247,9 +241,14 @@ pub fn write_report(out_dir: &Path, entries: &[Entry], meta: &ReportMeta) -> io:
 /// with the page that says the report is incomplete: a family page left from the earlier run
 /// would link figures and data the new run may remove or rewrite.
 pub fn remove_pages(out_dir: &Path) -> io::Result<()> {
+    remove_pages_but(out_dir, &[html::FRONT_PAGE])
+}
+
+/// Remove every page a report may write from `out_dir` but those named in `keep`.
+fn remove_pages_but(out_dir: &Path, keep: &[&str]) -> io::Result<()> {
     for file in html::page_files() {
         let path = out_dir.join(&file);
-        if file != html::FRONT_PAGE && path.is_file() {
+        if !keep.contains(&file.as_str()) && path.is_file() {
             fs::remove_file(path)?;
         }
     }

@@ -354,12 +354,9 @@ impl Problem for ContactProblem {
         });
         self.solver.release_pattern();
         let (linearised, converged) = solved?;
-        let linearised_iterations = linearised.iterations;
         let (constraints, solution) = match (self.reading, converged) {
             (SignoriniReading::Converged, Some(converged)) => {
-                let mut solution = converged.solution;
-                solution.iterations = linearised_iterations + converged.active_set_iterations;
-                (converged.constraints, solution)
+                converged.as_cycle_solve(linearised.iterations)
             }
             _ => (std::mem::take(&mut self.constraints), linearised),
         };

@@ -340,9 +340,7 @@ impl ModelAdaptiveContact {
             &fixed,
         ));
         if converged {
-            let mut solution = fixed.solution;
-            solution.iterations = mixed.1.iterations + fixed.active_set_iterations;
-            return Ok((z, Some((fixed.constraints, solution))));
+            return Ok((z, Some(fixed.as_cycle_solve(mixed.1.iterations))));
         }
         Ok((z, Some(mixed)))
     }

@@ -96,6 +96,20 @@ pub struct Converged {
     pub active_set_iterations: usize,
 }
 
+impl Converged {
+    /// The converged solution as the cycle's solve (`signorini = "converged"`): its constraints
+    /// and solution, whose active-set iterations count every solve of the cycle, the linearised
+    /// one's (`linearised_iterations`) and the fixed point's.
+    pub fn as_cycle_solve(
+        self,
+        linearised_iterations: usize,
+    ) -> (Vec<ContactConstraint>, ContactSolution) {
+        let mut solution = self.solution;
+        solution.iterations = linearised_iterations + self.active_set_iterations;
+        (self.constraints, solution)
+    }
+}
+
 /// The vertices whose constraint is active, in order.
 fn contact_vertices(constraints: &[ContactConstraint], active: &[bool]) -> BTreeSet<u32> {
     constraints

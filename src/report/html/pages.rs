@@ -121,7 +121,7 @@ pub(crate) fn pages(entries: &[Entry], figures: &[SectionFigures], meta: &Report
     for group in &groups {
         pages.push(Page {
             file: group.file.clone(),
-            html: group_page(entries, group, figures, meta),
+            html: group_page(entries, &groups, group, figures, meta),
         });
     }
     if !errata_on_page(entries).is_empty() {
@@ -177,16 +177,17 @@ fn front_page(entries: &[Entry], groups: &[Group], meta: &ReportMeta) -> String 
     h
 }
 
-/// The page of one group: its model box, its tables in detail, and a folded section per table.
+/// The page of one group of `groups`: its model box, its tables in detail, and a folded section per table.
 fn group_page(
     entries: &[Entry],
+    groups: &[Group],
     group: &Group,
     figures: &[SectionFigures],
     meta: &ReportMeta,
 ) -> String {
     let mut h = head(&format!("{} ({})", group.name(), meta.tier));
     let sections = group.family.map_or("", |f| f.sections.as_str());
-    slim_header(&mut h, group.name(), sections, &groups(entries), meta);
+    slim_header(&mut h, group.name(), sections, groups, meta);
     h.push_str("<main>\n");
     if let Some(family) = group.family {
         family_box(&mut h, family);
