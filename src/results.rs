@@ -97,11 +97,50 @@ pub mod columns {
     /// CG iterations of the multigrid-preconditioned solve (the most over the solves of the
     /// cycle, e.g. of an active-set iteration); absent with the direct solver.
     pub const CG_ITERATIONS: &str = "cg_iterations";
-    /// Scenes with a manufactured solution only: the true error in the estimator's norm
-    /// (‖s − s_h‖_a for elasticity, ‖ψ − ψ_h‖_R for Reynolds, [`crate::estimators::true_error`]).
+    /// The true error in the estimator's norm (‖s − s_h‖_a for elasticity and contact,
+    /// ‖ψ − ψ_h‖_R for Reynolds): against the exact field on the scenes with a manufactured
+    /// solution ([`crate::estimators::true_error`]), else measured without one
+    /// ([`crate::study::accuracy`]).
     pub const ERROR: &str = "error";
-    /// Scenes with a manufactured solution only: estimate / error, the effectivity index.
+    /// estimate / error, the effectivity index.
     pub const EFFECTIVITY: &str = "effectivity";
+    /// J(u_h) = ½a(u_h, u_h) − l(u_h), the energy of the cycle's solution, where the problem
+    /// minimises one ([`crate::study::Problem::energy`]).
+    pub const ENERGY: &str = "energy";
+    /// Scenes with a manufactured solution only: the error measured as on a scene without one
+    /// ([`crate::study::accuracy`]), to check that measurement against the true `error`.
+    pub const MEASURED_ERROR: &str = "measured_error";
+}
+
+/// One cycle of the uniform run beside a grid-adaptive table ([`crate::study::uniform`]).
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct UniformRow {
+    /// Uniform refinements of the scene's initial mesh.
+    pub cycle: usize,
+    pub active_cells: usize,
+    pub dofs: usize,
+    /// √(Σ η_Q²) of the table's estimator.
+    pub estimate: f64,
+    /// The true error, measured as the table's (`None` where it could not be).
+    pub error: Option<f64>,
+    /// Seconds of the cycle's solve: setup, assembly, solve and estimate.
+    pub seconds: f64,
+}
+
+/// How the true error of a run without an exact solution was measured ([`crate::study::accuracy`]).
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub enum ErrorMeasure {
+    /// The energy identity J(u_h) − J(u) = ½‖u − u_h‖²_a with J(u) extrapolated from the
+    /// cycles `cycles` by J(u_h) = J(u) + C·dofs^(−beta); `bound` where the problem is a
+    /// variational inequality and the identity only bounds the error from above.
+    Energy {
+        limit: f64,
+        beta: f64,
+        cycles: Vec<usize>,
+        bound: bool,
+    },
+    /// Against a reference solution on a finer mesh of `dofs` unknowns.
+    Reference { dofs: usize },
 }
 
 /// The value of one column in one row.
@@ -530,6 +569,13 @@ pub struct RunResult {
     pub warnings: Vec<String>,
     /// The `[scene]` and `[study]` keys of the experiment file, shown above the section's table.
     pub parameters: Vec<Parameter>,
+    /// How the column `error` was measured on a scene without an exact solution (`None` where
+    /// it was not: no energy and no reference, or an exact solution).
+    #[serde(default)]
+    pub accuracy: Option<ErrorMeasure>,
+    /// The uniform run beside a grid-adaptive table (empty unless the report ran it).
+    #[serde(default)]
+    pub uniform: Vec<UniformRow>,
     /// The last printed mesh with its solution fields; the report writes it as
     /// `data/<table>.vtu` and then drops it (it is as large as the mesh).
     #[serde(skip)]
@@ -558,6 +604,8 @@ impl RunResult {
             related: Vec::new(),
             cavitation_ran: None,
             warnings: Vec::new(),
+            accuracy: None,
+            uniform: Vec::new(),
             parameters: Vec::new(),
             last_mesh: None,
         }

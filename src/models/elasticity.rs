@@ -183,6 +183,62 @@ impl Elasticity {
         })
     }
 
+    /// J(s_h) = ½a(s_h, s_h) − b(s_h), the energy of a displacement (the sum over the cells in
+    /// the order of `mesh.active()`, so the value does not depend on the thread count), with
+    /// the quadrature of [`Elasticity::assemble`]: then J(s_h) = ½uᵀAu − bᵀu of the assembled
+    /// system, the functional whose minimiser over V_h (or the contact set) the solve finds.
+    /// The energy identity of [`crate::study::accuracy`] measures the error with it.
+    pub fn energy(&self, mesh: &Mesh, dofs: &DofMap, u: &[f64]) -> f64 {
+        use rayon::prelude::*;
+        let active = mesh.active();
+        let rule = square_rule::<9>();
+        let (fp, fw) = quadrature::gauss(3);
+        let cells: Vec<f64> = (0..active.len())
+            .into_par_iter()
+            .map(|k| {
+                let c = active[k];
+                let cv = CellValues::new(mesh.cell_shape(c), &rule);
+                let corner = [dofs.corner_values(u, k, 0), dofs.corner_values(u, k, 1)];
+                let mut sum = 0.0;
+                for q in 0..rule.len() {
+                    let g = cv.gradients(q);
+                    let phi = cv.values(q);
+                    let grad: [[f64; 2]; 2] = std::array::from_fn(|i| {
+                        std::array::from_fn(|j| (0..4).map(|a| corner[i][a] * g[a][j]).sum())
+                    });
+                    let s: [f64; 2] =
+                        std::array::from_fn(|i| (0..4).map(|a| corner[i][a] * phi[a]).sum());
+                    let t = self.stress(grad);
+                    let work = t[0][0] * grad[0][0]
+                        + t[1][1] * grad[1][1]
+                        + t[0][1] * (grad[0][1] + grad[1][0]);
+                    let f = self.volume_load(cv.point(q));
+                    sum += (0.5 * work - f[0] * s[0] - f[1] * s[1]) * cv.jxw(q);
+                }
+                for face in FACES {
+                    let Neighbor::Boundary(side) = mesh.neighbor(c, face) else {
+                        continue;
+                    };
+                    if self.is_dirichlet(side) {
+                        continue;
+                    }
+                    let t = self.traction(side);
+                    let [va, vb] = face.vertices();
+                    let len = cv.shape().face_length(face);
+                    for (x, w) in fp.iter().zip(fw) {
+                        let (pa, pb) = (1.0 - x, *x);
+                        for i in 0..2 {
+                            let si = pa * corner[i][va] + pb * corner[i][vb];
+                            sum -= t[i] * si * w * len;
+                        }
+                    }
+                }
+                sum
+            })
+            .collect();
+        cells.iter().sum()
+    }
+
     /// Displacement gradient ∇s_h (rows = components) of the solution on active cell `k` at a
     /// physical point `p` of the cell.
     #[inline]

@@ -36,7 +36,7 @@ use rayon::prelude::*;
 
 use crate::fe::cell_values::CellValues;
 use crate::fe::quadrature::{self, square_rule};
-use crate::fe::{LocalDofs, System};
+use crate::fe::{DofMap, LocalDofs, System};
 use crate::linalg::active_set::{
     primal_dual_active_set, ActiveSetOptions, ActiveSetSolution, Bounds, NodalBounds, Sense,
     ViolationTolerance,
@@ -387,6 +387,48 @@ impl ReynoldsProblem {
                 }
             }
         })
+    }
+}
+
+impl ReynoldsProblem {
+    /// J(ψ_h) = ½a(ψ_h, ψ_h) − l(ψ_h) with the form, the load and the quadrature of
+    /// [`ReynoldsProblem::assemble`] (so J(ψ_h) = ½ψᵀKψ − Fᵀψ of the assembled system): the
+    /// functional the Reynolds solve minimises over V_h, and the cavitation solve over ψ_h ≥ 0.
+    /// With the potential form a(ψ, ψ) differs from ‖ψ‖²_R by a boundary term that is the same
+    /// for every ψ with ψ = ψ₀ on ∂Ω₂, so J differences are those of the Reynolds norm; the
+    /// energy identity of [`crate::study::accuracy`] measures the error with it. The cells are
+    /// summed in the order of `mesh.active()`.
+    pub fn energy(&self, mesh: &Mesh, dofs: &DofMap, psi: &[f64], data: &CellData) -> f64 {
+        let active = mesh.active();
+        let rule = square_rule::<4>();
+        let cells: Vec<f64> = (0..active.len())
+            .into_par_iter()
+            .map(|k| {
+                let cv = CellValues::new(mesh.cell_shape(active[k]), &rule);
+                let corner = dofs.corner_values(psi, k, 0);
+                let mut sum = 0.0;
+                for q in 0..rule.len() {
+                    let g = cv.gradients(q);
+                    let phi = cv.values(q);
+                    let v: f64 = (0..4).map(|a| corner[a] * phi[a]).sum();
+                    let grad: [f64; 2] =
+                        std::array::from_fn(|j| (0..4).map(|a| corner[a] * g[a][j]).sum());
+                    let quadratic = match self.form {
+                        Form::Potential => {
+                            grad[0] * grad[0] + grad[1] * grad[1] + data.dg_over_g[k][q] * v * v
+                        }
+                        Form::Product => {
+                            let (gv, dg, _) = self.film.gap(cv.point(q));
+                            let r = [grad[0] - v * dg[0] / gv, grad[1] - v * dg[1] / gv];
+                            r[0] * r[0] + r[1] * r[1]
+                        }
+                    };
+                    sum += (0.5 * quadratic - data.load[k][q] * v) * cv.jxw(q);
+                }
+                sum
+            })
+            .collect();
+        cells.iter().sum()
     }
 }
 

@@ -248,19 +248,37 @@ pub fn cost(path: &Path, run: &RunResult) -> io::Result<Placed> {
         .iter()
         .map(|(name, color)| Entry::new(*name, Swatch::Bar(*color)))
         .collect();
+    let curves = true_error_curves(run);
+    let none: (&[(f64, f64)], &str) = (&[], "");
+    let upper = if curves.is_empty() {
+        420
+    } else {
+        log_log_height(&curves, none)
+    };
     let mut svg = String::new();
     let mut placed = Placed::default();
     {
-        let size = (760, 720 + legend::height(&phases, 760));
+        let size = (760, upper + 300 + legend::height(&phases, 760));
         let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
         root.fill(&WHITE).map_err(plot_err)?;
-        let (top, bottom) = root.split_vertically(420);
-        placed.extend(cost_accuracy(
-            &top,
-            &run.table,
-            &super::estimate_name(run).axis,
-            &points,
-        )?);
+        let (top, bottom) = root.split_vertically(upper);
+        if curves.is_empty() {
+            placed.extend(cost_accuracy(
+                &top,
+                &run.table,
+                &super::estimate_name(run).axis,
+                &points,
+            )?);
+        } else {
+            placed.extend(log_log_chart(
+                &top,
+                &format!("{} — cost of accuracy: true error", run.table),
+                ("cumulative wall seconds", "error, estimate"),
+                &curves,
+                none,
+                "no positive errors and timings",
+            )?);
+        }
         let (bars, strip) = legend::split(&bottom, &phases);
         placed.extend(phase_bars(&bars, run)?);
         placed.legends.extend(legend::draw(&strip, &phases)?);
@@ -268,6 +286,59 @@ pub fn cost(path: &Path, run: &RunResult) -> io::Result<Placed> {
     }
     crate::fsio::write(path, svg)?;
     Ok(placed)
+}
+
+/// The upper panel of [`cost`] where the run has a true error (`crate::study::accuracy`): the
+/// adaptive run's error and estimate against its cumulative wall seconds, and the uniform run's
+/// error against its own cumulative seconds (`crate::study::uniform`). Empty without errors.
+/// The thesis prints no timings, so its estimates have no place on this axis.
+fn true_error_curves(run: &RunResult) -> Vec<Curve> {
+    let cumulative = run.cumulative_seconds();
+    let adaptive = |column: &str| -> Vec<(f64, f64)> {
+        run.rows
+            .iter()
+            .zip(&cumulative)
+            .filter_map(|(r, t)| Some((*t, r.value(column)?)))
+            .filter(loggable)
+            .collect()
+    };
+    let error = adaptive(crate::results::columns::ERROR);
+    if error.is_empty() {
+        return Vec::new();
+    }
+    let mut seconds = 0.0;
+    let uniform: Vec<(f64, f64)> = run
+        .uniform
+        .iter()
+        .filter_map(|u| {
+            seconds += u.seconds;
+            Some((seconds, u.error?))
+        })
+        .filter(loggable)
+        .collect();
+    let mut curves = vec![
+        Curve {
+            label: "adaptive: true error".into(),
+            color: TRIBO,
+            dashed: false,
+            points: error,
+        },
+        Curve {
+            label: "adaptive: estimate η".into(),
+            color: TRIBO,
+            dashed: true,
+            points: adaptive(crate::results::columns::ESTIMATE),
+        },
+    ];
+    if !uniform.is_empty() {
+        curves.push(Curve {
+            label: "uniform refinement: true error".into(),
+            color: RGBColor(0, 0, 0),
+            dashed: false,
+            points: uniform,
+        });
+    }
+    curves
 }
 
 /// Upper panel of [`cost`].
@@ -509,14 +580,26 @@ impl Figures for Cost {
 
     fn write(&self, at: &Drawing) -> io::Result<Vec<Figure>> {
         let run = at.run;
-        let (figure, path) = at.figure(
-            "cost",
+        let caption = if true_error_curves(run).is_empty() {
             format!(
                 "{}: cost of accuracy — {} against the cumulative wall seconds, and the \
                  seconds per phase",
                 run.table, at.eta.caption
-            ),
-        );
+            )
+        } else {
+            format!(
+                "{}: cost of accuracy — the true error (and {}) against the cumulative wall \
+                 seconds, of the adaptive run{}, and the seconds per phase",
+                run.table,
+                at.eta.caption,
+                if run.uniform.is_empty() {
+                    ""
+                } else {
+                    " and of uniform refinement"
+                }
+            )
+        };
+        let (figure, path) = at.figure("cost", caption);
         cost(&path, run)?;
         Ok(vec![figure])
     }

@@ -12,7 +12,7 @@ use std::path::Path;
 use polars::prelude::*;
 
 use crate::results::UzawaRow;
-use crate::results::{CostRow, PhaseSeconds, RunResult, Value};
+use crate::results::{CostRow, PhaseSeconds, RunResult, UniformRow, Value};
 use crate::thesis::ThesisTable;
 
 /// One row per cycle: `cycle`, then the rows' named columns in order of first appearance
@@ -138,6 +138,32 @@ pub fn costs_frame(costs: &[CostRow]) -> PolarsResult<DataFrame> {
     )
 }
 
+/// The uniform run beside a grid-adaptive table: `cycle, active_cells, dofs, estimate, error,
+/// seconds` (`error` empty where it could not be measured).
+pub fn uniform_frame(rows: &[UniformRow]) -> PolarsResult<DataFrame> {
+    let counts = |f: fn(&UniformRow) -> usize| rows.iter().map(|u| f(u) as u64).collect::<Vec<_>>();
+    DataFrame::new(
+        rows.len(),
+        vec![
+            Column::new("cycle".into(), counts(|u| u.cycle)),
+            Column::new("active_cells".into(), counts(|u| u.active_cells)),
+            Column::new("dofs".into(), counts(|u| u.dofs)),
+            Column::new(
+                "estimate".into(),
+                rows.iter().map(|u| u.estimate).collect::<Vec<_>>(),
+            ),
+            Column::new(
+                "error".into(),
+                rows.iter().map(|u| u.error).collect::<Vec<_>>(),
+            ),
+            Column::new(
+                "seconds".into(),
+                rows.iter().map(|u| u.seconds).collect::<Vec<_>>(),
+            ),
+        ],
+    )
+}
+
 /// The iterations of a solver study (Fig. III.6): `variant, iteration, residual,
 /// relative_residual, pressure_error, inner_iterations, seconds` (cumulative per variant).
 pub fn uzawa_frame(rows: &[UzawaRow]) -> PolarsResult<DataFrame> {
@@ -191,7 +217,7 @@ fn write_frame(dir: &Path, name: &str, frame: &mut DataFrame) -> PolarsResult<()
 
 /// Write the data files of a run into `dir`, each as CSV and as Parquet: rows (a solver
 /// study's iterations in their place), probes and, when the run has them, the cuts
-/// (`<table>.cuts.*`) and the costs (`<table>.cost.*`).
+/// (`<table>.cuts.*`), the costs (`<table>.cost.*`) and the uniform run (`<table>.uniform.*`).
 pub fn write_frames(dir: &Path, run: &RunResult) -> PolarsResult<()> {
     std::fs::create_dir_all(dir)?;
     let safe = csv_stem(&run.table);
@@ -216,6 +242,10 @@ pub fn write_frames(dir: &Path, run: &RunResult) -> PolarsResult<()> {
     if !run.costs.is_empty() {
         let mut costs = costs_frame(&run.costs)?;
         write_frame(dir, &format!("{safe}.cost"), &mut costs)?;
+    }
+    if !run.uniform.is_empty() {
+        let mut uniform = uniform_frame(&run.uniform)?;
+        write_frame(dir, &format!("{safe}.uniform"), &mut uniform)?;
     }
     Ok(())
 }

@@ -11,6 +11,7 @@
 //! errata (`readings`) and the tables of a section (`tables`) have their own modules; this file
 //! holds the sections and the formatting every part shares.
 
+mod accuracy;
 mod pages;
 mod readings;
 mod signorini;
@@ -24,7 +25,8 @@ use super::errata::{self, Erratum};
 use super::families::{self, Family};
 use super::verdict::{self, KnownReason, Score, Verdict};
 use super::{
-    compared_value, compares_previous_estimate, estimate_ratio, rel_diff, thesis_figure, tolerance,
+    compared_value, compares_previous_estimate, estimate_ratio, fmt_effectivity, rel_diff,
+    thesis_figure, tolerance,
     Entry, Failure, FailureKind, Figure, ReportMeta, Section, Summary, MAX_SHOWN_THESIS_ROWS,
 };
 use crate::experiment::Comparison;
@@ -572,6 +574,7 @@ fn table_section(h: &mut String, s: &Section, figs: &SectionFigures) {
         comparison_table(h, s);
     }
     signorini::signorini_comparison(h, run);
+    accuracy::true_error(h, run);
     for alt in s.alternatives {
         match &alt.outcome {
             Ok(alt_run) => alternative_table(h, run, thesis, &alt.label, alt_run),

@@ -490,6 +490,8 @@ pub(crate) struct Summary {
     /// ([`convergence_order`]).
     pub order: Option<f64>,
     pub thesis_order: Option<f64>,
+    /// The smallest and the largest effectivity η/error over the rows that have one.
+    pub effectivity: Option<(f64, f64)>,
 }
 
 impl Summary {
@@ -516,8 +518,38 @@ impl Summary {
                 + html::uzawa_seconds(&run.uzawa),
             order: tribo_order(run),
             thesis_order: thesis_order(section),
+            effectivity: effectivity_range(run),
         }
     }
+}
+
+/// The smallest and the largest effectivity η/error of a run's rows (`None` without one).
+pub fn effectivity_range(run: &RunResult) -> Option<(f64, f64)> {
+    run.rows
+        .iter()
+        .filter_map(|r| r.value(crate::results::columns::EFFECTIVITY))
+        .fold(None, |range, e| match range {
+            None => Some((e, e)),
+            Some((lo, hi)) => Some((f64::min(lo, e), f64::max(hi, e))),
+        })
+}
+
+/// An effectivity range as the summary prints it: `9.3–11` (3 significant digits at most), `—`
+/// without one.
+pub fn fmt_effectivity(range: Option<(f64, f64)>) -> String {
+    match range {
+        None => "—".into(),
+        Some((lo, hi)) => format!("{}–{}", fmt_sig3(lo), fmt_sig3(hi)),
+    }
+}
+
+/// Three significant digits, no exponent for 0.01–9999.
+fn fmt_sig3(v: f64) -> String {
+    if !(0.01..10_000.0).contains(&v.abs()) {
+        return format!("{v:.2e}");
+    }
+    let digits = (2 - v.abs().log10().floor() as i32).max(0) as usize;
+    format!("{v:.digits$}")
 }
 
 /// The experimental order of convergence: the least-squares slope of log(estimate) against

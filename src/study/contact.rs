@@ -409,6 +409,16 @@ impl Problem for ContactProblem {
         Ok(estimate)
     }
 
+    /// J(s_h) of the elastic body: the contact constraints restrict where it is minimised, not
+    /// the functional (frictionless contact).
+    fn energy(&self, disc: &Discretisation, dofs: &DofMap, solution: &Solution) -> Option<f64> {
+        Some(self.model.energy(&disc.mesh, dofs, &solution.u))
+    }
+
+    fn constrained(&self) -> bool {
+        true
+    }
+
     fn finish_cycle(&mut self, disc: &Discretisation, dofs: DofMap, solution: Solution) {
         self.previous = Some(PreviousSolution::of(disc, dofs, solution.u));
     }

@@ -126,6 +126,10 @@ impl Problem for ElasticityProblem {
     fn component(&self, name: &str) -> Option<usize> {
         displacement_component(name)
     }
+
+    fn energy(&self, disc: &Discretisation, dofs: &DofMap, solution: &Solution) -> Option<f64> {
+        Some(self.model.energy(&disc.mesh, dofs, &solution.u))
+    }
 }
 
 /// The deformed body x + scale·s(x). With `magnify_to = Some(height)` small displacements are

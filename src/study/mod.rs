@@ -8,6 +8,7 @@
 //! Only the effects a scene names are built: an elasticity scene never touches contact or
 //! thin-film code.
 
+pub mod accuracy;
 pub mod adapt;
 pub mod budget;
 pub mod clock;
@@ -27,13 +28,16 @@ pub mod substokes;
 pub mod table;
 pub mod thin_film;
 pub mod transfer;
+pub mod uniform;
 pub mod warnings;
 
 pub use adapt::{Adaptation, Balanced, FixedNumber, GridIndicator, LoadSteps, ModelMarking};
 pub use budget::{Budget, Ledger};
 pub use clock::{Phase, PhaseClock};
 pub use error::StudyError;
-pub use problem::{Discretisation, Estimate, Models, Pictures, Problem, Solution};
+pub use problem::{
+    Discretisation, Estimate, KeptSolve, Models, Pictures, Problem, ReferenceErrors, Solution,
+};
 pub use readings::{alternative_readings, AlternativeReading};
 pub use table::{run_table, TableHost, TableOptions, TableOutcome, TableRun};
 
@@ -357,7 +361,11 @@ pub fn run_study(
         &mut table,
     )
     .map_err(|(solve, cause)| solve.error(&experiment.table, cause))?;
-    Ok(table.record.finish(problem))
+    let last = schedule.printed.saturating_sub(1);
+    table
+        .record
+        .finish(problem)
+        .map_err(|cause| RunError::at_cycle(&experiment.table, last, cause))
 }
 
 /// What a loop over cycles does around each solve; the loop itself ([`cycle_loop`]) is the same

@@ -399,4 +399,51 @@ pub trait Problem {
     fn cavitation_ran(&self) -> Option<bool> {
         None
     }
+
+    /// J(u_h) = ½a(u_h, u_h) − l(u_h), the energy of the cycle's solution, for the problems that
+    /// minimise J (symmetric, coercive, convex constraints): the true error of each cycle then
+    /// follows from the energy identity with J(u) extrapolated ([`super::accuracy`]). `None`
+    /// for the problems that are no minimisation (the saddle points).
+    fn energy(&self, _disc: &Discretisation, _dofs: &DofMap, _solution: &Solution) -> Option<f64> {
+        None
+    }
+
+    /// Whether the solve of the run's last cycle was a variational inequality (contact,
+    /// cavitation): the energy identity then only bounds the error from above
+    /// ([`super::accuracy`]).
+    fn constrained(&self) -> bool {
+        false
+    }
+
+    /// Whether the study keeps every solve ([`KeptSolve`]) for [`Problem::reference_errors`]
+    /// after the last cycle.
+    fn keeps_solves(&self) -> bool {
+        false
+    }
+
+    /// The true error of each of `kept` (in its order), in the norm of the problem's estimator,
+    /// measured against a reference solution on a finer mesh: for the problems without an
+    /// energy ([`Problem::energy`]). `None` where the problem measures no reference error.
+    fn reference_errors(
+        &mut self,
+        _kept: &[KeptSolve],
+    ) -> Result<Option<ReferenceErrors>, StudyError> {
+        Ok(None)
+    }
+}
+
+/// The errors of kept solves against a reference solution ([`Problem::reference_errors`]).
+pub struct ReferenceErrors {
+    /// One per kept solve, in its order.
+    pub errors: Vec<f64>,
+    /// The unknowns of the reference solve.
+    pub dofs: usize,
+}
+
+/// One solve kept for a reference error ([`Problem::reference_errors`]): its discretisation,
+/// its dofs and its field.
+pub struct KeptSolve {
+    pub disc: Discretisation,
+    pub dofs: DofMap,
+    pub u: Vec<f64>,
 }

@@ -2,7 +2,8 @@
 //! the estimate, seconds per phase), the meshes of the last printed cycles, and the probes and
 //! figures of the last one.
 
-use super::problem::{Discretisation, Estimate, Problem, Solution};
+use super::error::StudyError;
+use super::problem::{Discretisation, Estimate, KeptSolve, Problem, Solution};
 use super::transfer::evaluate;
 use super::{Solve, Tier};
 use crate::adaptivity::model::ModelUnit;
@@ -22,6 +23,9 @@ pub struct Recorder<'a> {
     printed: usize,
     /// The seconds of the cycles of the current load step before its printed one.
     step_seconds: PhaseSeconds,
+    /// The printed solves, where the problem measures its error against a reference
+    /// ([`Problem::keeps_solves`]).
+    kept: Vec<KeptSolve>,
 }
 
 impl<'a> Recorder<'a> {
@@ -42,6 +46,7 @@ impl<'a> Recorder<'a> {
             },
             printed,
             step_seconds: PhaseSeconds::default(),
+            kept: Vec::new(),
         }
     }
 
@@ -109,6 +114,16 @@ impl<'a> Recorder<'a> {
         for (name, n) in &solution.counters {
             row.columns.push((name.clone(), Value::Count(*n)));
         }
+        if let Some(energy) = problem.energy(disc, dofs, solution) {
+            row = row.real(columns::ENERGY, Some(energy));
+        }
+        if problem.keeps_solves() {
+            self.kept.push(KeptSolve {
+                disc: disc.clone(),
+                dofs: dofs.clone(),
+                u: solution.u.clone(),
+            });
+        }
         self.result.rows.push(row);
     }
 
@@ -132,15 +147,18 @@ impl<'a> Recorder<'a> {
         }
     }
 
-    /// The result, with the problem's notes and the warnings of the file and the run.
-    pub fn finish(mut self, problem: &dyn Problem) -> RunResult {
+    /// The result, with the measured errors ([`super::accuracy::add_errors`]), the problem's
+    /// notes and the warnings of the file and the run.
+    pub fn finish(mut self, problem: &mut dyn Problem) -> Result<RunResult, StudyError> {
+        super::accuracy::add_errors(&mut self.result, problem, &self.kept)
+            .map_err(|e| e.context("the true error against the reference"))?;
         self.result.notes.extend(problem.notes());
         self.result.cavitation_ran = problem.cavitation_ran();
         self.result.warnings = super::warnings::of_run(self.experiment, &self.result.rows)
             .iter()
             .map(ToString::to_string)
             .collect();
-        self.result
+        Ok(self.result)
     }
 
     /// Probe values at every (x, y) of the experiment's probe lists.

@@ -235,6 +235,16 @@ impl Problem for ReynoldsFilm {
         Ok(estimate)
     }
 
+    /// J(ψ_h) of the problem the cycle solved (with the cavitation load once cavitation is on).
+    fn energy(&self, disc: &Discretisation, dofs: &DofMap, solution: &Solution) -> Option<f64> {
+        let data = &self.cache.as_ref()?.data;
+        Some(self.problem.energy(&disc.mesh, dofs, &solution.u, data))
+    }
+
+    fn constrained(&self) -> bool {
+        self.switch.is_on()
+    }
+
     fn finish_cycle(&mut self, disc: &Discretisation, dofs: DofMap, solution: Solution) {
         // Multigrid starts from the previous solution whether or not cavitation is on.
         let keep =

@@ -5,8 +5,8 @@
 //! which of them run and what the page is told about those that do not are decided here, once.
 
 use super::{
-    alternative_readings, cost, run_within, solves, AlternativeReading, Budget, Progress, RunError,
-    Tier,
+    alternative_readings, cost, run_within, solves, uniform, AlternativeReading, Budget, Progress,
+    RunError, Tier,
 };
 use crate::experiment::Experiment;
 use crate::results::RunResult;
@@ -137,7 +137,7 @@ pub fn run_table<H: TableHost>(
         run_within(experiment, tier, budget, progress)
     })?;
     let run = if options.alternatives {
-        with_costs(experiment, run)
+        with_uniform(experiment, budget, with_costs(experiment, run))
     } else {
         run
     };
@@ -179,6 +179,18 @@ fn with_costs(experiment: &Experiment, mut run: RunResult) -> RunResult {
         match cost::accuracy_costs(experiment) {
             Ok(costs) => run.costs = costs,
             Err(e) => run.warnings.push(format!("cost of accuracy: {e}")),
+        }
+    }
+    run
+}
+
+/// The run with the uniform run of its scene, where it applies ([`uniform::applies`]); a
+/// uniform run that fails is a warning of the table, not a failure.
+fn with_uniform(experiment: &Experiment, budget: Budget, mut run: RunResult) -> RunResult {
+    if uniform::applies(experiment, &run) {
+        match uniform::uniform_run(experiment, &run, budget) {
+            Ok(rows) => run.uniform = rows,
+            Err(e) => run.warnings.push(format!("uniform refinement: {e}")),
         }
     }
     run

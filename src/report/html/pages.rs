@@ -193,6 +193,7 @@ fn group_page(
         family_box(&mut h, family);
     }
     family_summary(&mut h, &group.entries);
+    family_effectivity(&mut h, &group.entries);
     substokes_row_zero(&mut h, &group.entries);
     for &i in &group.members {
         let entry = &entries[i];

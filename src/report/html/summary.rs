@@ -3,6 +3,7 @@
 //! SubStokes table beside tribo's.
 
 use super::*;
+use crate::report::effectivity_range;
 
 /// A `<td>` holding a relative difference, highlighted beyond the column's tolerance.
 pub(super) fn diff_cell(column: &str, d: Option<f64>) -> String {
@@ -79,7 +80,7 @@ pub(super) fn family_summary(h: &mut String, entries: &[&Entry]) {
          <th class=\"text\">title</th><th class=\"text\">status</th><th class=\"text\">verdict</th>\
          <th>rows within bands</th><th>worst primary Δ</th><th>rows (tribo / thesis)</th>\
          <th>last dofs</th><th>last estimate</th><th>geo-mean ratio</th>\
-         <th>order (tribo / thesis)</th><th>max Δ dofs</th>\
+         <th>order (tribo / thesis)</th><th title=\"estimate / true error over the rows\">η / error</th><th>max Δ dofs</th>\
          <th>max Δ estimate</th><th>seconds</th></tr></thead>\n<tbody>\n",
     );
     for entry in entries {
@@ -94,9 +95,9 @@ pub(super) fn family_summary(h: &mut String, entries: &[&Entry]) {
 }
 
 /// Columns of a compact summary row after the table id.
-const COMPACT_DATA_COLUMNS: usize = 7;
+const COMPACT_DATA_COLUMNS: usize = 8;
 /// … on a page without a thesis entry, whose rows have no verdict, bands or printed order.
-const OWN_DATA_COLUMNS: usize = 4;
+const OWN_DATA_COLUMNS: usize = 5;
 
 /// The front page's summary: one compact row per table (id, title, status, verdict, rows within
 /// bands, worst primary Δ, order, seconds), grouped by family, each family headed by a link to
@@ -112,10 +113,10 @@ pub(super) fn front_summary(h: &mut String, entries: &[Entry], groups: &[pages::
     );
     h.push_str(if thesis_run {
         "<th class=\"text\">verdict</th><th>rows within bands</th>\
-         <th class=\"text\">worst primary Δ</th><th>order (tribo / thesis)</th><th>seconds</th>\
+         <th class=\"text\">worst primary Δ</th><th>order (tribo / thesis)</th><th title=\"estimate / true error over the rows\">η / error</th><th>seconds</th>\
          </tr></thead>\n"
     } else {
-        "<th>order</th><th>seconds</th></tr></thead>\n"
+        "<th>order</th><th title=\"estimate / true error over the rows\">η / error</th><th>seconds</th></tr></thead>\n"
     });
     let mut ranked: Vec<(&Section, Verdict)> = Vec::new();
     let families: Vec<&Family> = if thesis_run {
@@ -231,12 +232,13 @@ fn compact_entry<'a>(
                 h,
                 "<tr data-table=\"{}\" data-verdict=\"not-scored\" data-severity=\"\">\
                  <td class=\"text\"><a href=\"#{}\">{}</a></td>\
-                 <td class=\"text title\" title=\"{t}\">{t}</td>{}<td>{}</td><td>{}</td></tr>",
+                 <td class=\"text title\" title=\"{t}\">{t}</td>{}<td>{}</td><td>{}</td><td>{}</td></tr>",
                 escape(&s.run.table),
                 anchor(&s.run.table),
                 escape(&s.run.table),
                 status_cell(s),
                 sm.order.map_or("—".into(), fmt_order),
+                fmt_effectivity(sm.effectivity),
                 fmt_seconds(sm.total_seconds),
                 t = escape(&s.run.title),
             );
@@ -292,7 +294,7 @@ fn compact_row(h: &mut String, s: &Section, verdict: &Verdict) {
         h,
         "<tr data-table=\"{}\" data-verdict=\"{}\" data-severity=\"{}\"><td class=\"text\">\
          <a href=\"#{}\">{}</a>{dup}</td><td class=\"text title\" title=\"{t}\">{t}</td>{}{}\
-         <td>{within}</td>{}<td>{} / {}</td><td>{}</td></tr>",
+         <td>{within}</td>{}<td>{} / {}</td><td>{}</td><td>{}</td></tr>",
         escape(&s.run.table),
         verdict.kind(),
         verdict
@@ -305,6 +307,7 @@ fn compact_row(h: &mut String, s: &Section, verdict: &Verdict) {
         worst_cell(verdict),
         sm.order.map_or("—".into(), fmt_order),
         sm.thesis_order.map_or("—".into(), fmt_order),
+        fmt_effectivity(sm.effectivity),
         fmt_seconds(sm.total_seconds),
         t = escape(&s.run.title),
     );
@@ -366,7 +369,7 @@ fn summary_row(h: &mut String, s: &Section, verdict: &Verdict) {
         h,
         "<tr><td class=\"text\">\
          <a href=\"#{}\">{}</a>{dup}</td><td class=\"text\">{}</td>\
-         <td class=\"text title\" title=\"{t}\">{t}</td>{}{}<td>{within}</td>{}<td>{} / {}</td>{}{}{}<td>{} / {}</td>{}{}<td>{}</td></tr>",
+         <td class=\"text title\" title=\"{t}\">{t}</td>{}{}<td>{within}</td>{}<td>{} / {}</td>{}{}{}<td>{} / {}</td><td>{}</td>{}{}<td>{}</td></tr>",
         anchor(&s.run.table),
         escape(&s.run.table),
         escape(&s.run.section),
@@ -384,6 +387,7 @@ fn summary_row(h: &mut String, s: &Section, verdict: &Verdict) {
         opt_cell(sm.geo_mean_ratio.map(fmt_sig)),
         sm.order.map_or("—".into(), fmt_order),
         sm.thesis_order.map_or("—".into(), fmt_order),
+        fmt_effectivity(sm.effectivity),
         summary_diff_cell("dofs", sm.max_dofs_diff, scored),
         summary_diff_cell("estimate", sm.max_estimate_diff, scored),
         fmt_seconds(sm.total_seconds),
@@ -596,4 +600,45 @@ fn failure_words(f: &Failure) -> String {
             None => "no data: the run failed".to_string(),
         },
     }
+}
+
+/// The family's line on its page: by what factor its estimators over- or under-estimate the
+/// true error, over the rows of its tables with a measured error (nothing without one).
+pub(super) fn family_effectivity(h: &mut String, entries: &[&Entry]) {
+    let ranges: Vec<(f64, f64)> = entries
+        .iter()
+        .filter_map(|e| match e {
+            Entry::Done(s) => effectivity_range(s.run),
+            Entry::Failed(_) => None,
+        })
+        .collect();
+    let Some((lo, hi)) = ranges
+        .iter()
+        .copied()
+        .reduce(|(a, b), (c, d)| (a.min(c), b.max(d)))
+    else {
+        return;
+    };
+    let range = |a: f64, b: f64| fmt_effectivity(Some((a, b)));
+    let claim = if lo >= 1.0 {
+        format!("overestimates the true error by a factor in {}", range(lo, hi))
+    } else if hi <= 1.0 {
+        format!(
+            "underestimates the true error by a factor in {}",
+            range(1.0 / hi, 1.0 / lo)
+        )
+    } else {
+        format!(
+            "is within a factor in {} of the true error (η / error; it underestimates where \
+             below 1)",
+            range(lo, hi)
+        )
+    };
+    let _ = writeln!(
+        h,
+        "<p class=\"effectivity\"><b>Estimate against true error:</b> over the rows of the \
+         {} tables with a measured error, the estimator {claim}. Per table: the column \
+         η / error above; how the error is measured: each section's “True error”.</p>",
+        ranges.len()
+    );
 }

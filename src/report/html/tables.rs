@@ -7,7 +7,10 @@ use super::*;
 /// Names of tribo's columns the thesis does not print, in first-appearance order.
 pub(super) fn tribo_only_columns(rows: &[Row], thesis_columns: &[String]) -> Vec<(String, bool)> {
     let mut out: Vec<(String, bool)> = Vec::new();
-    let known = |n: &str| thesis_columns.iter().any(|c| c == n) || is_signorini_column(n);
+    // The energy J(u_h) is the measurement behind `error` (in data/<table>.csv), not a result.
+    let known = |n: &str| {
+        thesis_columns.iter().any(|c| c == n) || is_signorini_column(n) || n == columns::ENERGY
+    };
     for r in rows {
         for (name, value) in &r.columns {
             if !known(name) && !out.iter().any(|(n, _)| n == name) {

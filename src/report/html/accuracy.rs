@@ -1,0 +1,106 @@
+//! The true error of a section (`crate::study::accuracy`): how it was measured, the
+//! effectivity range, and the uniform run beside a grid-adaptive table with what adaptivity
+//! saves (`crate::study::uniform`). The per-row `error` and `effectivity` are columns of the
+//! section's own table and of `data/<table>.csv`; the uniform run is `data/<table>.uniform.csv`.
+
+use std::fmt::Write as _;
+
+use super::{fmt_seconds, fmt_sig};
+use crate::report::{effectivity_range, fmt_effectivity};
+use crate::results::{ErrorMeasure, RunResult};
+use crate::study::uniform::{saving, DOFS_FACTOR};
+
+/// How the error of a run was measured, in one sentence.
+fn measure_sentence(measure: &ErrorMeasure) -> String {
+    match measure {
+        ErrorMeasure::Energy {
+            limit,
+            beta,
+            cycles,
+            bound,
+        } => {
+            let (first, last) = (cycles.first().unwrap_or(&0), cycles.last().unwrap_or(&0));
+            let how = if *bound {
+                "the energy bound ‖u − u_h‖ ≤ √(2(J(u_h) − J(u))) (a variational inequality: \
+                 an upper bound of the error, so the effectivity is a lower bound)"
+            } else {
+                "the energy identity ‖u − u_h‖ = √(2(J(u_h) − J(u)))"
+            };
+            format!(
+                "error measured by {how}, J(u) = {} extrapolated from cycles {first}–{last} by \
+                 J(u_h) = J(u) + C·dofs<sup>−{}</sup>",
+                fmt_sig(*limit),
+                format_args!("{beta:.2}")
+            )
+        }
+        ErrorMeasure::Reference { dofs } => format!(
+            "error measured against a reference solution on a finer mesh ({dofs} unknowns), \
+             with the reference's own error extrapolated"
+        ),
+    }
+}
+
+/// The true-error paragraph and the uniform run of a section; nothing for a run without a
+/// measured error.
+pub(super) fn true_error(h: &mut String, run: &RunResult) {
+    let Some(measure) = &run.accuracy else {
+        return;
+    };
+    let _ = writeln!(
+        h,
+        "<h3>True error</h3>\n<p>The {}; effectivity η / error {} over the rows (columns \
+         <code>error</code>, <code>effectivity</code>).</p>",
+        measure_sentence(measure),
+        fmt_effectivity(effectivity_range(run))
+    );
+    if run.uniform.is_empty() {
+        return;
+    }
+    h.push_str(
+        "<details><summary>Adaptive against uniform refinement</summary>\n\
+         <div class=\"scroll\"><table>\n<thead><tr><th>uniform cycle</th><th>cells</th>\
+         <th>dofs</th><th>error</th><th>estimate</th><th>seconds</th></tr></thead>\n<tbody>\n",
+    );
+    for u in &run.uniform {
+        let _ = writeln!(
+            h,
+            "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>",
+            u.cycle,
+            u.active_cells,
+            u.dofs,
+            u.error.map_or("—".into(), fmt_sig),
+            fmt_sig(u.estimate),
+            fmt_seconds(u.seconds),
+        );
+    }
+    h.push_str("</tbody></table></div></details>\n");
+    let Some(s) = saving(run, &run.uniform) else {
+        h.push_str(
+            "<p>Adaptive against uniform: no saving could be measured (fewer than two uniform \
+             cycles with an error, or a uniform error that does not decrease).</p>\n",
+        );
+        return;
+    };
+    let how = if s.extrapolated {
+        format!(
+            "extrapolated with the uniform run's own order {:.2} (no uniform cycle up to \
+             {DOFS_FACTOR}× the adaptive unknowns reached it)",
+            s.uniform_order
+        )
+    } else {
+        "interpolated between the uniform cycles that bracket it".to_string()
+    };
+    let _ = writeln!(
+        h,
+        "<p class=\"saving\"><b>What adaptivity saves:</b> the adaptive run reaches error {} with \
+         {} dofs in {} over all its cycles; a uniform mesh needs about {} dofs ({}× as many) and \
+         {} for a single solve ({}× the adaptive run) — {how}.</p>",
+        fmt_sig(s.error),
+        s.adaptive_dofs as u64,
+        fmt_seconds(s.adaptive_seconds),
+        fmt_sig(s.uniform_dofs.round()),
+        fmt_sig(s.uniform_dofs / s.adaptive_dofs),
+        fmt_seconds(s.uniform_seconds),
+        fmt_sig(s.uniform_seconds / s.adaptive_seconds),
+    );
+}

@@ -1,0 +1,185 @@
+//! The true error of a run without an exact solution — what accuracy costs, measured — in the
+//! norm of the run's estimator, so that the effectivity η/‖e‖ can be given for every table.
+//!
+//! # The energy identity (elasticity, contact, Reynolds)
+//!
+//! Where the problem minimises J(v) = ½a(v, v) − l(v) over a closed convex set K of an affine
+//! space V_D (the Dirichlet data fixed), with a symmetric coercive a, the exact solution u
+//! satisfies a(u, v − u) ≥ l(v − u) for v ∈ K, hence for every v ∈ K
+//!
+//! J(v) − J(u) = ½‖v − u‖²_a + [a(u, v − u) − l(v − u)] ≥ ½‖v − u‖²_a,
+//!
+//! with equality when K = V_D (no constraints): the linear problems (elasticity, Reynolds
+//! without cavitation). The discrete solution u_h is such a v whenever the discrete space is
+//! conforming and takes the boundary data exactly — Q₁ on the quadtree mesh with hanging nodes
+//! constrained is a subspace of H¹, the Dirichlet data of the thesis's scenes are 0 or the
+//! constant ψ₀, both in Q₁ — on any mesh, nested or not (the coarsened cells of the adaptive
+//! loop break the nesting but not the identity). So
+//!
+//! ‖u − u_h‖_a = √(2(J(u_h) − J(u)))  (linear),  ‖u − u_h‖_a ≤ √(2(J(u_h) − J(u)))  (constraints),
+//!
+//! the latter an upper bound whose slack [a(u, u_h − u) − l(u_h − u)] = ⟨σ_n(u), gap⟩-type
+//! complementarity term is of the order of the error squared as well; it holds when
+//! u_h ∈ K, exactly for the cavitation constraint ψ_h ≥ 0 (nodal values ≥ 0 give a
+//! nonnegative bilinear) and for straight obstacles, up to the interpolation of a curved
+//! obstacle between the vertices otherwise. The effectivity η/‖e‖ computed with the bound is
+//! then a lower bound of the true effectivity.
+//!
+//! J(u) is not known. It is extrapolated from the run's own cycles: asymptotically
+//! J(u_h) − J(u) = ½‖e‖² ≈ C·N^{−β} in the unknowns N (β = 1 for the optimal rate N^{−½} of Q₁
+//! in 2-D), and the three parameters J(u), C, β are fitted by least squares to the last
+//! [`FIT_CYCLES`] printed cycles ([`extrapolate`]). The earlier cycles' errors hardly depend on
+//! the extrapolation (J(u_h) − J(u) is large there); the last ones do, which is why the
+//! method is checked on the scenes with a manufactured solution, where the true error is known
+//! (`measured_error` against `error`, `tests/manufactured.rs`).
+//!
+//! J(u_h) is evaluated with the quadrature of the assembly (so J(u_h) = ½uᵀAu − bᵀu of the
+//! discrete system): the quadrature error of a and l is of higher order than ‖e‖².
+//!
+//! # Against a reference solution (saddle points)
+//!
+//! A problem that minimises no energy (the SubStokes saddle point) keeps its solves and measures
+//! their distance to a reference solution on a finer mesh itself
+//! ([`super::Problem::reference_errors`]).
+
+use super::error::StudyError;
+use super::problem::{KeptSolve, Problem};
+use crate::results::{columns, ErrorMeasure, RunResult, Value};
+
+/// Cycles of the fit of J(u): the last four printed cycles (three where a run has only three).
+pub const FIT_CYCLES: usize = 4;
+
+/// J(u) extrapolated from (N_k, J(u_h,k)).
+#[derive(Clone, Debug, PartialEq)]
+pub struct EnergyLimit {
+    /// J(u).
+    pub limit: f64,
+    /// C of J(u_h) − J(u) ≈ C·N^{−β}.
+    pub factor: f64,
+    /// β.
+    pub beta: f64,
+}
+
+/// The least-squares fit of J_k = J + C·N_k^{−β} to `points` (N_k, J_k): for each β the fit is
+/// linear in (J, C); β is searched on [0.05, 4] (a grid of step 0.01, then golden sections
+/// around the best) and only fits with C > 0 (the energy decreasing towards its limit) count.
+/// `None` with fewer than three points or no fit with C > 0.
+pub fn extrapolate(points: &[(f64, f64)]) -> Option<EnergyLimit> {
+    if points.len() < 3 {
+        return None;
+    }
+    // J scaled to O(1) around the last value, so that the sums do not cancel
+    let (_, last) = points[points.len() - 1];
+    let scale = points
+        .iter()
+        .map(|(_, j)| (j - last).abs())
+        .fold(0.0f64, f64::max)
+        .max(f64::MIN_POSITIVE);
+    let fit = |beta: f64| -> Option<(f64, f64, f64)> {
+        let xs: Vec<f64> = points.iter().map(|(n, _)| n.powf(-beta)).collect();
+        let ys: Vec<f64> = points.iter().map(|(_, j)| (j - last) / scale).collect();
+        let m = xs.len() as f64;
+        let (sx, sy) = (xs.iter().sum::<f64>(), ys.iter().sum::<f64>());
+        let sxx: f64 = xs.iter().map(|x| x * x).sum();
+        let sxy: f64 = xs.iter().zip(&ys).map(|(x, y)| x * y).sum();
+        let det = m * sxx - sx * sx;
+        if det.abs() <= f64::EPSILON * m * sxx {
+            return None;
+        }
+        let c = (m * sxy - sx * sy) / det;
+        let j = (sy - c * sx) / m;
+        let residual: f64 = xs
+            .iter()
+            .zip(&ys)
+            .map(|(x, y)| (y - j - c * x).powi(2))
+            .sum();
+        (c > 0.0).then_some((residual, j, c))
+    };
+    let mut best: Option<(f64, f64)> = None;
+    for i in 5..=400 {
+        let beta = i as f64 * 0.01;
+        if let Some((r, _, _)) = fit(beta) {
+            if best.is_none_or(|(rb, _)| r < rb) {
+                best = Some((r, beta));
+            }
+        }
+    }
+    let (_, mut beta) = best?;
+    let (mut lo, mut hi) = (beta - 0.01, beta + 0.01);
+    let golden = 0.5 * (5f64.sqrt() - 1.0);
+    let residual = |b: f64| fit(b).map_or(f64::INFINITY, |(r, _, _)| r);
+    for _ in 0..40 {
+        let (a, b) = (hi - golden * (hi - lo), lo + golden * (hi - lo));
+        if residual(a) < residual(b) {
+            hi = b;
+        } else {
+            lo = a;
+        }
+        beta = 0.5 * (lo + hi);
+    }
+    let (_, j, c) = fit(beta)?;
+    Some(EnergyLimit {
+        limit: last + j * scale,
+        factor: c * scale,
+        beta,
+    })
+}
+
+/// √(2(J_k − J(u))) for each energy, `None` where J_k ≤ J(u) (the fit above a cycle's energy).
+pub fn energy_errors(limit: f64, energies: &[f64]) -> Vec<Option<f64>> {
+    energies
+        .iter()
+        .map(|&j| (j > limit).then(|| (2.0 * (j - limit)).sqrt()))
+        .collect()
+}
+
+/// Add the measured error to the rows of `result`: by the energy identity where every row has
+/// an energy, else against the problem's reference ([`Problem::reference_errors`] on `kept`).
+/// Rows that already have the true `error` (a manufactured solution) get the measurement as
+/// `measured_error`; the other rows get it as `error` with the `effectivity` η/error.
+pub fn add_errors(
+    result: &mut RunResult,
+    problem: &mut dyn Problem,
+    kept: &[KeptSolve],
+) -> Result<(), StudyError> {
+    let rows = &result.rows;
+    let energies: Vec<f64> = rows.iter().filter_map(|r| r.value(columns::ENERGY)).collect();
+    let (errors, measure) = if !rows.is_empty() && energies.len() == rows.len() {
+        let points: Vec<(f64, f64)> = rows
+            .iter()
+            .zip(&energies)
+            .filter_map(|(r, &j)| Some((r.dofs()? as f64, j)))
+            .collect();
+        let from = points.len().saturating_sub(FIT_CYCLES);
+        let Some(fit) = extrapolate(&points[from..]) else {
+            return Ok(());
+        };
+        let measure = ErrorMeasure::Energy {
+            limit: fit.limit,
+            beta: fit.beta,
+            cycles: rows[from..].iter().map(|r| r.cycle).collect(),
+            bound: problem.constrained(),
+        };
+        (energy_errors(fit.limit, &energies), measure)
+    } else {
+        let Some(errors) = problem.reference_errors(kept)? else {
+            return Ok(());
+        };
+        let dofs = errors.dofs;
+        (errors.errors.into_iter().map(Some).collect(), ErrorMeasure::Reference { dofs })
+    };
+    let exact = rows.iter().any(|r| r.value(columns::ERROR).is_some());
+    for (row, error) in result.rows.iter_mut().zip(errors) {
+        if exact {
+            row.set(columns::MEASURED_ERROR, Value::real(error));
+        } else {
+            let effectivity = row.estimate().zip(error).map(|(eta, e)| eta / e);
+            row.set(columns::ERROR, Value::real(error));
+            row.set(columns::EFFECTIVITY, Value::real(effectivity));
+        }
+    }
+    if !exact {
+        result.accuracy = Some(measure);
+    }
+    Ok(())
+}

@@ -1,0 +1,173 @@
+//! Adaptive against uniform refinement (what adaptivity saves): a grid-adaptive table's scene
+//! solved again on uniformly refined meshes — the scene's initial mesh, then each cell split
+//! into four per cycle — up to about the unknowns of the table's last cycle, each cycle's true
+//! error measured as the table's ([`super::accuracy`]: with the J(u) extrapolated from the
+//! adaptive run for the problems with an energy, against a reference of its own for the others).
+//!
+//! The comparison ([`saving`]) asks what a uniform mesh needs to reach the adaptive run's final
+//! error: its unknowns, interpolated log–log between the two uniform cycles that bracket that
+//! error, or extrapolated with the uniform run's own order over its last two cycles where no
+//! uniform cycle reaches it (and said so); and its seconds — those of a single solve on that
+//! uniform mesh (setup, assembly, solve, estimate), interpolated or extrapolated the same way
+//! against the unknowns — against the adaptive run's seconds over all its cycles. A user who knew
+//! the uniform mesh in advance would pay only that one solve, so the comparison is the one least
+//! favourable to adaptivity.
+
+use super::accuracy::energy_errors;
+use super::clock::PhaseClock;
+use super::error::StudyError;
+use super::problem::{Discretisation, KeptSolve};
+use super::{solve_and_estimate, Budget, RunError};
+use crate::experiment::{Experiment, StudyKind};
+use crate::results::{columns, ErrorMeasure, RunResult, UniformRow};
+
+/// The uniform run stops before a cycle with more than this many times the adaptive run's final
+/// unknowns.
+pub const DOFS_FACTOR: f64 = 2.0;
+
+/// Whether the table gets a uniform run: a grid-adaptive study whose error was measured.
+pub fn applies(experiment: &Experiment, run: &RunResult) -> bool {
+    experiment.study.kind() == StudyKind::GridAdaptive
+        && run.rows.iter().any(|r| r.value(columns::ERROR).is_some())
+}
+
+/// The uniform run of `experiment` beside its adaptive run `run` (rows with `error`), on a
+/// thread of rayon's pool with `budget` as the solvers' limit (as [`super::run_within`]).
+pub fn uniform_run(
+    experiment: &Experiment,
+    run: &RunResult,
+    budget: Budget,
+) -> Result<Vec<UniformRow>, RunError> {
+    rayon::scope(|_| {
+        let _limit = budget.limit_solvers();
+        uniform_cycles(experiment, run, budget).map_err(Budget::refusal)
+    })
+}
+
+/// The cycles of [`uniform_run`].
+fn uniform_cycles(
+    experiment: &Experiment,
+    run: &RunResult,
+    budget: Budget,
+) -> Result<Vec<UniformRow>, RunError> {
+    let fail = |cycle: usize, cause: StudyError| {
+        RunError::at_cycle(&experiment.table, cycle, cause.context("uniform refinement"))
+    };
+    let target = run.rows.last().and_then(|r| r.dofs()).unwrap_or(0) as f64 * DOFS_FACTOR;
+    let mut problem = experiment.family.build(experiment).map_err(|e| fail(0, e))?;
+    let mut disc = Discretisation::initial(&experiment.scene).map_err(|e| fail(0, e.into()))?;
+    let mut rows = Vec::new();
+    let mut energies = Vec::new();
+    let mut kept = Vec::new();
+    for cycle in 0.. {
+        budget
+            .admit_cycle(experiment, disc.mesh.n_active())
+            .map_err(|e| fail(cycle, e))?;
+        let clock = PhaseClock::default();
+        let (dofs, solution, estimate) =
+            solve_and_estimate(&mut *problem, &disc, &clock).map_err(|e| fail(cycle, e))?;
+        let n = problem.n_dofs(&dofs);
+        energies.push(problem.energy(&disc, &dofs, &solution));
+        rows.push(UniformRow {
+            cycle,
+            active_cells: disc.mesh.n_active(),
+            dofs: n,
+            estimate: crate::estimators::total(&estimate.cells),
+            error: None,
+            seconds: clock.seconds().total(),
+        });
+        if problem.keeps_solves() {
+            kept.push(KeptSolve {
+                disc: disc.clone(),
+                dofs: dofs.clone(),
+                u: solution.u.clone(),
+            });
+        }
+        problem.finish_cycle(&disc, dofs, solution);
+        // the next cycle has about four times the unknowns
+        if 4.0 * n as f64 > target {
+            break;
+        }
+        disc.mesh
+            .refine_global()
+            .map_err(|e| fail(cycle, StudyError::from(e).context("cannot refine uniformly")))?;
+    }
+    let errors: Vec<Option<f64>> = match &run.accuracy {
+        Some(ErrorMeasure::Energy { limit, .. }) => {
+            let energies: Option<Vec<f64>> = energies.into_iter().collect();
+            energies.map_or_else(|| vec![None; rows.len()], |j| energy_errors(*limit, &j))
+        }
+        _ => match problem.reference_errors(&kept).map_err(|e| fail(rows.len(), e))? {
+            Some(reference) => reference.errors.into_iter().map(Some).collect(),
+            None => vec![None; rows.len()],
+        },
+    };
+    for (row, error) in rows.iter_mut().zip(errors) {
+        row.error = error.filter(|e| e.is_finite() && *e > 0.0);
+    }
+    Ok(rows)
+}
+
+/// What a uniform mesh needs to reach the adaptive run's final error ([`saving`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Saving {
+    /// The adaptive run's final error, unknowns and seconds (all cycles).
+    pub error: f64,
+    pub adaptive_dofs: f64,
+    pub adaptive_seconds: f64,
+    /// The unknowns and the seconds of one solve of a uniform mesh with that error.
+    pub uniform_dofs: f64,
+    pub uniform_seconds: f64,
+    /// Whether no uniform cycle reached the error, so that the uniform figures are extrapolated
+    /// with the uniform run's own order.
+    pub extrapolated: bool,
+    /// The uniform run's order of the error against the unknowns over its last two cycles.
+    pub uniform_order: f64,
+}
+
+/// The uniform unknowns and seconds at the adaptive run's final error (module docs); `None`
+/// without errors in the adaptive run's last row or in two uniform cycles, or where the uniform
+/// error does not decrease (no order to extrapolate with).
+pub fn saving(run: &RunResult, uniform: &[UniformRow]) -> Option<Saving> {
+    let last = run.rows.last()?;
+    let error = last.value(columns::ERROR)?;
+    let adaptive_dofs = last.dofs()? as f64;
+    let adaptive_seconds: f64 = run.rows.iter().map(|r| r.seconds.total()).sum();
+    let points: Vec<(f64, f64, f64)> = uniform
+        .iter()
+        .filter_map(|u| Some((u.dofs as f64, u.error?, u.seconds)))
+        .collect();
+    if points.len() < 2 {
+        return None;
+    }
+    let log_interp = |a: f64, b: f64, t: f64| (a.ln() + t * (b.ln() - a.ln())).exp();
+    let [(n1, e1, s1), (n2, e2, s2)] = [points[points.len() - 2], points[points.len() - 1]];
+    let uniform_order = (e2 / e1).ln() / (n2 / n1).ln();
+    let bracket = points.windows(2).find(|w| w[0].1 > error && w[1].1 <= error);
+    let (uniform_dofs, uniform_seconds, extrapolated) = match (points[0].1 <= error, bracket) {
+        (true, _) => (points[0].0, points[0].2, false),
+        (false, Some(w)) => {
+            let t = (error / w[0].1).ln() / (w[1].1 / w[0].1).ln();
+            (log_interp(w[0].0, w[1].0, t), log_interp(w[0].2, w[1].2, t), false)
+        }
+        (false, None) => {
+            if !(uniform_order < 0.0) {
+                return None;
+            }
+            // e = e2 (N/n2)^order, seconds = s2 (N/n2)^γ with γ from the last two cycles (≥ 1:
+            // a solve costs at least linear time)
+            let dofs = n2 * (error / e2).powf(1.0 / uniform_order);
+            let gamma = ((s2 / s1).ln() / (n2 / n1).ln()).max(1.0);
+            (dofs, s2 * (dofs / n2).powf(gamma), true)
+        }
+    };
+    Some(Saving {
+        error,
+        adaptive_dofs,
+        adaptive_seconds,
+        uniform_dofs,
+        uniform_seconds,
+        extrapolated,
+        uniform_order,
+    })
+}
