@@ -692,9 +692,13 @@ impl RunResult {
             // The CG iterations depend on the solver chosen, not on what is computed: both
             // solvers share one snapshot (the iterations are in the CSV files). The comparison
             // of the linearised Signorini solution with the converged one is a reading beside
-            // the table, checked by its own tests (it is in the CSV files too).
+            // the table, checked by its own tests (it is in the CSV files too). The energy is
+            // the measurement behind `error`, which is in the snapshot.
             for (name, v) in r.columns.iter().filter(|(n, _)| {
-                n != columns::CG_ITERATIONS && !crate::study::signorini::columns::is_comparison(n)
+                n != columns::CG_ITERATIONS
+                    && n != columns::ENERGY
+                    && n != columns::MEASURED_ERROR
+                    && !crate::study::signorini::columns::is_comparison(n)
             }) {
                 s += &snapshot_column(name, v);
             }

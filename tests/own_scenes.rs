@@ -335,7 +335,10 @@ fn the_report_says_what_is_not_compared() {
     assert!(html.contains("<h1>tribo — scenes of your own</h1>"));
     // The front page's summary has no verdict, bands or printed order to show.
     let front = fs::read_to_string(out.join("index.html")).unwrap();
-    assert!(front.contains("<th class=\"text\">status</th><th>order</th><th>seconds</th>"));
+    assert!(front.contains(
+        "<th class=\"text\">status</th><th>order</th><th title=\"estimate / true error over \
+         the rows\">η / error</th><th>seconds</th>"
+    ));
     assert!(!front.contains("rows within bands") && !front.contains("tribo / thesis"));
     assert!(out.join("data/my-elastic-strip.csv").exists());
     let _ = fs::remove_dir_all(&dir);

@@ -33,8 +33,11 @@
 //! method is checked on the scenes with a manufactured solution, where the true error is known
 //! (`measured_error` against `error`, `tests/manufactured.rs`).
 //!
-//! J(u_h) is evaluated with the quadrature of the assembly (so J(u_h) = ½uᵀAu − bᵀu of the
-//! discrete system): the quadrature error of a and l is of higher order than ‖e‖².
+//! The identity holds for every v ∈ V_D, so also for the discrete solution of a problem whose
+//! load was integrated inexactly — but only for the exact J. J(u_h) is therefore evaluated
+//! with more quadrature points than the assembly uses, the data evaluated afresh at them
+//! ([`crate::models::elasticity::Elasticity::energy`],
+//! [`crate::models::reynolds::ReynoldsProblem::energy`]).
 //!
 //! # Against a reference solution (saddle points)
 //!
@@ -182,4 +185,50 @@ pub fn add_errors(
         result.accuracy = Some(measure);
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A sequence that follows the model exactly gives back its J(u) and β.
+    #[test]
+    fn the_fit_recovers_a_power_law() {
+        let (limit, c, beta) = (-3.25, 40.0, 1.1);
+        let points: Vec<(f64, f64)> = (0..4)
+            .map(|k| {
+                let n = 1000.0 * 1.9f64.powi(k);
+                (n, limit + c * n.powf(-beta))
+            })
+            .collect();
+        let fit = extrapolate(&points).expect("a fit");
+        let last = points[3].1 - limit;
+        assert!(
+            (fit.limit - limit).abs() < 1e-4 * last,
+            "J(u) {} instead of {limit}",
+            fit.limit
+        );
+        assert!((fit.beta - beta).abs() < 1e-3, "β {}", fit.beta);
+        let errors = energy_errors(fit.limit, &[points[3].1]);
+        let truth = (2.0 * last).sqrt();
+        assert!((errors[0].unwrap() / truth - 1.0).abs() < 1e-4);
+    }
+
+    /// An energy that grows under refinement (a discrete contact set larger than the exact one)
+    /// has no fit with C > 0; two points are too few.
+    #[test]
+    fn no_fit_for_a_growing_energy_or_two_points() {
+        let growing = [(100.0, 1.0), (200.0, 1.5), (400.0, 1.7), (800.0, 1.8)];
+        assert_eq!(extrapolate(&growing), None);
+        assert_eq!(extrapolate(&[(100.0, 2.0), (200.0, 1.0)]), None);
+    }
+
+    /// A cycle whose energy lies below the fitted J(u) has no error.
+    #[test]
+    fn an_energy_below_the_limit_has_no_error() {
+        assert_eq!(
+            energy_errors(1.0, &[3.0, 0.5]),
+            vec![Some(2.0), None]
+        );
+    }
 }

@@ -237,8 +237,8 @@ impl Problem for ReynoldsFilm {
 
     /// J(ψ_h) of the problem the cycle solved (with the cavitation load once cavitation is on).
     fn energy(&self, disc: &Discretisation, dofs: &DofMap, solution: &Solution) -> Option<f64> {
-        let data = &self.cache.as_ref()?.data;
-        Some(self.problem.energy(&disc.mesh, dofs, &solution.u, data))
+        let load = self.cache.as_ref()?.load;
+        Some(self.problem.energy(&disc.mesh, dofs, &solution.u, load))
     }
 
     fn constrained(&self) -> bool {

@@ -171,3 +171,65 @@ pub fn saving(run: &RunResult, uniform: &[UniformRow]) -> Option<Saving> {
         uniform_order,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::results::{PhaseSeconds, Row};
+
+    fn adaptive(error: f64, dofs: usize, seconds: f64) -> RunResult {
+        let mut run = RunResult::new("T", "s", "t", "quick", [0.0, 1.0, 0.0, 1.0]);
+        let mut row = Row::new(0)
+            .count(columns::DOFS, dofs)
+            .real(columns::ERROR, Some(error));
+        row.seconds = PhaseSeconds {
+            solve: seconds,
+            ..PhaseSeconds::default()
+        };
+        run.rows.push(row);
+        run
+    }
+
+    fn uniform(points: &[(usize, f64, f64)]) -> Vec<UniformRow> {
+        points
+            .iter()
+            .enumerate()
+            .map(|(cycle, &(dofs, error, seconds))| UniformRow {
+                cycle,
+                active_cells: dofs,
+                dofs,
+                estimate: error,
+                error: Some(error),
+                seconds,
+            })
+            .collect()
+    }
+
+    /// Between two uniform cycles the unknowns and seconds are interpolated log–log.
+    #[test]
+    fn a_bracketed_error_is_interpolated() {
+        let run = adaptive(0.1, 500, 2.0);
+        let u = uniform(&[(100, 0.4, 0.1), (400, 0.2, 0.4), (1600, 0.1 / 2.0, 1.6)]);
+        let s = saving(&run, &u).unwrap();
+        assert!(!s.extrapolated);
+        // error 0.1 halfway (log) between 0.2 at 400 and 0.05 at 1600: 800 unknowns, 0.8 s
+        assert!((s.uniform_dofs - 800.0).abs() < 1e-9, "{}", s.uniform_dofs);
+        assert!((s.uniform_seconds - 0.8).abs() < 1e-9);
+        assert_eq!(s.adaptive_seconds, 2.0);
+    }
+
+    /// Beyond the last uniform cycle the uniform run's own order extrapolates, and says so.
+    #[test]
+    fn an_unreached_error_is_extrapolated_with_the_uniform_order() {
+        let run = adaptive(0.01, 500, 2.0);
+        let u = uniform(&[(100, 0.4, 0.1), (400, 0.2, 0.4)]);
+        let s = saving(&run, &u).unwrap();
+        assert!(s.extrapolated);
+        assert!((s.uniform_order + 0.5).abs() < 1e-12);
+        // 0.2 → 0.01 at order −½: 400 · 20² unknowns
+        assert!((s.uniform_dofs / 160_000.0 - 1.0).abs() < 1e-9);
+        // a uniform error that grows has no order to extrapolate with
+        let grows = uniform(&[(100, 0.2, 0.1), (400, 0.3, 0.4)]);
+        assert_eq!(saving(&run, &grows), None);
+    }
+}
