@@ -136,6 +136,33 @@ pub fn energy_errors(limit: f64, energies: &[f64]) -> Vec<Option<f64>> {
         .collect()
 }
 
+/// The errors of the rows of `result` by the energy identity, where it measures one in every
+/// row: every row has an energy, the fit of J(u) has C > 0, and every energy lies above it.
+/// `None` otherwise — an energy that rises under refinement (a discrete contact set larger
+/// than the exact one) or a cycle below the limit — and the run is measured against a
+/// reference instead.
+fn energy_measure(result: &RunResult, bound: bool) -> Option<(Vec<Option<f64>>, ErrorMeasure)> {
+    let rows = &result.rows;
+    let points: Vec<(f64, f64)> = rows
+        .iter()
+        .map(|r| Some((r.dofs()? as f64, r.value(columns::ENERGY)?)))
+        .collect::<Option<_>>()?;
+    let from = points.len().saturating_sub(FIT_CYCLES);
+    let fit = extrapolate(&points[from..])?;
+    let energies: Vec<f64> = points.iter().map(|p| p.1).collect();
+    let errors = energy_errors(fit.limit, &energies);
+    if rows.is_empty() || errors.iter().any(Option::is_none) {
+        return None;
+    }
+    let measure = ErrorMeasure::Energy {
+        limit: fit.limit,
+        beta: fit.beta,
+        cycles: rows[from..].iter().map(|r| r.cycle).collect(),
+        bound,
+    };
+    Some((errors, measure))
+}
+
 /// Add the measured error to the rows of `result`: by the energy identity where every row has
 /// an energy, else against the problem's reference ([`Problem::reference_errors`] on `kept`).
 /// Rows that already have the true `error` (a manufactured solution) get the measurement as
@@ -145,32 +172,18 @@ pub fn add_errors(
     problem: &mut dyn Problem,
     kept: &[KeptSolve],
 ) -> Result<(), StudyError> {
-    let rows = &result.rows;
-    let energies: Vec<f64> = rows.iter().filter_map(|r| r.value(columns::ENERGY)).collect();
-    let (errors, measure) = if !rows.is_empty() && energies.len() == rows.len() {
-        let points: Vec<(f64, f64)> = rows
-            .iter()
-            .zip(&energies)
-            .filter_map(|(r, &j)| Some((r.dofs()? as f64, j)))
-            .collect();
-        let from = points.len().saturating_sub(FIT_CYCLES);
-        let Some(fit) = extrapolate(&points[from..]) else {
-            return Ok(());
-        };
-        let measure = ErrorMeasure::Energy {
-            limit: fit.limit,
-            beta: fit.beta,
-            cycles: rows[from..].iter().map(|r| r.cycle).collect(),
-            bound: problem.constrained(),
-        };
-        (energy_errors(fit.limit, &energies), measure)
-    } else {
-        let Some(errors) = problem.reference_errors(kept)? else {
-            return Ok(());
-        };
-        let dofs = errors.dofs;
-        (errors.errors.into_iter().map(Some).collect(), ErrorMeasure::Reference { dofs })
+    let (errors, measure) = match energy_measure(result, problem.constrained()) {
+        Some(measured) => measured,
+        None => {
+            let Some(errors) = problem.reference_errors(kept)? else {
+                return Ok(());
+            };
+            let dofs = errors.dofs;
+            let errors = errors.errors.into_iter().map(Some).collect();
+            (errors, ErrorMeasure::Reference { dofs })
+        }
     };
+    let rows = &result.rows;
     let exact = rows.iter().any(|r| r.value(columns::ERROR).is_some());
     for (row, error) in result.rows.iter_mut().zip(errors) {
         if exact {

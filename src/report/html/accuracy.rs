@@ -27,15 +27,15 @@ fn measure_sentence(measure: &ErrorMeasure) -> String {
                 "the energy identity ‖u − u_h‖ = √(2(J(u_h) − J(u)))"
             };
             format!(
-                "error measured by {how}, J(u) = {} extrapolated from cycles {first}–{last} by \
-                 J(u_h) = J(u) + C·dofs<sup>−{}</sup>",
+                "error is measured by {how}, with J(u) = {} extrapolated from cycles \
+                 {first}–{last} by J(u_h) = J(u) + C·dofs<sup>−{}</sup>",
                 fmt_sig(*limit),
                 format_args!("{beta:.2}")
             )
         }
         ErrorMeasure::Reference { dofs } => format!(
-            "error measured against a reference solution on a finer mesh ({dofs} unknowns), \
-             with the reference's own error extrapolated"
+            "error is measured against a reference solution on a finer mesh ({dofs} \
+             unknowns), with the reference's own error extrapolated"
         ),
     }
 }
@@ -99,8 +99,18 @@ pub(super) fn true_error(h: &mut String, run: &RunResult) {
         s.adaptive_dofs as u64,
         fmt_seconds(s.adaptive_seconds),
         fmt_sig(s.uniform_dofs.round()),
-        fmt_sig(s.uniform_dofs / s.adaptive_dofs),
+        ratio(s.uniform_dofs / s.adaptive_dofs),
         fmt_seconds(s.uniform_seconds),
-        fmt_sig(s.uniform_seconds / s.adaptive_seconds),
+        ratio(s.uniform_seconds / s.adaptive_seconds),
     );
+}
+
+/// A ratio with two significant digits (`0.13`, `1.2`, `35`).
+fn ratio(r: f64) -> String {
+    if r >= 10.0 {
+        format!("{r:.0}")
+    } else {
+        let digits = (1 - r.log10().floor() as i32).max(0) as usize;
+        format!("{r:.digits$}")
+    }
 }
