@@ -143,10 +143,7 @@ pub fn add_errors(
     kept: &[KeptSolve],
 ) -> Result<(), StudyError> {
     let rows = &result.rows;
-    let energies: Vec<f64> = rows
-        .iter()
-        .filter_map(|r| r.value(columns::ENERGY))
-        .collect();
+    let energies: Vec<f64> = rows.iter().filter_map(|r| r.value(columns::ENERGY)).collect();
     let (errors, measure) = if !rows.is_empty() && energies.len() == rows.len() {
         let points: Vec<(f64, f64)> = rows
             .iter()
@@ -169,10 +166,7 @@ pub fn add_errors(
             return Ok(());
         };
         let dofs = errors.dofs;
-        (
-            errors.errors.into_iter().map(Some).collect(),
-            ErrorMeasure::Reference { dofs },
-        )
+        (errors.errors.into_iter().map(Some).collect(), ErrorMeasure::Reference { dofs })
     };
     let exact = rows.iter().any(|r| r.value(columns::ERROR).is_some());
     for (row, error) in result.rows.iter_mut().zip(errors) {
