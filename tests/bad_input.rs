@@ -133,7 +133,13 @@ fn expect_error_in(
 }
 
 /// The shipped scenes that are not the thesis's: the manufactured solutions.
-const OWN_SCENES: [&str; 2] = ["manufactured-elasticity", "manufactured-reynolds"];
+const OWN_SCENES: [&str; 5] = [
+    "manufactured-cavitation",
+    "manufactured-elasticity",
+    "manufactured-reynolds",
+    "manufactured-signorini",
+    "manufactured-z-contact",
+];
 
 #[test]
 fn every_shipped_experiment_loads() {
@@ -645,6 +651,62 @@ fn contact_and_reynolds_checks_name_file_and_field() {
     for (case, text, field, needle) in &cases {
         expect_error(case, text, field, needle);
     }
+}
+
+/// The fields of the manufactured contact and cavitation scenes outside their shipped files:
+/// the `linear` obstacle shape (finite offset and slope), a pressure field named as a
+/// displacement and a displacement field named as a pressure.
+#[test]
+fn manufactured_contact_and_cavitation_fields_name_file_and_field() {
+    let dir = scratch_dir("linear-ok");
+    let linear =
+        r#"[{ side = "bottom", shape = { kind = "linear", offset = -2.0, slope = 0.01 } }]"#;
+    let path = write(
+        &dir,
+        "IV.1.toml",
+        &contact_scene(linear, r#"["left", "right"]"#),
+    );
+    if let Err(error) = load(&path) {
+        panic!("valid linear obstacle rejected: {error}");
+    }
+    let nan_slope =
+        r#"[{ side = "bottom", shape = { kind = "linear", offset = -2.0, slope = nan } }]"#;
+    expect_error(
+        "linear-slope-nan",
+        &contact_scene(nan_slope, r#"["left", "right"]"#),
+        "scene.contact.obstacles[0].shape.slope",
+        "a finite number",
+    );
+    let inf_offset =
+        r#"[{ side = "bottom", shape = { kind = "linear", offset = inf, slope = 0.0 } }]"#;
+    expect_error(
+        "linear-offset-inf",
+        &contact_scene(inf_offset, r#"["left", "right"]"#),
+        "scene.contact.obstacles[0].shape.offset",
+        "a finite number",
+    );
+    let pressure_as_displacement = edit(
+        r#"volume_load = { direction = [0.0, 1.0], profile = { kind = "constant", amplitude = 0.0004 } }"#,
+        r#"exact = "cavitation-bubble""#,
+    );
+    expect_error(
+        "exact-pressure-in-elasticity",
+        &pressure_as_displacement,
+        "scene.elasticity.exact",
+        "a displacement",
+    );
+    let displacement_as_pressure =
+        reynolds_scene(r#"{ kind = "plain", g0 = 0.1 }"#, r#"components = ["psi"]"#).replacen(
+            "estimator = \"thesis-code\"",
+            "estimator = \"thesis-code\"\nexact = \"contact-strip\"",
+            1,
+        );
+    expect_error(
+        "exact-displacement-in-reynolds",
+        &displacement_as_pressure,
+        "scene.reynolds.exact",
+        "a pressure",
+    );
 }
 
 #[test]

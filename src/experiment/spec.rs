@@ -156,6 +156,27 @@ pub enum ExactSolution {
     /// w = p(x₁)p(x₂), p(t) = t(1 − t) atan(25(t − ½)) on the unit square: the displacement
     /// s = (w, w), or the pressure ψ = ψ₀ + 1000·w.
     ArctanCross,
+    /// A displacement in contact with the flat obstacle b = −0.05 below the bottom side on
+    /// x₁ ∈ [0.3, 0.7] and separated elsewhere (`models::manufactured::ContactStrip::FLAT`).
+    ContactStrip,
+    /// The same with the tilted obstacle b = −0.1 + 0.05 x₁ and the Signorini condition
+    /// (`models::manufactured::ContactStrip::TILTED`).
+    ContactStripTilted,
+    /// A pressure (F₊)², F = √ψ₀ − K·16x₁(1 − x₁)x₂(1 − x₂), with a cavitation zone about the
+    /// centre (`models::manufactured`, `cavitation-bubble`).
+    CavitationBubble,
+}
+
+impl ExactSolution {
+    /// The experiment-file spelling.
+    pub fn name(self) -> &'static str {
+        match self {
+            ExactSolution::ArctanCross => "arctan-cross",
+            ExactSolution::ContactStrip => "contact-strip",
+            ExactSolution::ContactStripTilted => "contact-strip-tilted",
+            ExactSolution::CavitationBubble => "cavitation-bubble",
+        }
+    }
 }
 
 #[derive(Clone, Debug, Deserialize, PartialEq)]
@@ -351,6 +372,8 @@ pub enum Rise {
 pub enum ObstacleShape {
     /// b = level.
     Constant { level: f64 },
+    /// b = offset + slope·x₁, a straight tilted obstacle (the manufactured Signorini scene).
+    Linear { offset: f64, slope: f64 },
     /// b = offset + amplitude·sin(periods·2π(x₁+16)/32).
     Periodic {
         offset: f64,

@@ -18,8 +18,10 @@ use super::error::StudyError;
 use super::problem::{setup_system, Discretisation, Estimate, Pictures, Problem, Solution};
 use super::signorini::{converge, Comparison, ComparisonFailures, Converged, FixedPoint};
 use super::transfer::PreviousSolution;
+use crate::estimators;
 use crate::estimators::contact::{self as contact_estimator, ContactEstimate, ContactEstimator};
 use crate::experiment::{ContactData, ElasticityData, Rectangle, SignoriniReading};
+use crate::fe::quadrature;
 use crate::fe::{DofMap, System};
 use crate::linalg::DirectSolver;
 use crate::mesh::{BoundaryFace, Mesh, Side};
@@ -28,6 +30,7 @@ use crate::models::contact::{
     ContactBoundary, ContactConstraint, ContactModel, ContactSolution,
 };
 use crate::models::elasticity::Elasticity;
+use crate::models::manufactured::{ContactStrip, ExactDisplacement};
 use crate::results::{columns, DeformedPicture, MeshField};
 
 /// Boundary points per face at which the true penetration is sampled.
@@ -97,12 +100,20 @@ pub struct ContactProblem {
     /// Where the fixed point of the comparison failed with `signorini = "linearised"` (the
     /// table goes on; the notes of its section say it).
     pub failures: ComparisonFailures,
+    /// The manufactured solution of the scene (`contact-strip`, `contact-strip-tilted`), if it
+    /// has one: its surface load is added on Γ_C, and each row gets the true error, the
+    /// effectivity and the vertices whose contact state differs from the known one.
+    pub exact: Option<ExactDisplacement>,
 }
 
 impl ContactProblem {
     pub fn new(elasticity: &ElasticityData, contact: &ContactData) -> ContactProblem {
         ContactProblem {
             reading: contact.signorini_reading(),
+            exact: elasticity
+                .exact
+                .map(ExactDisplacement::of)
+                .filter(|e| e.strip().is_some()),
             ..ContactProblem::uniform(
                 elasticity.into(),
                 contact_boundaries(contact),
@@ -136,17 +147,21 @@ impl ContactProblem {
             compares: true,
             comparison: None,
             failures: ComparisonFailures::default(),
+            exact: None,
         }
     }
 
     /// The same scene with another (uniform) contact model, e.g. the z-solution for comparison.
     pub fn with_model(&self, model: ContactModel) -> ContactProblem {
-        ContactProblem::uniform(
-            self.model.clone(),
-            self.boundaries.clone(),
-            model,
-            self.estimator,
-        )
+        ContactProblem {
+            exact: self.exact,
+            ..ContactProblem::uniform(
+                self.model.clone(),
+                self.boundaries.clone(),
+                model,
+                self.estimator,
+            )
+        }
     }
 
     /// Set the linearisation point s₀ of the next Signorini solve explicitly.
@@ -314,6 +329,9 @@ impl Problem for ContactProblem {
     /// both models.
     fn assemble(&mut self, disc: &Discretisation, system: &mut System) -> Result<(), StudyError> {
         self.model.assemble(&disc.mesh, system);
+        if let Some(exact) = &self.exact {
+            add_surface_load(&self.model, exact, system);
+        }
         let previous = self.transferred_s0(system)?;
         let s0 = if self.uses_signorini {
             previous.as_deref()
@@ -406,6 +424,19 @@ impl Problem for ContactProblem {
         if let Some(comparison) = self.comparison.take() {
             estimate.columns.extend(comparison.columns());
         }
+        if let Some(exact) = &self.exact {
+            let error =
+                estimators::true_error::elasticity_energy(&disc.mesh, dofs, u, &self.model, exact);
+            let total = estimators::total(&estimate.cells);
+            let state = self.state.as_ref().expect("estimate after solve");
+            estimate = estimate
+                .with(columns::ERROR, error)
+                .with(columns::EFFECTIVITY, total / error)
+                .with(
+                    CONTACT_SET_MISMATCH,
+                    contact_set_mismatch(exact, dofs, state) as f64,
+                );
+        }
         Ok(estimate)
     }
 
@@ -483,6 +514,65 @@ impl Problem for ContactProblem {
     fn notes(&self) -> Vec<String> {
         self.failures.notes()
     }
+}
+
+/// Column of the manufactured contact scenes: the contact vertices, away from the ends of the
+/// known active interval, whose computed state (in contact or not) differs from the exact one.
+pub const CONTACT_SET_MISMATCH: &str = "contact_set_mismatch";
+
+/// ∫_{Γ_C} t·φ added to the load vector for the surface load t of a manufactured contact field
+/// on the bottom side ([`ExactDisplacement::contact_traction`]): t = σ(s)n₀ + pν is not
+/// polynomial, so 4 Gauss points per face. The vertices of a boundary side are never hanging
+/// (a hanging vertex is the midpoint of an interior face), so the face integrals go straight to
+/// the dofs of their end points; the clamped corners' dofs are fixed and skipped.
+fn add_surface_load(model: &Elasticity, exact: &ExactDisplacement, system: &mut System) {
+    let (gp, gw) = quadrature::gauss(4);
+    let dofs = &system.dofs;
+    let verts = dofs.vertices.side_vertices(Side::Bottom);
+    for w in verts.windows(2) {
+        let (xa, xb) = (
+            dofs.vertices.coords[w[0] as usize],
+            dofs.vertices.coords[w[1] as usize],
+        );
+        let len = xb[0] - xa[0];
+        for (t, weight) in gp.iter().zip(gw) {
+            let x = [xa[0] + t * len, xa[1]];
+            let load = exact.contact_traction(model.mu, model.lambda, x);
+            for (vert, phi) in [(w[0], 1.0 - t), (w[1], *t)] {
+                for (i, li) in load.iter().enumerate() {
+                    let d = dofs.dof(vert, i);
+                    if system.constraints.is_free(d) {
+                        system.rhs[d] += li * phi * weight * len;
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// The contact vertices whose computed state (active constraint or not) differs from the
+/// exact one (x₁ in the active interval of the field), leaving out the end points of the
+/// bottom faces that contain an end of the interval (the cells touching the free boundary).
+pub fn contact_set_mismatch(exact: &ExactDisplacement, dofs: &DofMap, state: &CycleState) -> usize {
+    let Some(strip) = exact.strip() else {
+        return 0;
+    };
+    let coords = &dofs.vertices.coords;
+    let verts = dofs.vertices.side_vertices(Side::Bottom);
+    let mut touching = std::collections::HashSet::<u32>::new();
+    for w in verts.windows(2) {
+        let (a, b) = (coords[w[0] as usize][0], coords[w[1] as usize][0]);
+        if ContactStrip::ACTIVE.iter().any(|&e| a <= e && e <= b) {
+            touching.extend(w.iter().copied());
+        }
+    }
+    state
+        .constraints
+        .iter()
+        .zip(&state.solution.active)
+        .filter(|(c, _)| !touching.contains(&c.vertex))
+        .filter(|(c, &active)| strip.in_contact(coords[c.vertex as usize][0]) != active)
+        .count()
 }
 
 /// Relative reach of an obstacle into the body at a clamped corner that is still accepted.

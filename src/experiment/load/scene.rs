@@ -127,8 +127,10 @@ impl Check<'_> {
         self.effects(scene)?;
         if let Some(elasticity) = &scene.elasticity {
             self.elasticity(elasticity)?;
-            if elasticity.exact.is_some() {
-                self.manufactured(scene, elasticity)?;
+            match elasticity.exact {
+                Some(ExactSolution::ArctanCross) => self.manufactured(scene, elasticity)?,
+                Some(name) => self.manufactured_contact(scene, elasticity, name)?,
+                None => {}
             }
         }
         if let Some(contact) = &scene.contact {
@@ -136,8 +138,8 @@ impl Check<'_> {
         }
         if let Some(reynolds) = &scene.reynolds {
             self.reynolds(reynolds, &scene.domain)?;
-            if reynolds.exact.is_some() {
-                self.manufactured_film(scene, reynolds)?;
+            if let Some(name) = reynolds.exact {
+                self.manufactured_film(scene, reynolds, name)?;
             }
         }
         if let Some(substokes) = &scene.substokes {
@@ -346,10 +348,18 @@ impl Check<'_> {
     }
 
     /// A Reynolds scene with `exact`: the pressure lives on the unit square and equals ψ₀ on its
-    /// boundary and stays positive, so the scene is the Reynolds film alone, on the unit square,
-    /// without cavitation and with the estimator of Theorem III.16 as stated (the thesis-code
-    /// reading leaves out the squeeze part of l_R, which a manufactured load does not have).
-    fn manufactured_film(&self, scene: &SceneFile, data: &ReynoldsData) -> Checked {
+    /// boundary, so the scene is the Reynolds film alone, on the unit square, with the estimator
+    /// of Theorems III.16/III.17 as stated (the thesis-code reading leaves out the squeeze part
+    /// of l_R, which a manufactured load does not have). `arctan-cross` stays positive and needs
+    /// `cavitation = "off"`; `cavitation-bubble` has a cavitation zone and needs
+    /// `cavitation = "on"` (with `auto` the first solve would be the unconstrained one, whose
+    /// load is not the field's) and ψ₀ > 0 (F = √ψ₀ − K·B); a displacement field is refused.
+    fn manufactured_film(
+        &self,
+        scene: &SceneFile,
+        data: &ReynoldsData,
+        name: ExactSolution,
+    ) -> Checked {
         const F: &str = "scene.reynolds";
         self.ensure(
             scene.effects == [Effect::Reynolds],
@@ -358,17 +368,165 @@ impl Check<'_> {
             format!("{:?}", names(&scene.effects)),
         )?;
         self.unit_square(scene)?;
-        self.ensure(
-            data.cavitation == Cavitation::Off,
-            &format!("{F}.cavitation"),
-            "\"off\" with scene.reynolds.exact (the exact pressure is positive)",
-            format!("{:?}", data.cavitation),
-        )?;
+        match name {
+            ExactSolution::ArctanCross => self.ensure(
+                data.cavitation == Cavitation::Off,
+                &format!("{F}.cavitation"),
+                "\"off\" with scene.reynolds.exact = \"arctan-cross\" (the exact pressure is \
+                 positive)",
+                format!("{:?}", data.cavitation),
+            )?,
+            ExactSolution::CavitationBubble => {
+                self.ensure(
+                    data.cavitation == Cavitation::On,
+                    &format!("{F}.cavitation"),
+                    "\"on\" with scene.reynolds.exact = \"cavitation-bubble\" (the exact \
+                     pressure cavitates on a known zone, and its load is that of the LCP)",
+                    format!("{:?}", data.cavitation),
+                )?;
+                self.ensure(
+                    data.boundary_pressure > 0.0,
+                    &format!("{F}.boundary_pressure"),
+                    "a positive ψ₀ with scene.reynolds.exact = \"cavitation-bubble\" (the field \
+                     is (√ψ₀ − K·B)₊²)",
+                    data.boundary_pressure,
+                )?;
+            }
+            other => self.ensure(
+                false,
+                &format!("{F}.exact"),
+                "a pressure: \"arctan-cross\" or \"cavitation-bubble\"",
+                format!("\"{}\", a displacement", other.name()),
+            )?,
+        }
         self.ensure(
             data.estimator == ReynoldsEstimator::Theorem,
             &format!("{F}.estimator"),
             "\"theorem\" with scene.reynolds.exact (the load is derived from the pressure)",
             format!("{:?}", data.estimator),
+        )
+    }
+
+    /// A contact scene with `exact = "contact-strip"` or `"contact-strip-tilted"`
+    /// ([`crate::models::manufactured::ContactStrip`]): the field lives on the unit square, is 0
+    /// on the left, right and top sides and touches its obstacle below the bottom side. So the
+    /// scene is elasticity and contact alone on the unit square, clamped on exactly those three
+    /// sides, without a load or traction of its own (the volume load and the surface load on
+    /// Γ_C are derived from the field), with the one obstacle of the field on the bottom side;
+    /// the tilted field solves the Signorini condition and is refused with the z-model (whose
+    /// solution differs by k·u), and neither is a model-adaptive scene.
+    fn manufactured_contact(
+        &self,
+        scene: &SceneFile,
+        data: &ElasticityData,
+        name: ExactSolution,
+    ) -> Checked {
+        const F: &str = "scene.elasticity";
+        let strip = match name {
+            ExactSolution::ContactStrip => crate::models::manufactured::ContactStrip::FLAT,
+            ExactSolution::ContactStripTilted => crate::models::manufactured::ContactStrip::TILTED,
+            other => {
+                return self.ensure(
+                    false,
+                    &format!("{F}.exact"),
+                    "a displacement: \"arctan-cross\", \"contact-strip\" or \
+                     \"contact-strip-tilted\"",
+                    format!("\"{}\", a pressure", other.name()),
+                )
+            }
+        };
+        self.ensure(
+            scene.effects.len() == 2
+                && scene.effects.contains(&Effect::Elasticity)
+                && scene.effects.contains(&Effect::Contact),
+            "scene.effects",
+            "[\"elasticity\", \"contact\"] with a contact field in scene.elasticity.exact",
+            format!("{:?}", names(&scene.effects)),
+        )?;
+        self.unit_square(scene)?;
+        let mut sides = data.dirichlet.clone();
+        sides.sort_by_key(|s| side_name(*s));
+        self.ensure(
+            sides == [Side::Left, Side::Right, Side::Top],
+            &format!("{F}.dirichlet"),
+            "[\"left\", \"right\", \"top\"] with a contact field in scene.elasticity.exact (the \
+             field is 0 there and touches the obstacle on the bottom side)",
+            format!(
+                "{:?}",
+                data.dirichlet
+                    .iter()
+                    .map(|s| side_name(*s))
+                    .collect::<Vec<_>>()
+            ),
+        )?;
+        self.ensure(
+            data.volume_load.is_none(),
+            &format!("{F}.volume_load"),
+            "no volume_load with scene.elasticity.exact (the load is derived from the field)",
+            "a volume_load",
+        )?;
+        self.ensure(
+            data.tractions.is_empty(),
+            &format!("{F}.tractions"),
+            "no tractions with a contact field in scene.elasticity.exact (the surface load on \
+             the contact side is derived from the field)",
+            format!("{} tractions", data.tractions.len()),
+        )?;
+        let Some(contact) = &scene.contact else {
+            return Ok(());
+        };
+        self.ensure(
+            matches!(contact.model, ContactModel::Z | ContactModel::Signorini),
+            "scene.contact.model",
+            "\"z\" or \"signorini\" with a contact field in scene.elasticity.exact",
+            format!("\"{}\"", contact.model.name()),
+        )?;
+        if name == ExactSolution::ContactStripTilted {
+            self.ensure(
+                contact.model == ContactModel::Signorini,
+                "scene.contact.model",
+                "\"signorini\" with scene.elasticity.exact = \"contact-strip-tilted\" (the field \
+                 meets the Signorini condition; the z-solution of its data differs by k·u)",
+                format!("\"{}\"", contact.model.name()),
+            )?;
+        }
+        let shape = if strip.slope == 0.0 {
+            ObstacleShape::Constant {
+                level: strip.offset,
+            }
+        } else {
+            ObstacleShape::Linear {
+                offset: strip.offset,
+                slope: strip.slope,
+            }
+        };
+        let expected = match shape {
+            ObstacleShape::Linear { offset, slope } => format!(
+                "one obstacle, side = \"bottom\", shape = {{ kind = \"linear\", offset = {offset:?}, \
+                 slope = {slope:?} }}"
+            ),
+            _ => format!(
+                "one obstacle, side = \"bottom\", shape = {{ kind = \"constant\", level = {:?} }}",
+                strip.offset
+            ),
+        };
+        let found = contact
+            .obstacles
+            .iter()
+            .map(|o| format!("{} {:?}", side_name(o.side), o.shape))
+            .collect::<Vec<_>>()
+            .join(", ");
+        self.ensure(
+            contact.obstacles.len() == 1
+                && contact.obstacles[0].side == Side::Bottom
+                && contact.obstacles[0].shape == shape
+                && contact.obstacles[0].rises.is_none(),
+            "scene.contact.obstacles",
+            &format!(
+                "{expected} with scene.elasticity.exact = \"{}\" (the obstacle of the field)",
+                name.name()
+            ),
+            format!("[{found}]"),
         )
     }
 
@@ -470,6 +628,10 @@ impl Check<'_> {
         let f = |name: &str| format!("{field}.{name}");
         match *shape {
             ObstacleShape::Constant { level } => self.finite(&f("level"), level),
+            ObstacleShape::Linear { offset, slope } => {
+                self.finite(&f("offset"), offset)?;
+                self.finite(&f("slope"), slope)
+            }
             ObstacleShape::Periodic {
                 offset,
                 amplitude,

@@ -76,6 +76,9 @@ pub(super) const SAW_Y: [f64; 5] = [0.0, -1.0, 0.0, 2.0, 0.0];
 pub enum Shape {
     /// b = level.
     Constant { level: f64 },
+    /// b = offset + slope·x₁ (the tilted straight obstacle of the manufactured Signorini scene,
+    /// `crate::models::manufactured::ContactStrip`).
+    Linear { offset: f64, slope: f64 },
     /// b = offset + amplitude·sin(periods·2π(x₁+16)/32) (l. 5216, 5279: periods = 2).
     Periodic {
         offset: f64,
@@ -166,6 +169,7 @@ impl Shape {
     pub fn value(&self, x1: f64) -> f64 {
         match *self {
             Shape::Constant { level } => level,
+            Shape::Linear { offset, slope } => offset + slope * x1,
             Shape::Periodic {
                 offset,
                 amplitude,
@@ -198,6 +202,7 @@ impl Shape {
     /// b'(x₁), analytic.
     pub fn slope(&self, x1: f64) -> f64 {
         match *self {
+            Shape::Linear { slope, .. } => slope,
             Shape::Constant { .. } => 0.0,
             Shape::Periodic {
                 amplitude, periods, ..
@@ -237,6 +242,7 @@ impl Shape {
             (x_hi, x_lo)
         };
         match *self {
+            Shape::Linear { slope, .. } => slope.abs(),
             Shape::Constant { .. } => 0.0,
             Shape::Periodic {
                 amplitude, periods, ..
@@ -299,6 +305,7 @@ impl From<crate::experiment::ObstacleShape> for Shape {
         use crate::experiment::ObstacleShape as File;
         match s {
             File::Constant { level } => Shape::Constant { level },
+            File::Linear { offset, slope } => Shape::Linear { offset, slope },
             File::Periodic {
                 offset,
                 amplitude,
