@@ -369,7 +369,7 @@ impl Problem for SubStokesFilm {
 
     /// The reference of [`super::reference`]: the overlay of the kept meshes refined once,
     /// solved afresh by the LDLᵀ with the model in use at the end of the run (with cavitation
-    /// where it ran), and the distance of each kept solve to it in the norm of
+    /// where it ran, the active set warm-started from the last kept solve), and the distance of each kept solve to it in the norm of
     /// [`true_error::substokes_norm`] — (‖χ‖²_{H¹} + ‖ψ‖²_{L²})^{1/2}, the Euclidean form of the
     /// left-hand side of Theorems III.23/III.24 — extrapolated by e_k = √(d_k² + e_ref²),
     /// e_ref = d_last/√3 ([`super::reference::extrapolated_errors`]; for this saddle point an
@@ -383,7 +383,19 @@ impl Problem for SubStokesFilm {
             return Ok(None);
         };
         let (dofs, u) = if self.switch.is_on() {
-            let s = self.problem.solve_with_cavitation(&mesh)?.solution;
+            // Warm start: active where the last kept solve has ψ ≤ 0 (one or two factorisations
+            // instead of the cold start's many on the largest mesh of the run).
+            let mut system = self.problem.system(&mesh);
+            self.problem.assemble_cavitation(&mesh, &mut system);
+            let mut solver = DirectSolver::ldlt(SubStokesProblem::signs(&system.dofs));
+            solver.reorder(system.ordering());
+            let last = kept.last().map(|k| PreviousSolution::of(&k.disc, k.dofs.clone(), k.u.clone()));
+            let mut initial = vec![false; system.dofs.n_dofs()];
+            for (v, &x) in system.dofs.vertices.coords.iter().enumerate() {
+                let p = last.as_ref().and_then(|l| l.value(PSI, x));
+                initial[system.dofs.dof(v as u32, PSI)] = p.is_some_and(|p| p <= 0.0);
+            }
+            let s = solve_cavitation(&system, &mut solver, &initial)?.solution;
             (s.dofs, s.u)
         } else {
             let s = self.problem.solve(&mesh)?;
