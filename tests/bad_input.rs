@@ -133,11 +133,12 @@ fn expect_error_in(
 }
 
 /// The shipped scenes that are not the thesis's: the manufactured solutions.
-const OWN_SCENES: [&str; 5] = [
+const OWN_SCENES: [&str; 6] = [
     "manufactured-cavitation",
     "manufactured-elasticity",
     "manufactured-reynolds",
     "manufactured-signorini",
+    "manufactured-substokes",
     "manufactured-z-contact",
 ];
 
@@ -2099,4 +2100,30 @@ fn invisible_one_line_texts_are_refused() {
     );
     load(&path).unwrap_or_else(|e| panic!("{e}"));
     let _ = fs::remove_dir_all(&dir);
+}
+
+/// An unknown manufactured field of a SubStokes scene is refused naming `scene.substokes.exact`
+/// and the one known field; `exact` on a SubStokes scene with the Uzawa comparison is refused
+/// naming the solver.
+#[test]
+fn unknown_substokes_exact_field_is_refused() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments/manufactured-substokes.toml");
+    let text = fs::read_to_string(path).expect("shipped");
+    expect_error_in(
+        "manufactured-substokes.toml",
+        "substokes-exact-unknown",
+        &text.replace("exact = \"arctan-cross\"", "exact = \"stream-bump\""),
+        "scene.substokes.exact",
+        "unknown variant `stream-bump`, expected one of `arctan-cross`",
+    );
+    expect_error_in(
+        "manufactured-substokes.toml",
+        "substokes-exact-compare",
+        &text.replace(
+            "exact = \"arctan-cross\"",
+            "exact = \"arctan-cross\"\ncompare_with = \"uzawa\"",
+        ),
+        "scene.substokes.solver",
+        "no compare_with",
+    );
 }

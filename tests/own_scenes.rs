@@ -117,8 +117,8 @@ fn the_default_experiment_folder_does_not_pick_up_the_templates() {
     let stems: Vec<&str> = loaded.iter().map(|(stem, _)| stem.as_str()).collect();
     assert_eq!(
         stems.len(),
-        83,
-        "75 tables, 3 figures and the 5 manufactured scenes: {stems:?}"
+        84,
+        "75 tables, 3 figures and the 6 manufactured scenes: {stems:?}"
     );
     for id in TEMPLATES {
         assert!(!stems.contains(&id), "{id} picked up");

@@ -595,12 +595,11 @@ fn residual_parts(
             let jets = film.film_jets(cv.point(q));
             let g = jets.g.v;
             let dg_g = [jets.g.d[0] / g, jets.g.d[1] / g];
-            let gamma = match terms.source {
-                Source::Gamma => jets.gamma(),
-                Source::GammaC(s) => jets.gamma_c(s),
+            let cavitation = match terms.source {
+                Source::Gamma => None,
+                Source::GammaC(s) => Some(s),
             };
-            let source = [0, 1].map(|mu| jets.kappa[mu].v + gamma[mu].v);
-            let sigma3 = jets.sigma3().v;
+            let (source, sigma3) = problem.sources(&jets, cv.point(q), cavitation);
             let chi = [0, 1].map(|mu| evaluate(shape, uc[mu], xi, eta));
             let (psi, dpsi) = evaluate(shape, uc[2], xi, eta);
             let hess = [0, 1].map(|mu| hessian(shape, uc[mu], xi, eta));

@@ -75,3 +75,43 @@ pub fn reynolds_norm(
     });
     cells.iter().sum::<f64>().sqrt()
 }
+
+/// The SubStokes norm of Theorem III.23 (docs/estimators.md §5.6): the theorem bounds
+/// ‖χ − χ_h‖_{H¹} + ‖ψ − ψ_h‖_{L²} by η; measured here is the Euclidean combination
+///
+/// ‖(e_χ, e_ψ)‖ = (‖e_χ‖²_{H¹} + ‖e_ψ‖²_{L²})^{1/2},  ‖e_χ‖²_{H¹} = Σ_μ ∫ (e_χμ² + |∇e_χμ|²),
+///
+/// which lies between 1/√2 times the theorem's sum and the sum itself (the squares add over
+/// cells, which the reference error of [`crate::study::reference`] needs). The same norm serves
+/// Theorem III.24 (cavitation), whose left-hand side has the same two terms.
+///
+/// 4×4 Gauss points per cell, as [`elasticity_energy`]: the discrete fields are bilinear, the
+/// exact ones smooth. Cells are summed in the order of `mesh.active()`.
+pub fn substokes_norm(
+    mesh: &Mesh,
+    dofs: &DofMap,
+    u: &[f64],
+    exact: &crate::models::manufactured_stokes::ExactFlow,
+) -> f64 {
+    let rule = square_rule::<16>();
+    let cells = per_cell(mesh, &rule, |k, _, cv| {
+        let values = [0, 1, 2].map(|c| dofs.corner_values(u, k, c));
+        let mut sum = 0.0;
+        for q in 0..rule.len() {
+            let x = cv.point(q);
+            let chi = exact.chi(x);
+            let dchi = exact.chi_gradient(x);
+            for mu in 0..2 {
+                let (v, grad) = evaluate_at(cv.shape(), values[mu], x);
+                let e = chi[mu] - v;
+                let de = [dchi[mu][0] - grad[0], dchi[mu][1] - grad[1]];
+                sum += (e * e + de[0] * de[0] + de[1] * de[1]) * cv.jxw(q);
+            }
+            let (p, _) = evaluate_at(cv.shape(), values[2], x);
+            let e = exact.psi(x) - p;
+            sum += e * e * cv.jxw(q);
+        }
+        sum
+    });
+    cells.iter().sum::<f64>().sqrt()
+}

@@ -154,7 +154,8 @@ pub struct ElasticityData {
 #[serde(rename_all = "kebab-case")]
 pub enum ExactSolution {
     /// w = p(x₁)p(x₂), p(t) = t(1 − t) atan(25(t − ½)) on the unit square: the displacement
-    /// s = (w, w), or the pressure ψ = ψ₀ + 1000·w.
+    /// s = (w, w), or the pressure ψ = ψ₀ + 1000·w (Reynolds; SubStokes with the flow rate of
+    /// [`crate::models::manufactured_stokes`]).
     ArctanCross,
     /// A displacement in contact with the flat obstacle b = −0.05 below the bottom side on
     /// x₁ ∈ [0.3, 0.7] and separated elsewhere (`models::manufactured::ContactStrip::FLAT`).
@@ -624,6 +625,12 @@ pub struct SubStokesData {
     /// A solver the report runs the table with again, to compare (IV.50, IV.70: `uzawa`).
     #[serde(default)]
     pub compare_with: Option<FilmSolver>,
+    /// A manufactured solution: the flow rate χ = curl(B t³(1 − t)³ ⊗ t³(1 − t)³) and the
+    /// pressure ψ₀ + A·w in closed form, the sources derived from them
+    /// ([`crate::models::manufactured_stokes`]); the rows get the true error and the
+    /// effectivity.
+    #[serde(default)]
+    pub exact: Option<ExactSolution>,
 }
 
 /// The solver of a SubStokes system (`models::substokes`,

@@ -365,3 +365,28 @@ pub fn face_segments(mesh: &Mesh, c: CellId, face: Face) -> (Option<Side>, Vec<F
         }
     }
 }
+
+impl Mesh {
+    /// Whether this mesh has the cell `key` (same coarse grid) and it is refined: the test of
+    /// the overlay of meshes ([`crate::study::reference::overlay`]).
+    pub fn refines(&self, key: super::CellKey) -> bool {
+        let (ex, ey) = self.extent();
+        if key.x >= ex || key.y >= ey {
+            return false;
+        }
+        let c = self.descend(key.x, key.y, key.level);
+        self.level(c) == key.level && !self.is_active(c)
+    }
+
+    /// The active cell of this mesh that contains the whole cell `key` of a mesh with the same
+    /// coarse grid, or `None` where this mesh is finer there (or the cell lies outside):
+    /// the point location of [`crate::study::reference`].
+    pub fn active_cell_holding(&self, key: super::CellKey) -> Option<CellId> {
+        let (ex, ey) = self.extent();
+        if key.x >= ex || key.y >= ey {
+            return None;
+        }
+        let c = self.descend(key.x, key.y, MAX_LEVEL);
+        (self.level(c) <= key.level).then_some(c)
+    }
+}

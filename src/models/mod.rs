@@ -6,6 +6,7 @@ pub mod error;
 pub mod film_comparison;
 pub mod film_coupling;
 pub mod manufactured;
+pub mod manufactured_stokes;
 pub mod obstacle;
 pub mod reynolds;
 pub mod stokes_channel;

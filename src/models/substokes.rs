@@ -58,7 +58,8 @@ use crate::linalg::active_set::{
 };
 use crate::linalg::{Csc, DirectSolver};
 use crate::mesh::{bilinear, CellId, Face, Mesh};
-use crate::models::thin_film::{CavitationSource, ThinFilm};
+use crate::models::manufactured_stokes::ExactFlow;
+use crate::models::thin_film::{CavitationSource, FilmJets, ThinFilm};
 use crate::models::ModelError;
 
 /// Default stabilisation constant δ_ε of the pressure stabilisation (the default of the
@@ -100,6 +101,10 @@ pub struct SubStokesProblem {
     /// it, and a corner condition would break the symmetry of Figs IV.85, IV.101). P must be a
     /// vertex of every mesh (a corner of the domain).
     pub point: Option<[f64; 2]>,
+    /// A manufactured solution ([`crate::models::manufactured_stokes`]): its momentum and mass
+    /// sources replace κ + γ (κ + γ_c) and σ₃ in the assembly and in the estimators
+    /// ([`SubStokesProblem::sources`]); `None` (the default) for the thesis's examples.
+    pub exact: Option<ExactFlow>,
 }
 
 /// Which weak form [`SubStokesProblem::assemble_form`] assembles.
@@ -200,7 +205,33 @@ impl SubStokesProblem {
             delta_eps: DEFAULT_DELTA_EPS,
             cavitation_source: CavitationSource::default(),
             point: None,
+            exact: None,
         }
+    }
+
+    /// The same problem with the manufactured solution `exact` (its data replace the film's
+    /// sources).
+    pub fn with_exact(self, exact: Option<ExactFlow>) -> SubStokesProblem {
+        SubStokesProblem { exact, ..self }
+    }
+
+    /// The momentum source and the mass source at `x` of the film data `jets` = film_jets(x):
+    /// κ + γ (κ + γ_c for `cavitation`, with [`SubStokesProblem::cavitation_source`]) and σ₃,
+    /// or, with a manufactured solution, the sources derived from it
+    /// ([`ExactFlow::sources`]; the same for both forms, its χ being divergence-free).
+    #[inline]
+    pub fn sources(&self, jets: &FilmJets, x: [f64; 2], source: Option<CavitationSource>) -> ([f64; 2], f64) {
+        if let Some(exact) = &self.exact {
+            return exact.sources(&self.film, x);
+        }
+        let gamma = match source {
+            None => jets.gamma(),
+            Some(s) => jets.gamma_c(s),
+        };
+        (
+            [0, 1].map(|mu| jets.kappa[mu].v + gamma[mu].v),
+            jets.sigma3().v,
+        )
     }
 
     /// The same problem with the point condition (I.56) at `point`.
@@ -309,12 +340,11 @@ impl SubStokesProblem {
             let dg_g = [jets.g.d[0] / g, jets.g.d[1] / g];
             // κ + γ, or κ + γ_c for cavitation (κ = 0 in the examples of §IV.3, kept for
             // the general form).
-            let gamma = match form {
-                Form::Plain => jets.gamma(),
-                Form::Cavitation => jets.gamma_c(self.cavitation_source),
+            let cavitation = match form {
+                Form::Plain => None,
+                Form::Cavitation => Some(self.cavitation_source),
             };
-            let source = [0, 1].map(|mu| jets.kappa[mu].v + gamma[mu].v);
-            let sigma3 = jets.sigma3().v;
+            let (source, sigma3) = self.sources(&jets, cv.point(q), cavitation);
             let mass = 12.0 / (g * g);
             for a in 0..4 {
                 for b in 0..4 {

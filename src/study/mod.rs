@@ -21,6 +21,7 @@ pub mod model_fluid;
 pub mod problem;
 pub mod readings;
 pub mod record;
+pub mod reference;
 pub mod reynolds;
 pub mod signorini;
 pub mod solver_iterations;

@@ -18,9 +18,13 @@
 
 use super::clock::{Phase, PhaseClock};
 use super::error::StudyError;
-use super::problem::{setup_system, Discretisation, Estimate, Pictures, Problem, Solution};
+use super::problem::{
+    setup_system, Discretisation, Estimate, KeptSolve, Pictures, Problem, ReferenceErrors, Solution,
+};
+use super::reference;
 use super::thin_film::{CavitationSwitch, FieldSample, PreviousEstimate};
 use super::transfer::PreviousSolution;
+use crate::estimators::true_error;
 use crate::estimators::substokes::{
     estimate_cavitation, estimate_with, lumped_multiplier, CavitationOptions, Options,
     Stabilisation, SubStokesEstimate, PART_NAMES,
@@ -32,6 +36,7 @@ use crate::fe::{DofMap, System};
 use crate::linalg::uzawa::{InnerSolver, UzawaOptions};
 use crate::linalg::DirectSolver;
 use crate::models::film_comparison::Comparison;
+use crate::models::manufactured_stokes::ExactFlow;
 use crate::models::substokes::{solve_cavitation, solve_system, SubStokesProblem, PSI};
 use crate::models::substokes_uzawa::{
     default_options, solve_cavitation_uzawa, solve_uzawa, CavitationUzawaOptions, UzawaStats,
@@ -103,6 +108,10 @@ pub fn substokes_problem(d: &SubStokesData, domain: &Rectangle) -> SubStokesProb
         PointCondition::None => None,
         PointCondition::Corner => Some([domain.x[0], domain.y[0]]),
     })
+    .with_exact(
+        d.exact
+            .map(|name| ExactFlow::of(name, d.boundary_pressure)),
+    )
 }
 
 impl SubStokesFilm {
@@ -296,6 +305,12 @@ impl Problem for SubStokesFilm {
         for (name, part) in PART_NAMES.iter().zip(parts) {
             estimate = estimate.with(&format!("eta_{name}"), part);
         }
+        if let Some(exact) = &self.problem.exact {
+            let error = true_error::substokes_norm(&disc.mesh, dofs, u, exact);
+            estimate = estimate
+                .with(columns::ERROR, error)
+                .with(columns::EFFECTIVITY, total / error);
+        }
         Ok(estimate)
     }
 
@@ -346,6 +361,68 @@ impl Problem for SubStokesFilm {
 
     fn component(&self, name: &str) -> Option<usize> {
         COMPONENTS.iter().position(|&c| c == name)
+    }
+
+    fn keeps_solves(&self) -> bool {
+        true
+    }
+
+    /// The reference of [`super::reference`]: the overlay of the kept meshes refined once,
+    /// solved afresh by the LDLᵀ with the model in use at the end of the run (with cavitation
+    /// where it ran, the active set warm-started from the last kept solve), and the distance of each kept solve to it in the norm of
+    /// [`true_error::substokes_norm`] — (‖χ‖²_{H¹} + ‖ψ‖²_{L²})^{1/2}, the Euclidean form of the
+    /// left-hand side of Theorems III.23/III.24 — extrapolated by e_k = √(d_k² + e_ref²),
+    /// e_ref = d_last/√3 ([`super::reference::extrapolated_errors`]; for this saddle point an
+    /// approximation, not the Pythagoras of a symmetric Galerkin problem).
+    fn reference_errors(
+        &mut self,
+        kept: &[KeptSolve],
+    ) -> Result<Option<ReferenceErrors>, StudyError> {
+        let meshes: Vec<&crate::mesh::Mesh> = kept.iter().map(|k| &k.disc.mesh).collect();
+        let Some(mesh) = reference::reference_mesh(&meshes)? else {
+            return Ok(None);
+        };
+        let (dofs, u) = if self.switch.is_on() {
+            // Warm start: active where the last kept solve has ψ ≤ 0 (one or two factorisations
+            // instead of the cold start's many on the largest mesh of the run).
+            let mut system = self.problem.system(&mesh);
+            self.problem.assemble_cavitation(&mesh, &mut system);
+            let mut solver = DirectSolver::ldlt(SubStokesProblem::signs(&system.dofs));
+            solver.reorder(system.ordering());
+            let last = kept.last().map(|k| PreviousSolution::of(&k.disc, k.dofs.clone(), k.u.clone()));
+            let mut initial = vec![false; system.dofs.n_dofs()];
+            for (v, &x) in system.dofs.vertices.coords.iter().enumerate() {
+                let p = last.as_ref().and_then(|l| l.value(PSI, x));
+                initial[system.dofs.dof(v as u32, PSI)] = p.is_some_and(|p| p <= 0.0);
+            }
+            let s = solve_cavitation(&system, &mut solver, &initial)?.solution;
+            (s.dofs, s.u)
+        } else {
+            let s = self.problem.solve(&mesh)?;
+            (s.dofs, s.u)
+        };
+        let reference = reference::VertexField {
+            mesh: &mesh,
+            dofs: &dofs,
+            u: &u,
+        };
+        let weights = [(1.0, 1.0), (1.0, 1.0), (1.0, 0.0)];
+        let mut d = Vec::with_capacity(kept.len());
+        for k in kept {
+            let field = reference::VertexField {
+                mesh: &k.disc.mesh,
+                dofs: &k.dofs,
+                u: &k.u,
+            };
+            match reference::distance(reference, field, &weights) {
+                Some(dk) => d.push(dk),
+                None => return Ok(None),
+            }
+        }
+        Ok(Some(ReferenceErrors {
+            errors: reference::extrapolated_errors(&d),
+            dofs: dofs.n_dofs(),
+        }))
     }
 
     fn cavitation_ran(&self) -> Option<bool> {

@@ -144,6 +144,9 @@ impl Check<'_> {
         }
         if let Some(substokes) = &scene.substokes {
             self.substokes(substokes, &scene.domain)?;
+            if substokes.exact.is_some() {
+                self.manufactured_substokes(scene, substokes)?;
+            }
         }
 
         Ok(())
@@ -527,6 +530,40 @@ impl Check<'_> {
                 name.name()
             ),
             format!("[{found}]"),
+        )
+    }
+
+    /// A SubStokes scene with `exact`: the fields live on the unit square, ψ = ψ₀ on its boundary
+    /// and ψ > 0, so the scene is the SubStokes film alone, on the unit square, without the point
+    /// condition (I.56) (the exact χ is not g v̄ at a corner) and solved by the LDLᵀ. Cavitation
+    /// `on` is allowed (the constraint ψ ≥ 0 stays inactive: the cavitation form's solve and
+    /// estimator with the same data), `auto` is not (it would never switch).
+    fn manufactured_substokes(&self, scene: &SceneFile, data: &SubStokesData) -> Checked {
+        const F: &str = "scene.substokes";
+        self.ensure(
+            scene.effects == [Effect::SubStokes],
+            "scene.effects",
+            "[\"substokes\"] alone with scene.substokes.exact",
+            format!("{:?}", names(&scene.effects)),
+        )?;
+        self.unit_square(scene)?;
+        self.ensure(
+            data.cavitation != Cavitation::Auto,
+            &format!("{F}.cavitation"),
+            "\"off\" or \"on\" with scene.substokes.exact (the exact pressure is positive)",
+            format!("{:?}", data.cavitation),
+        )?;
+        self.ensure(
+            data.point == PointCondition::None,
+            &format!("{F}.point"),
+            "\"none\" with scene.substokes.exact (the exact flow rate is not g v̄ at a corner)",
+            format!("{:?}", data.point),
+        )?;
+        self.ensure(
+            data.solver == FilmSolver::Ldlt && data.compare_with.is_none(),
+            &format!("{F}.solver"),
+            "\"ldlt\" and no compare_with with scene.substokes.exact",
+            format!("{:?}", data.solver),
         )
     }
 
