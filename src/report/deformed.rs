@@ -106,7 +106,7 @@ impl DeformedCanvas {
         let frame = Frame::new(win, margin + AXIS_LEFT, 40.0, plot_w);
         DeformedCanvas {
             width: (plot_w + AXIS_LEFT + 2.0 * margin).max(640.0),
-            height: frame.top + frame.height() + AXIS_BELOW + 60.0,
+            height: frame.top + frame.height() + AXIS_BELOW + 60.0 + CAPTION_LINE,
             frame,
         }
     }
@@ -414,8 +414,21 @@ fn deformed_legend(svg: &mut String, pic: &DeformedPicture, f: &Frame, margin: f
             &format!("Signorini faces ({})", pic.accurate_faces.len()),
         );
     }
-    text(svg, margin, y + 28.0, 14.0, "start", &pic.caption);
+    // A caption too long for the picture's width (a square domain is a narrow picture) goes on
+    // two lines, split at its "; ".
+    let width = f.left + f.width() + margin;
+    let fits = pic.caption.chars().count() as f64 * 7.6 <= width - 2.0 * margin;
+    match pic.caption.split_once("; ") {
+        Some((first, second)) if !fits => {
+            text(svg, margin, y + 28.0, 14.0, "start", &format!("{first};"));
+            text(svg, margin, y + 28.0 + CAPTION_LINE, 14.0, "start", second);
+        }
+        _ => text(svg, margin, y + 28.0, 14.0, "start", &pic.caption),
+    }
 }
+
+/// The height of the caption's second line, where it needs one.
+const CAPTION_LINE: f64 = 18.0;
 
 /// Class of the path of the Signorini faces in a deformed-body picture (what the tests look for).
 pub(super) const SIGNORINI_CLASS: &str = "signorini-faces";
