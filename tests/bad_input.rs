@@ -2107,7 +2107,8 @@ fn invisible_one_line_texts_are_refused() {
 /// naming the solver.
 #[test]
 fn unknown_substokes_exact_field_is_refused() {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments/manufactured-substokes.toml");
+    let path =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments/manufactured-substokes.toml");
     let text = fs::read_to_string(path).expect("shipped");
     expect_error_in(
         "manufactured-substokes.toml",

@@ -155,10 +155,9 @@ fn manufactured_cavitation_converges_at_order_one_half_and_finds_its_zone() {
 /// assembly's 2×2 points instead of 4×4 (Reynolds, cycle 2: +11.4 %).
 fn check_measured_error(id: &str) {
     for r in quick_rows(id).iter().filter(|r| r.cycle >= 2) {
-        let (Some(truth), Some(measured)) = (
-            r.value(columns::ERROR),
-            r.value(columns::MEASURED_ERROR),
-        ) else {
+        let (Some(truth), Some(measured)) =
+            (r.value(columns::ERROR), r.value(columns::MEASURED_ERROR))
+        else {
             panic!("{id}, cycle {}: no error or no measured error", r.cycle);
         };
         let off = measured / truth - 1.0;
@@ -292,10 +291,9 @@ fn manufactured_substokes_converges_at_order_one_half_with_a_steady_effectivity(
     let id = "manufactured-substokes";
     check_scene(id, [4, 9], [23.0, 52.0]);
     for r in quick_rows(id).iter().filter(|r| r.cycle >= 2) {
-        let (Some(error), Some(measured)) = (
-            r.value(columns::ERROR),
-            r.value(columns::MEASURED_ERROR),
-        ) else {
+        let (Some(error), Some(measured)) =
+            (r.value(columns::ERROR), r.value(columns::MEASURED_ERROR))
+        else {
             panic!("{id}, cycle {}: no error or measured_error", r.cycle);
         };
         let deviation = measured / error - 1.0;

@@ -169,7 +169,10 @@ mod tests {
                 }
                 let fd = (e.psi(xp) - e.psi(xm)) / (2.0 * h);
                 let dpsi = e.psi_gradient(x)[j];
-                assert!((fd - dpsi).abs() < 1e-5 * (1.0 + fd.abs()), "∂{j}ψ at {x:?}");
+                assert!(
+                    (fd - dpsi).abs() < 1e-5 * (1.0 + fd.abs()),
+                    "∂{j}ψ at {x:?}"
+                );
             }
             for mu in 0..2 {
                 assert!(

@@ -220,7 +220,12 @@ impl SubStokesProblem {
     /// or, with a manufactured solution, the sources derived from it
     /// ([`ExactFlow::sources`]; the same for both forms, its χ being divergence-free).
     #[inline]
-    pub fn sources(&self, jets: &FilmJets, x: [f64; 2], source: Option<CavitationSource>) -> ([f64; 2], f64) {
+    pub fn sources(
+        &self,
+        jets: &FilmJets,
+        x: [f64; 2],
+        source: Option<CavitationSource>,
+    ) -> ([f64; 2], f64) {
         if let Some(exact) = &self.exact {
             return exact.sources(&self.film, x);
         }

@@ -26,8 +26,8 @@ use super::families::{self, Family};
 use super::verdict::{self, KnownReason, Score, Verdict};
 use super::{
     compared_value, compares_previous_estimate, estimate_ratio, fmt_effectivity, rel_diff,
-    thesis_figure, tolerance,
-    Entry, Failure, FailureKind, Figure, ReportMeta, Section, Summary, MAX_SHOWN_THESIS_ROWS,
+    thesis_figure, tolerance, Entry, Failure, FailureKind, Figure, ReportMeta, Section, Summary,
+    MAX_SHOWN_THESIS_ROWS,
 };
 use crate::experiment::Comparison;
 use crate::results::columns::{self, PREVIOUS_ESTIMATE, THEOREM_ESTIMATE};

@@ -253,9 +253,6 @@ mod tests {
     /// A cycle whose energy lies below the fitted J(u) has no error.
     #[test]
     fn an_energy_below_the_limit_has_no_error() {
-        assert_eq!(
-            energy_errors(1.0, &[3.0, 0.5]),
-            vec![Some(2.0), None]
-        );
+        assert_eq!(energy_errors(1.0, &[3.0, 0.5]), vec![Some(2.0), None]);
     }
 }

@@ -81,7 +81,11 @@ pub struct VertexField<'a> {
 /// ‖reference − kept‖ in the norm of `weights` (one per component, module docs), integrated on
 /// the cells of the reference mesh. `None` where a reference cell is not inside one cell of
 /// the kept mesh (a kept mesh finer than the reference, or another coarse grid).
-pub fn distance(reference: VertexField, kept: VertexField, weights: &ComponentWeights) -> Option<f64> {
+pub fn distance(
+    reference: VertexField,
+    kept: VertexField,
+    weights: &ComponentWeights,
+) -> Option<f64> {
     let rule = square_rule::<16>();
     let kept_active = kept.mesh.active();
     let cells = per_cell(reference.mesh, &rule, |k, c, cv| {
@@ -112,7 +116,9 @@ pub fn distance(reference: VertexField, kept: VertexField, weights: &ComponentWe
 /// the reference (module docs: the reference is the last mesh refined once).
 pub fn extrapolated_errors(d: &[f64]) -> Vec<f64> {
     let e_ref = d.last().map_or(0.0, |last| last / 3f64.sqrt());
-    d.iter().map(|dk| (dk * dk + e_ref * e_ref).sqrt()).collect()
+    d.iter()
+        .map(|dk| (dk * dk + e_ref * e_ref).sqrt())
+        .collect()
 }
 
 #[cfg(test)]
@@ -128,11 +134,13 @@ mod tests {
         let mut a = coarse.clone();
         let mut flags = vec![false; a.n_active()];
         flags[0] = true;
-        a.refine_and_coarsen(&flags, &vec![false; flags.len()]).unwrap();
+        a.refine_and_coarsen(&flags, &vec![false; flags.len()])
+            .unwrap();
         let mut b = coarse.clone();
         let mut flags = vec![false; b.n_active()];
         flags[3] = true;
-        b.refine_and_coarsen(&flags, &vec![false; flags.len()]).unwrap();
+        b.refine_and_coarsen(&flags, &vec![false; flags.len()])
+            .unwrap();
         let r = reference_mesh(&[&a, &b]).unwrap().unwrap();
         // 4 coarse cells, two of them refined, all refined once more: 2·16 + 2·4 = 40.
         assert_eq!(r.n_active(), 40);
@@ -157,18 +165,49 @@ mod tests {
         };
         let (dr, ur) = field(&r, 2);
         let (da, mut ua) = field(&a, 2);
-        let reference = VertexField { mesh: &r, dofs: &dr, u: &ur };
+        let reference = VertexField {
+            mesh: &r,
+            dofs: &dr,
+            u: &ur,
+        };
         let w = [(1.0, 1.0), (1.0, 0.0)];
-        let d = distance(reference, VertexField { mesh: &a, dofs: &da, u: &ua }, &w).unwrap();
+        let d = distance(
+            reference,
+            VertexField {
+                mesh: &a,
+                dofs: &da,
+                u: &ua,
+            },
+            &w,
+        )
+        .unwrap();
         assert!(d < 1e-12, "{d}");
         ua[0] += 1.0;
-        let d = distance(reference, VertexField { mesh: &a, dofs: &da, u: &ua }, &w).unwrap();
+        let d = distance(
+            reference,
+            VertexField {
+                mesh: &a,
+                dofs: &da,
+                u: &ua,
+            },
+            &w,
+        )
+        .unwrap();
         assert!(d > 0.1, "{d}");
         // A kept mesh finer than the reference is refused.
         let mut fine = r.clone();
         fine.refine_global().unwrap();
         let (df, uf) = field(&fine, 2);
-        assert!(distance(reference, VertexField { mesh: &fine, dofs: &df, u: &uf }, &w).is_none());
+        assert!(distance(
+            reference,
+            VertexField {
+                mesh: &fine,
+                dofs: &df,
+                u: &uf
+            },
+            &w
+        )
+        .is_none());
     }
 
     #[test]

@@ -24,11 +24,11 @@ use super::problem::{
 use super::reference;
 use super::thin_film::{CavitationSwitch, FieldSample, PreviousEstimate};
 use super::transfer::PreviousSolution;
-use crate::estimators::true_error;
 use crate::estimators::substokes::{
     estimate_cavitation, estimate_with, lumped_multiplier, CavitationOptions, Options,
     Stabilisation, SubStokesEstimate, PART_NAMES,
 };
+use crate::estimators::true_error;
 use crate::experiment::{
     FilmSolver, PointCondition, Rectangle, SubStokesData, SubStokesStabilisation,
 };
@@ -108,10 +108,7 @@ pub fn substokes_problem(d: &SubStokesData, domain: &Rectangle) -> SubStokesProb
         PointCondition::None => None,
         PointCondition::Corner => Some([domain.x[0], domain.y[0]]),
     })
-    .with_exact(
-        d.exact
-            .map(|name| ExactFlow::of(name, d.boundary_pressure)),
-    )
+    .with_exact(d.exact.map(|name| ExactFlow::of(name, d.boundary_pressure)))
 }
 
 impl SubStokesFilm {
@@ -389,7 +386,9 @@ impl Problem for SubStokesFilm {
             self.problem.assemble_cavitation(&mesh, &mut system);
             let mut solver = DirectSolver::ldlt(SubStokesProblem::signs(&system.dofs));
             solver.reorder(system.ordering());
-            let last = kept.last().map(|k| PreviousSolution::of(&k.disc, k.dofs.clone(), k.u.clone()));
+            let last = kept
+                .last()
+                .map(|k| PreviousSolution::of(&k.disc, k.dofs.clone(), k.u.clone()));
             let mut initial = vec![false; system.dofs.n_dofs()];
             for (v, &x) in system.dofs.vertices.coords.iter().enumerate() {
                 let p = last.as_ref().and_then(|l| l.value(PSI, x));

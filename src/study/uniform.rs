@@ -54,10 +54,17 @@ fn uniform_cycles(
     budget: Budget,
 ) -> Result<Vec<UniformRow>, RunError> {
     let fail = |cycle: usize, cause: StudyError| {
-        RunError::at_cycle(&experiment.table, cycle, cause.context("uniform refinement"))
+        RunError::at_cycle(
+            &experiment.table,
+            cycle,
+            cause.context("uniform refinement"),
+        )
     };
     let target = run.rows.last().and_then(|r| r.dofs()).unwrap_or(0) as f64 * DOFS_FACTOR;
-    let mut problem = experiment.family.build(experiment).map_err(|e| fail(0, e))?;
+    let mut problem = experiment
+        .family
+        .build(experiment)
+        .map_err(|e| fail(0, e))?;
     let mut disc = Discretisation::initial(&experiment.scene).map_err(|e| fail(0, e.into()))?;
     let mut rows = Vec::new();
     let mut energies = Vec::new();
@@ -91,16 +98,22 @@ fn uniform_cycles(
         if 4.0 * n as f64 > target {
             break;
         }
-        disc.mesh
-            .refine_global()
-            .map_err(|e| fail(cycle, StudyError::from(e).context("cannot refine uniformly")))?;
+        disc.mesh.refine_global().map_err(|e| {
+            fail(
+                cycle,
+                StudyError::from(e).context("cannot refine uniformly"),
+            )
+        })?;
     }
     let errors: Vec<Option<f64>> = match &run.accuracy {
         Some(ErrorMeasure::Energy { limit, .. }) => {
             let energies: Option<Vec<f64>> = energies.into_iter().collect();
             energies.map_or_else(|| vec![None; rows.len()], |j| energy_errors(*limit, &j))
         }
-        _ => match problem.reference_errors(&kept).map_err(|e| fail(rows.len(), e))? {
+        _ => match problem
+            .reference_errors(&kept)
+            .map_err(|e| fail(rows.len(), e))?
+        {
             Some(reference) => reference.errors.into_iter().map(Some).collect(),
             None => vec![None; rows.len()],
         },
@@ -146,15 +159,21 @@ pub fn saving(run: &RunResult, uniform: &[UniformRow]) -> Option<Saving> {
     let log_interp = |a: f64, b: f64, t: f64| (a.ln() + t * (b.ln() - a.ln())).exp();
     let [(n1, e1, s1), (n2, e2, s2)] = [points[points.len() - 2], points[points.len() - 1]];
     let uniform_order = (e2 / e1).ln() / (n2 / n1).ln();
-    let bracket = points.windows(2).find(|w| w[0].1 > error && w[1].1 <= error);
+    let bracket = points
+        .windows(2)
+        .find(|w| w[0].1 > error && w[1].1 <= error);
     let (uniform_dofs, uniform_seconds, extrapolated) = match (points[0].1 <= error, bracket) {
         (true, _) => (points[0].0, points[0].2, false),
         (false, Some(w)) => {
             let t = (error / w[0].1).ln() / (w[1].1 / w[0].1).ln();
-            (log_interp(w[0].0, w[1].0, t), log_interp(w[0].2, w[1].2, t), false)
+            (
+                log_interp(w[0].0, w[1].0, t),
+                log_interp(w[0].2, w[1].2, t),
+                false,
+            )
         }
         (false, None) => {
-            if !(uniform_order < 0.0) {
+            if uniform_order.is_nan() || uniform_order >= 0.0 {
                 return None;
             }
             // e = e2 (N/n2)^order, seconds = s2 (N/n2)^γ with γ from the last two cycles (≥ 1:

@@ -621,7 +621,10 @@ pub(super) fn family_effectivity(h: &mut String, entries: &[&Entry]) {
     };
     let range = |a: f64, b: f64| fmt_effectivity(Some((a, b)));
     let claim = if lo >= 1.0 {
-        format!("overestimates the true error by a factor in {}", range(lo, hi))
+        format!(
+            "overestimates the true error by a factor in {}",
+            range(lo, hi)
+        )
     } else if hi <= 1.0 {
         format!(
             "underestimates the true error by a factor in {}",
