@@ -79,22 +79,23 @@ pub struct CellData {
 /// The values of one cell in [`CellData`]: load, Δg/g, squeeze part.
 type PointData = ([f64; 4], [f64; 4], [f64; 4]);
 
-/// The [`PointData`] of the cells a mesh did not keep, as evaluated
-/// ([`ReynoldsProblem::fresh_point_data`]): per cell, once for every cell, or per column of
-/// cells — read where they go, without a per-cell copy of the shared values.
-enum FreshData {
+/// Values at the quadrature points of cells — the [`PointData`] of the cells a mesh did not keep
+/// ([`ReynoldsProblem::fresh_point_data`]), or the film data of the energy's points
+/// ([`ReynoldsProblem::energy`]) — as evaluated: per cell, once for every cell, or per column of
+/// cells, read where they go, without a per-cell copy of the shared values.
+enum FreshData<P> {
     /// The values of the `j`-th fresh cell.
-    PerCell(Vec<PointData>),
+    PerCell(Vec<P>),
     /// The same values for every cell.
-    Everywhere(PointData),
+    Everywhere(P),
     /// The values of each column (sorted), [`FreshData::column`].
     PerColumn {
         columns: Vec<(u8, u64)>,
-        values: Vec<PointData>,
+        values: Vec<P>,
     },
 }
 
-impl FreshData {
+impl<P: Copy> FreshData<P> {
     /// The column of cell `c`: its level and the integer position of its left side, which fix
     /// the x₁ of its quadrature points on a mesh of rectangles.
     fn column(mesh: &Mesh, c: CellId) -> (u8, u64) {
@@ -103,19 +104,22 @@ impl FreshData {
     }
 
     /// The values of the `j`-th fresh cell, `c`.
-    fn get(&self, mesh: &Mesh, j: usize, c: CellId) -> PointData {
+    fn get(&self, mesh: &Mesh, j: usize, c: CellId) -> P {
         match self {
             FreshData::PerCell(values) => values[j],
             FreshData::Everywhere(values) => *values,
             FreshData::PerColumn { columns, values } => {
                 let i = columns
-                    .binary_search(&FreshData::column(mesh, c))
+                    .binary_search(&Self::column(mesh, c))
                     .expect("every column has a first cell");
                 values[i]
             }
         }
     }
 }
+
+/// The film data at one point of the energy's quadrature: the gap g, ∇g, Δg and the load.
+type EnergyPoint = (f64, [f64; 2], f64, f64);
 
 /// [`CellData`] of one mesh with what the next mesh needs to find the cells it kept
 /// ([`ReynoldsProblem::cell_data_reusing`]).
@@ -227,31 +231,45 @@ impl ReynoldsProblem {
     /// [`Gap::varies_in_x2`]: crate::models::thin_film::Gap::varies_in_x2
     /// [`Gap::varies_in_x1`]: crate::models::thin_film::Gap::varies_in_x1
     /// [`CellShape::point`]: crate::mesh::CellShape::point
-    fn fresh_point_data(&self, mesh: &Mesh, cells: &[CellId], load: Load) -> FreshData {
+    fn fresh_point_data(&self, mesh: &Mesh, cells: &[CellId], load: Load) -> FreshData<PointData> {
         let evaluate = |c: CellId| Self::point_data(mesh, c, |x| self.point_values(x, load));
+        self.shared_data(mesh, cells, &evaluate)
+            .unwrap_or_else(|| FreshData::PerCell(cells.par_iter().map(|&c| evaluate(c)).collect()))
+    }
+
+    /// The values `evaluate` gives each of `cells`, evaluated once for every cell or once per
+    /// column of cells where the film data allow it ([`Self::fresh_point_data`]); `None` where
+    /// they must be evaluated cell by cell (a gap that varies in x₂, a moved mesh, a
+    /// manufactured load).
+    fn shared_data<P: Copy + Send + Sync>(
+        &self,
+        mesh: &Mesh,
+        cells: &[CellId],
+        evaluate: &(impl Fn(CellId) -> P + Sync),
+    ) -> Option<FreshData<P>> {
         let gap = &self.film.gap;
         // A manufactured load varies in x₂ whatever the gap.
         if gap.varies_in_x2() || mesh.is_moved() || self.exact.is_some() {
-            return FreshData::PerCell(cells.par_iter().map(|&c| evaluate(c)).collect());
+            return None;
         }
         if !gap.varies_in_x1() {
-            return match cells.first() {
+            return Some(match cells.first() {
                 Some(&c) => FreshData::Everywhere(evaluate(c)),
                 None => FreshData::PerCell(Vec::new()),
-            };
+            });
         }
         // One cell of each column, the first in `cells`.
         let mut firsts: Vec<((u8, u64), CellId)> = cells
             .par_iter()
-            .map(|&c| (FreshData::column(mesh, c), c))
+            .map(|&c| (FreshData::<P>::column(mesh, c), c))
             .collect();
         firsts.par_sort_by_key(|e| e.0);
         firsts.dedup_by_key(|e| e.0);
         let values = firsts.par_iter().map(|&(_, c)| evaluate(c)).collect();
-        FreshData::PerColumn {
+        Some(FreshData::PerColumn {
             columns: firsts.into_iter().map(|e| e.0).collect(),
             values,
-        }
+        })
     }
 
     /// [`Self::cell_data`] reusing the values of cells that are unchanged since `previous`
@@ -407,20 +425,34 @@ impl ReynoldsProblem {
     pub fn energy(&self, mesh: &Mesh, dofs: &DofMap, psi: &[f64], load: Load) -> f64 {
         let active = mesh.active();
         let rule = square_rule::<16>();
+        // The film data at the 16 points of a cell; per column of cells where they depend on
+        // x₁ alone, the same bits as cell by cell ([`Self::fresh_point_data`]).
+        let evaluate = |c: CellId| -> [EnergyPoint; 16] {
+            let shape = mesh.cell_shape(c);
+            std::array::from_fn(|q| {
+                let (xi, eta, _) = rule[q];
+                let x = shape.point(xi, eta);
+                let (gap, dg, laplace_g) = self.film.gap(x);
+                (gap, dg, laplace_g, self.load(x, load))
+            })
+        };
+        let shared = self.shared_data(mesh, active, &evaluate);
         let cells: Vec<f64> = (0..active.len())
             .into_par_iter()
             .map(|k| {
                 let cv = CellValues::new(mesh.cell_shape(active[k]), &rule);
+                let film = match &shared {
+                    Some(shared) => shared.get(mesh, k, active[k]),
+                    None => evaluate(active[k]),
+                };
                 let corner = dofs.corner_values(psi, k, 0);
                 let mut sum = 0.0;
-                for q in 0..rule.len() {
+                for (q, &(gap, dg, laplace_g, l)) in film.iter().enumerate() {
                     let g = cv.gradients(q);
                     let phi = cv.values(q);
-                    let x = cv.point(q);
                     let v: f64 = (0..4).map(|a| corner[a] * phi[a]).sum();
                     let grad: [f64; 2] =
                         std::array::from_fn(|j| (0..4).map(|a| corner[a] * g[a][j]).sum());
-                    let (gap, dg, laplace_g) = self.film.gap(x);
                     let quadratic = match self.form {
                         Form::Potential => {
                             grad[0] * grad[0] + grad[1] * grad[1] + laplace_g / gap * v * v
@@ -430,7 +462,7 @@ impl ReynoldsProblem {
                             r[0] * r[0] + r[1] * r[1]
                         }
                     };
-                    sum += (0.5 * quadratic - self.load(x, load) * v) * cv.jxw(q);
+                    sum += (0.5 * quadratic - l * v) * cv.jxw(q);
                 }
                 sum
             })
