@@ -835,6 +835,11 @@ pub struct Study {
     /// about as much as the contact tables themselves). The converged reading computes it
     /// anyway.
     pub signorini_comparison: bool,
+    /// Whether the run measures its true error (`crate::study::accuracy`: the energy of every
+    /// printed cycle, or the solves kept for a reference): on as loaded, off for the alternative
+    /// readings, which the page compares by their estimates (the error is the table's as
+    /// written; measuring it again for each reading would double the cavitation tables' cost).
+    pub true_error: bool,
     /// What the kind iterates, with its fields.
     pub plan: Plan,
 }

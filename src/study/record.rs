@@ -114,10 +114,11 @@ impl<'a> Recorder<'a> {
         for (name, n) in &solution.counters {
             row.columns.push((name.clone(), Value::Count(*n)));
         }
-        if let Some(energy) = problem.energy(disc, dofs, solution) {
+        let measures = self.experiment.study.true_error;
+        if let Some(energy) = problem.energy(disc, dofs, solution).filter(|_| measures) {
             row = row.real(columns::ENERGY, Some(energy));
         }
-        if problem.keeps_solves() {
+        if measures && problem.keeps_solves() {
             self.kept.push(KeptSolve {
                 disc: disc.clone(),
                 dofs: dofs.clone(),
@@ -150,8 +151,10 @@ impl<'a> Recorder<'a> {
     /// The result, with the measured errors ([`super::accuracy::add_errors`]), the problem's
     /// notes and the warnings of the file and the run.
     pub fn finish(mut self, problem: &mut dyn Problem) -> Result<RunResult, StudyError> {
-        super::accuracy::add_errors(&mut self.result, problem, &self.kept)
-            .map_err(|e| e.context("the true error against the reference"))?;
+        if self.experiment.study.true_error {
+            super::accuracy::add_errors(&mut self.result, problem, &self.kept)
+                .map_err(|e| e.context("the true error against the reference"))?;
+        }
         self.result.notes.extend(problem.notes());
         self.result.cavitation_ran = problem.cavitation_ran();
         self.result.warnings = super::warnings::of_run(self.experiment, &self.result.rows)

@@ -106,7 +106,8 @@ pub struct TableOutcome<F> {
 /// The runs of one table: the experiment as written, then (unless `options.alternatives` is
 /// off) the cost of accuracy of its scene and each alternative reading that applies to the
 /// result. A reading of the cavitation model that does not apply — the cavitation never
-/// switched on — is not run (it would repeat the table); a note of the table says so. Each run
+/// switched on — is not run (it would repeat the table); a note of the table says so. A reading
+/// does not measure its true error ([`crate::experiment::Study::true_error`]). Each run
 /// goes through `host` ([`TableHost::isolate`], then [`TableHost::keep`]); a table whose run as
 /// written fails has no readings, and that failure is the result.
 pub fn run_table<H: TableHost>(
@@ -128,6 +129,7 @@ pub fn run_table<H: TableHost>(
     let mut readings = options.readings(experiment);
     for reading in &mut readings {
         reading.experiment.study.signorini_comparison = false;
+        reading.experiment.study.true_error = false;
     }
     let written = TableRun {
         experiment,

@@ -250,6 +250,7 @@ impl Check<'_> {
             ties: study.ties,
             solver: study.solver,
             signorini_comparison: true,
+            true_error: true,
             plan,
         })
     }
