@@ -32,6 +32,7 @@ mod smoothing;
 mod solvers;
 mod substokes;
 mod table;
+mod true_error;
 mod uzawa;
 mod verdicts;
 mod warnings;

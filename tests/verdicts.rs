@@ -15,6 +15,8 @@
 use std::collections::BTreeMap;
 use std::fs;
 use std::path::{Path, PathBuf};
+
+use crate::common::read_csv;
 use std::process::Command;
 
 use tribo::report::verdict::{deviation, primary_of};
@@ -46,24 +48,6 @@ fn verdicts(page: &str) -> Vec<(String, String, String)> {
             )
         })
         .collect()
-}
-
-/// The columns of a CSV file by name (empty cells as `None`).
-fn read_csv(path: &Path) -> BTreeMap<String, Vec<Option<f64>>> {
-    let text = fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let mut lines = text.lines();
-    let names: Vec<&str> = lines.next().expect("header").split(',').collect();
-    let mut columns: BTreeMap<String, Vec<Option<f64>>> =
-        names.iter().map(|n| (n.to_string(), Vec::new())).collect();
-    for line in lines {
-        for (name, cell) in names.iter().zip(line.split(',')) {
-            columns
-                .get_mut(*name)
-                .unwrap()
-                .push(cell.parse::<f64>().ok());
-        }
-    }
-    columns
 }
 
 /// Check every reproduced table of the report in `out`; the failures, and the tables per

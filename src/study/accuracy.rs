@@ -138,21 +138,43 @@ pub fn energy_errors(limit: f64, energies: &[f64]) -> Vec<Option<f64>> {
 
 /// The errors of the rows of `result` by the energy identity, where it measures one in every
 /// row: every row has an energy, the fit of J(u) has C > 0, and every energy lies above it.
-/// `None` otherwise — an energy that rises under refinement (a discrete contact set larger
-/// than the exact one) or a cycle below the limit — and the run is measured against a
-/// reference instead.
-fn energy_measure(result: &RunResult, bound: bool) -> Option<(Vec<Option<f64>>, ErrorMeasure)> {
+/// Otherwise why not — an energy that does not fall under refinement (the discrete solution
+/// exact), or one that falls irregularly (a discrete contact set or cavitation zone that changes
+/// between cycles: no fit with C > 0, or a cycle below the fitted limit) — and the run is
+/// measured against a reference instead, where the problem has one. `Ok(None)` for a run
+/// without energies.
+fn energy_measure(
+    result: &RunResult,
+    bound: bool,
+) -> Result<Option<(Vec<Option<f64>>, ErrorMeasure)>, &'static str> {
     let rows = &result.rows;
-    let points: Vec<(f64, f64)> = rows
+    let Some(points) = rows
         .iter()
         .map(|r| Some((r.dofs()? as f64, r.value(columns::ENERGY)?)))
-        .collect::<Option<_>>()?;
+        .collect::<Option<Vec<(f64, f64)>>>()
+        .filter(|p| !p.is_empty())
+    else {
+        return Ok(None);
+    };
+    let (first, last) = (points[0].1, points[points.len() - 1].1);
+    if (first - last).abs() <= 1e-12 * first.abs().max(last.abs()) {
+        return Err(
+            "J(u_h) does not change under refinement: the discrete solution is exact \
+                    up to rounding, so there is no error to measure",
+        );
+    }
     let from = points.len().saturating_sub(FIT_CYCLES);
-    let fit = extrapolate(&points[from..])?;
+    let fit = extrapolate(&points[from..]).ok_or(
+        "the energies J(u_h) of the last cycles do not fall like J(u) + C·dofs^−β with C > 0, \
+         so J(u) cannot be extrapolated",
+    )?;
     let energies: Vec<f64> = points.iter().map(|p| p.1).collect();
     let errors = energy_errors(fit.limit, &energies);
-    if rows.is_empty() || errors.iter().any(Option::is_none) {
-        return None;
+    if errors.iter().any(Option::is_none) {
+        return Err(
+            "a cycle's energy J(u_h) lies below the J(u) extrapolated from the last \
+                    cycles (the energies fall irregularly), so the energy gives no error there",
+        );
     }
     let measure = ErrorMeasure::Energy {
         limit: fit.limit,
@@ -160,7 +182,7 @@ fn energy_measure(result: &RunResult, bound: bool) -> Option<(Vec<Option<f64>>, 
         cycles: rows[from..].iter().map(|r| r.cycle).collect(),
         bound,
     };
-    Some((errors, measure))
+    Ok(Some((errors, measure)))
 }
 
 /// Add the measured error to the rows of `result`: by the energy identity where every row has
@@ -172,10 +194,16 @@ pub fn add_errors(
     problem: &mut dyn Problem,
     kept: &[KeptSolve],
 ) -> Result<(), StudyError> {
-    let (errors, measure) = match energy_measure(result, problem.constrained()) {
-        Some(measured) => measured,
-        None => {
+    let by_energy = energy_measure(result, problem.constrained());
+    let (errors, measure) = match by_energy {
+        Ok(Some(measured)) => measured,
+        Ok(None) | Err(_) => {
             let Some(errors) = problem.reference_errors(kept)? else {
+                if let Err(why) = by_energy {
+                    result
+                        .notes
+                        .push(format!("True error: not measured — {why}."));
+                }
                 return Ok(());
             };
             let dofs = errors.dofs;

@@ -83,9 +83,10 @@ pub(super) fn true_error(h: &mut String, run: &RunResult) {
     };
     let how = if s.extrapolated {
         format!(
-            "extrapolated with the uniform run's own order {:.2} (no uniform cycle up to \
-             {DOFS_FACTOR}× the adaptive unknowns reached it)",
-            s.uniform_order
+            "extrapolated with the uniform run's own order {:.2} (no uniform cycle up to {} \
+             dofs, {DOFS_FACTOR} times the adaptive run's last, reached it)",
+            s.uniform_order,
+            (s.adaptive_dofs * DOFS_FACTOR) as u64
         )
     } else {
         "interpolated between the uniform cycles that bracket it".to_string()

@@ -1,0 +1,212 @@
+//! The true error of every grid-adaptive thesis table (`tribo::study::accuracy`): finite,
+//! positive `error` and `effectivity` in every row, except the tables listed below with the
+//! reason — and a listed table must indeed have none, so the list cannot go stale. The quick
+//! tier runs with the other tests; the full tier reads the data of the report in
+//! `TRIBO_FULL_REPORT` (`.ci/run` makes it):
+//!
+//! ```sh
+//! TRIBO_FULL_REPORT=report cargo test --release --test tribo -- --ignored full_tier_true_error
+//! ```
+
+use std::path::PathBuf;
+
+use tribo::experiment::StudyKind;
+use tribo::results::columns;
+
+use crate::common::{experiments_dir, quick, read_csv, spec};
+
+/// Grid-adaptive tables without a true error at either tier, and why.
+const WITHOUT: [(&str, &str); 14] = [
+    (
+        "IV.9",
+        "z-contact, jump obstacle: J(u_h) falls irregularly, no reference yet",
+    ),
+    (
+        "IV.10",
+        "z-contact, jump obstacles: J(u_h) falls irregularly, no reference yet",
+    ),
+    (
+        "IV.14",
+        "Signorini, periodic obstacle: J(u_h) falls irregularly, no reference yet",
+    ),
+    (
+        "IV.15",
+        "Signorini, jump obstacle: J(u_h) falls irregularly, no reference yet",
+    ),
+    (
+        "IV.16",
+        "Signorini, jump obstacles: J(u_h) falls irregularly, no reference yet",
+    ),
+    (
+        "IV.17",
+        "Signorini, saw obstacle: J(u_h) falls irregularly, no reference yet",
+    ),
+    (
+        "IV.30",
+        "model-adaptive contact: no energy of the mixed model, no reference yet",
+    ),
+    (
+        "IV.31",
+        "model-adaptive contact: no energy of the mixed model, no reference yet",
+    ),
+    (
+        "IV.32",
+        "model-adaptive contact: no energy of the mixed model, no reference yet",
+    ),
+    (
+        "IV.33",
+        "model-adaptive contact: no energy of the mixed model, no reference yet",
+    ),
+    (
+        "IV.34",
+        "model-adaptive contact: no energy of the mixed model, no reference yet",
+    ),
+    (
+        "IV.35",
+        "model-adaptive contact: no energy of the mixed model, no reference yet",
+    ),
+    (
+        "IV.38",
+        "the exact solution is constant: the discrete solution is exact",
+    ),
+    (
+        "IV.43",
+        "the exact solution is constant: the discrete solution is exact",
+    ),
+];
+
+/// Without a true error at one tier only.
+const WITHOUT_QUICK: [(&str, &str); 1] = [(
+    "IV.52",
+    "the discrete SubStokes solution is exact up to rounding at the quick tier",
+)];
+const WITHOUT_FULL: [(&str, &str); 2] = [
+    (
+        "IV.52",
+        "the discrete SubStokes solution is exact up to rounding",
+    ),
+    (
+        "IV.64",
+        "the cavitation zone changes between the last cycles: J(u_h) falls irregularly",
+    ),
+];
+
+/// The grid-adaptive thesis tables, in file order.
+fn grid_adaptive_tables() -> Vec<String> {
+    let mut tables: Vec<String> = std::fs::read_dir(experiments_dir())
+        .expect("experiments/")
+        .filter_map(|e| {
+            let name = e.ok()?.file_name().into_string().ok()?;
+            let table = name.strip_suffix(".toml")?.to_string();
+            table.starts_with("IV.").then_some(table)
+        })
+        .filter(|t| spec(t).study.kind() == StudyKind::GridAdaptive)
+        .collect();
+    tables.sort();
+    tables
+}
+
+/// Check one table's `error` and `effectivity` columns (one value per row, `None` where a cell
+/// is empty or the column missing) against the lists; a failure message or nothing.
+fn check(
+    table: &str,
+    error: &[Option<f64>],
+    effectivity: &[Option<f64>],
+    without: &[(&str, &str)],
+) -> Option<String> {
+    let listed = without.iter().find(|(t, _)| *t == table);
+    let good = |v: &Option<f64>| v.is_some_and(|x| x.is_finite() && x > 0.0);
+    let complete = !error.is_empty()
+        && error.len() == effectivity.len()
+        && error.iter().all(good)
+        && effectivity.iter().all(good);
+    match (listed, complete) {
+        (None, false) => {
+            let row = error
+                .iter()
+                .zip(effectivity)
+                .position(|(e, f)| !good(e) || !good(f))
+                .unwrap_or(0);
+            Some(format!(
+                "{table}: no finite positive error and effectivity in row {row} \
+                 (error {:?}, effectivity {:?})",
+                error.get(row),
+                effectivity.get(row)
+            ))
+        }
+        (Some((_, why)), true) => Some(format!(
+            "{table} is listed without a true error ({why}) but has one in every row: take it \
+             off the list"
+        )),
+        _ => None,
+    }
+}
+
+fn assert_no_failures(failures: Vec<String>) {
+    assert!(
+        failures.is_empty(),
+        "{} table(s):\n{}",
+        failures.len(),
+        failures.join("\n")
+    );
+}
+
+#[test]
+fn quick_tier_grid_adaptive_tables_have_a_true_error() {
+    let without: Vec<(&str, &str)> = WITHOUT.iter().chain(&WITHOUT_QUICK).copied().collect();
+    let tables = grid_adaptive_tables();
+    assert!(tables.len() >= 50, "{} grid-adaptive tables", tables.len());
+    let failures = tables
+        .iter()
+        .filter_map(|t| {
+            let r = quick(t);
+            let column = |name: &str| -> Vec<Option<f64>> {
+                r.rows.iter().map(|row| row.value(name)).collect()
+            };
+            check(
+                t,
+                &column(columns::ERROR),
+                &column(columns::EFFECTIVITY),
+                &without,
+            )
+        })
+        .collect();
+    assert_no_failures(failures);
+}
+
+#[test]
+#[ignore]
+fn full_tier_true_error_in_the_report_data() {
+    let out = PathBuf::from(std::env::var_os("TRIBO_FULL_REPORT").expect(
+        "TRIBO_FULL_REPORT names the folder of a full-tier report (cargo run --release --bin \
+         report -- --out DIR)",
+    ));
+    let without: Vec<(&str, &str)> = WITHOUT.iter().chain(&WITHOUT_FULL).copied().collect();
+    let failures = grid_adaptive_tables()
+        .iter()
+        .filter_map(|t| {
+            let data = read_csv(&out.join("data").join(format!("{t}.csv")));
+            let rows = data.get(columns::DOFS).map_or(0, Vec::len);
+            let column = |name: &str| data.get(name).cloned().unwrap_or(vec![None; rows]);
+            check(
+                t,
+                &column(columns::ERROR),
+                &column(columns::EFFECTIVITY),
+                &without,
+            )
+        })
+        .collect();
+    assert_no_failures(failures);
+}
+
+/// The check fails a table that lacks the error in one row, and a listed table that has it.
+#[test]
+fn the_check_can_fail() {
+    let full = [Some(1.0), Some(2.0)];
+    assert_eq!(check("T", &full, &full, &[]), None);
+    let message = check("T", &[Some(1.0), None], &full, &[]).expect("fails");
+    assert!(message.contains("row 1"), "{message}");
+    let message = check("T", &full, &full, &[("T", "why")]).expect("fails");
+    assert!(message.contains("take it off the list"), "{message}");
+    assert_eq!(check("T", &[None, None], &full, &[("T", "why")]), None);
+}
