@@ -142,7 +142,24 @@ fn check(
     }
 }
 
-fn assert_no_failures(failures: Vec<String>) {
+/// [`check`] every grid-adaptive table, its columns from `columns_of(table)` (a column by name);
+/// panics with every failure.
+fn check_every_table<C: Fn(&str) -> Vec<Option<f64>>>(
+    without: &[(&str, &str)],
+    columns_of: impl Fn(&str) -> C,
+) {
+    let failures: Vec<String> = grid_adaptive_tables()
+        .iter()
+        .filter_map(|t| {
+            let column = columns_of(t);
+            check(
+                t,
+                &column(columns::ERROR),
+                &column(columns::EFFECTIVITY),
+                without,
+            )
+        })
+        .collect();
     assert!(
         failures.is_empty(),
         "{} table(s):\n{}",
@@ -156,22 +173,10 @@ fn quick_tier_grid_adaptive_tables_have_a_true_error() {
     let without: Vec<(&str, &str)> = WITHOUT.iter().chain(&WITHOUT_QUICK).copied().collect();
     let tables = grid_adaptive_tables();
     assert!(tables.len() >= 50, "{} grid-adaptive tables", tables.len());
-    let failures = tables
-        .iter()
-        .filter_map(|t| {
-            let r = quick(t);
-            let column = |name: &str| -> Vec<Option<f64>> {
-                r.rows.iter().map(|row| row.value(name)).collect()
-            };
-            check(
-                t,
-                &column(columns::ERROR),
-                &column(columns::EFFECTIVITY),
-                &without,
-            )
-        })
-        .collect();
-    assert_no_failures(failures);
+    check_every_table(&without, |t| {
+        let r = quick(t);
+        move |name: &str| -> Vec<Option<f64>> { r.rows.iter().map(|row| row.value(name)).collect() }
+    });
 }
 
 #[test]
@@ -182,21 +187,11 @@ fn full_tier_true_error_in_the_report_data() {
          report -- --out DIR)",
     ));
     let without: Vec<(&str, &str)> = WITHOUT.iter().chain(&WITHOUT_FULL).copied().collect();
-    let failures = grid_adaptive_tables()
-        .iter()
-        .filter_map(|t| {
-            let data = read_csv(&out.join("data").join(format!("{t}.csv")));
-            let rows = data.get(columns::DOFS).map_or(0, Vec::len);
-            let column = |name: &str| data.get(name).cloned().unwrap_or(vec![None; rows]);
-            check(
-                t,
-                &column(columns::ERROR),
-                &column(columns::EFFECTIVITY),
-                &without,
-            )
-        })
-        .collect();
-    assert_no_failures(failures);
+    check_every_table(&without, |t| {
+        let data = read_csv(&out.join("data").join(format!("{t}.csv")));
+        let rows = data.get(columns::DOFS).map_or(0, Vec::len);
+        move |name: &str| data.get(name).cloned().unwrap_or(vec![None; rows])
+    });
 }
 
 /// The check fails a table that lacks the error in one row, and a listed table that has it.
