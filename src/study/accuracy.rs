@@ -136,6 +136,9 @@ pub fn energy_errors(limit: f64, energies: &[f64]) -> Vec<Option<f64>> {
         .collect()
 }
 
+/// The error of each row and how it was measured.
+type Measured = (Vec<Option<f64>>, ErrorMeasure);
+
 /// The errors of the rows of `result` by the energy identity, where it measures one in every
 /// row: every row has an energy, the fit of J(u) has C > 0, and every energy lies above it.
 /// Otherwise why not — an energy that does not fall under refinement (the discrete solution
@@ -143,10 +146,7 @@ pub fn energy_errors(limit: f64, energies: &[f64]) -> Vec<Option<f64>> {
 /// between cycles: no fit with C > 0, or a cycle below the fitted limit) — and the run is
 /// measured against a reference instead, where the problem has one. `Ok(None)` for a run
 /// without energies.
-fn energy_measure(
-    result: &RunResult,
-    bound: bool,
-) -> Result<Option<(Vec<Option<f64>>, ErrorMeasure)>, &'static str> {
+fn energy_measure(result: &RunResult, bound: bool) -> Result<Option<Measured>, &'static str> {
     let rows = &result.rows;
     let Some(points) = rows
         .iter()
