@@ -159,8 +159,8 @@ fn energy_measure(result: &RunResult, bound: bool) -> Result<Option<Measured>, &
     let (first, last) = (points[0].1, points[points.len() - 1].1);
     if (first - last).abs() <= 1e-12 * first.abs().max(last.abs()) {
         return Err(
-            "J(u_h) does not change under refinement: the discrete solution is exact \
-                    up to rounding, so there is no error to measure",
+            "J(u_h) does not change under refinement: the discrete solution is exact up to \
+             rounding, so there is no error to measure",
         );
     }
     let from = points.len().saturating_sub(FIT_CYCLES);
@@ -172,8 +172,8 @@ fn energy_measure(result: &RunResult, bound: bool) -> Result<Option<Measured>, &
     let errors = energy_errors(fit.limit, &energies);
     if errors.iter().any(Option::is_none) {
         return Err(
-            "a cycle's energy J(u_h) lies below the J(u) extrapolated from the last \
-                    cycles (the energies fall irregularly), so the energy gives no error there",
+            "a cycle's energy J(u_h) lies below the J(u) extrapolated from the last cycles \
+             (the energies fall irregularly), so the energy gives no error there",
         );
     }
     let measure = ErrorMeasure::Energy {

@@ -114,9 +114,13 @@ impl<'a> Recorder<'a> {
         for (name, n) in &solution.counters {
             row.columns.push((name.clone(), Value::Count(*n)));
         }
+        // The energy and the kept solves serve the true error only: a run that does not measure
+        // it (an alternative reading) computes neither.
         let measures = self.experiment.study.true_error;
-        if let Some(energy) = problem.energy(disc, dofs, solution).filter(|_| measures) {
-            row = row.real(columns::ENERGY, Some(energy));
+        if measures {
+            if let Some(energy) = problem.energy(disc, dofs, solution) {
+                row = row.real(columns::ENERGY, Some(energy));
+            }
         }
         if measures && problem.keeps_solves() {
             self.kept.push(KeptSolve {

@@ -67,16 +67,19 @@ fn uniform_cycles(
         )
     };
     let target = run.rows.last().and_then(|r| r.dofs()).unwrap_or(0) as f64 * DOFS_FACTOR;
-    // The adaptive run's final error and the J(u) that measures a uniform cycle's error at once.
-    let reached = |energy: Option<f64>| -> bool {
-        let Some(ErrorMeasure::Energy { limit, .. }) = &run.accuracy else {
-            return false;
-        };
-        let last = run.rows.last().and_then(|r| r.value(columns::ERROR));
-        match (energy, last) {
-            (Some(j), Some(error)) => energy_errors(*limit, &[j])[0].is_some_and(|e| e <= error),
-            _ => false,
+    // The J(u) that measures a uniform cycle's error at once, and the adaptive final error.
+    let goal = match (
+        &run.accuracy,
+        run.rows.last().and_then(|r| r.value(columns::ERROR)),
+    ) {
+        (Some(ErrorMeasure::Energy { limit, .. }), Some(error)) => Some((*limit, error)),
+        _ => None,
+    };
+    let reached = |energy: Option<f64>| match (goal, energy) {
+        (Some((limit, error)), Some(j)) => {
+            energy_errors(limit, &[j])[0].is_some_and(|e| e <= error)
         }
+        _ => false,
     };
     let mut problem = experiment
         .family

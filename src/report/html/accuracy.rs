@@ -84,7 +84,7 @@ pub(super) fn true_error(h: &mut String, run: &RunResult) {
     let how = if s.extrapolated {
         format!(
             "extrapolated with the uniform run's own order {:.2} (no uniform cycle up to {} \
-             dofs, {DOFS_FACTOR} times the adaptive run's last, reached it)",
+             dofs reached it)",
             s.uniform_order,
             (s.adaptive_dofs * DOFS_FACTOR) as u64
         )
