@@ -105,18 +105,94 @@ pub fn assert_ratio_spread(table: &str, r: &RunResult, ratios: &[f64], limit: f6
 /// Run `check` on every table of `tables` at full tier and collect the failures (a failing table
 /// never hides the others); panic at the end with every failure, each naming table, cycle and
 /// number. Prints a line per table (run with `--nocapture` to see them).
+///
+/// With `TRIBO_FULL_REPORT` naming the folder of a full-tier report (as `.ci/run` sets it), the
+/// rows are the ones that report wrote ([`report_rows`]): the checks read what the page shows
+/// instead of solving every table a second time. Without it, every table runs here.
 pub fn full_tier(tables: &[&str], check: fn(&str, &RunResult)) {
-    let mut failures = Vec::new();
-    for &t in tables {
-        let start = std::time::Instant::now();
+    match std::env::var_os("TRIBO_FULL_REPORT") {
+        Some(out) => full_tier_of(tables, check, |t| report_rows(Path::new(&out), t)),
+        None => full_tier_runs(tables, check),
+    }
+}
+
+/// [`full_tier`] on fresh runs of the tables, whatever `TRIBO_FULL_REPORT` says: for checks that
+/// need more of a run than its rows (the forming's deformed meshes).
+pub fn full_tier_runs(tables: &[&str], check: fn(&str, &RunResult)) {
+    full_tier_of(tables, check, |t| {
         // The checks read the printed rows, not the true error: the report's data carry that
         // (tests/true_error.rs), so these runs do not measure it again.
         let mut experiment = spec(t);
         experiment.study.true_error = false;
-        let r = match study::run(&experiment, Tier::Full, &|_, _, _| {}) {
+        study::run(&experiment, Tier::Full, &|_, _, _| {})
+            .map_err(|e| format!("the run failed: {e}"))
+    });
+}
+
+/// The rows of `table` as the report in `out` wrote them, read back from
+/// `data/<table>.parquet` (the same bits as the run's rows: integer columns become counts,
+/// float columns reals, a null a missing or undefined value; the `seconds_*` columns are left
+/// out). Only the rows: the run's pictures and notes are not in that file.
+pub fn report_rows(out: &Path, table: &str) -> Result<RunResult, String> {
+    use polars::prelude::{DataType, ParquetReader, SerReader};
+    let path = out
+        .join("data")
+        .join(format!("{}.parquet", report::data::csv_stem(table)));
+    let file = std::fs::File::open(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let frame = ParquetReader::new(file)
+        .finish()
+        .map_err(|e| format!("{}: {e}", path.display()))?;
+    let failed = |e: polars::error::PolarsError| format!("{}: {e}", path.display());
+    let cycles = frame
+        .column("cycle")
+        .map_err(failed)?
+        .cast(&DataType::UInt64)
+        .map_err(failed)?;
+    let cycles = cycles.u64().map_err(failed)?;
+    let mut rows: Vec<Row> = (0..cycles.len())
+        .map(|i| Row::new(cycles.get(i).unwrap_or_default() as usize))
+        .collect();
+    let seconds = tribo::results::PhaseSeconds::default()
+        .named()
+        .map(|(name, _)| name);
+    for column in frame.columns() {
+        let name = column.name().as_str();
+        if name == "cycle" || seconds.contains(&name) {
+            continue;
+        }
+        if column.dtype().is_integer() {
+            let values = column.cast(&DataType::Int64).map_err(failed)?;
+            let values = values.i64().map_err(failed)?;
+            for (i, row) in rows.iter_mut().enumerate() {
+                if let Some(n) = values.get(i) {
+                    row.set(name, Value::Count(n));
+                }
+            }
+        } else {
+            let values = column.cast(&DataType::Float64).map_err(failed)?;
+            let values = values.f64().map_err(failed)?;
+            for (i, row) in rows.iter_mut().enumerate() {
+                row.set(name, Value::Real(values.get(i)));
+            }
+        }
+    }
+    let mut run = RunResult::new(table, "", "", "full", [0.0; 4]);
+    run.rows = rows;
+    Ok(run)
+}
+
+fn full_tier_of(
+    tables: &[&str],
+    check: fn(&str, &RunResult),
+    rows_of: impl Fn(&str) -> Result<RunResult, String>,
+) {
+    let mut failures = Vec::new();
+    for &t in tables {
+        let start = std::time::Instant::now();
+        let r = match rows_of(t) {
             Ok(r) => r,
             Err(e) => {
-                failures.push(format!("{t}: the run failed: {e}"));
+                failures.push(format!("{t}: {e}"));
                 continue;
             }
         };
