@@ -141,6 +141,13 @@ pub enum ErrorMeasure {
     },
     /// Against a reference solution on a finer mesh of `dofs` unknowns.
     Reference { dofs: usize },
+    /// Against the run's own last solve, whose error is extrapolated as the estimate divided
+    /// by `effectivity`, fitted to the distances of the cycles `cycles`
+    /// ([`crate::study::reference::against_last_solve`]).
+    LastSolve {
+        effectivity: f64,
+        cycles: Vec<usize>,
+    },
 }
 
 /// The value of one column in one row.

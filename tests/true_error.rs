@@ -16,55 +16,7 @@ use tribo::results::columns;
 use crate::common::{experiments_dir, quick, read_csv, spec};
 
 /// Grid-adaptive tables without a true error at either tier, and why.
-const WITHOUT: [(&str, &str); 14] = [
-    (
-        "IV.9",
-        "z-contact, jump obstacle: J(u_h) falls irregularly, no reference yet",
-    ),
-    (
-        "IV.10",
-        "z-contact, jump obstacles: J(u_h) falls irregularly, no reference yet",
-    ),
-    (
-        "IV.14",
-        "Signorini, periodic obstacle: J(u_h) falls irregularly, no reference yet",
-    ),
-    (
-        "IV.15",
-        "Signorini, jump obstacle: J(u_h) falls irregularly, no reference yet",
-    ),
-    (
-        "IV.16",
-        "Signorini, jump obstacles: J(u_h) falls irregularly, no reference yet",
-    ),
-    (
-        "IV.17",
-        "Signorini, saw obstacle: J(u_h) falls irregularly, no reference yet",
-    ),
-    (
-        "IV.30",
-        "model-adaptive contact: no energy of the mixed model, no reference yet",
-    ),
-    (
-        "IV.31",
-        "model-adaptive contact: no energy of the mixed model, no reference yet",
-    ),
-    (
-        "IV.32",
-        "model-adaptive contact: no energy of the mixed model, no reference yet",
-    ),
-    (
-        "IV.33",
-        "model-adaptive contact: no energy of the mixed model, no reference yet",
-    ),
-    (
-        "IV.34",
-        "model-adaptive contact: no energy of the mixed model, no reference yet",
-    ),
-    (
-        "IV.35",
-        "model-adaptive contact: no energy of the mixed model, no reference yet",
-    ),
+const WITHOUT: [(&str, &str); 2] = [
     (
         "IV.38",
         "the exact solution is constant: the discrete solution is exact",
@@ -75,12 +27,19 @@ const WITHOUT: [(&str, &str); 14] = [
     ),
 ];
 
-/// Without a true error at one tier only.
+/// Without a true error at one tier only. IV.32 (model-adaptive contact): the estimate rises
+/// again in the last full-tier cycles, so the distances to the last solve cannot be fitted by
+/// the estimator's effectivity (`tribo::study::reference::last_solve_errors`).
 const WITHOUT_QUICK: [(&str, &str); 1] = [(
     "IV.52",
     "the discrete SubStokes solution is exact up to rounding at the quick tier",
 )];
-const WITHOUT_FULL: [(&str, &str); 2] = [
+const WITHOUT_FULL: [(&str, &str); 3] = [
+    (
+        "IV.32",
+        "model-adaptive contact: the estimate rises again in cycles 8 and 9, so the distances \
+         to the last solve cannot be fitted by the estimator's effectivity",
+    ),
     (
         "IV.52",
         "the discrete SubStokes solution is exact up to rounding",
@@ -91,7 +50,7 @@ const WITHOUT_FULL: [(&str, &str); 2] = [
     ),
 ];
 
-/// The grid-adaptive thesis tables, in file order.
+/// The grid-adaptive thesis tables (the model-and-grid-adaptive ones too), in file order.
 fn grid_adaptive_tables() -> Vec<String> {
     let mut tables: Vec<String> = std::fs::read_dir(experiments_dir())
         .expect("experiments/")
@@ -100,7 +59,12 @@ fn grid_adaptive_tables() -> Vec<String> {
             let table = name.strip_suffix(".toml")?.to_string();
             table.starts_with("IV.").then_some(table)
         })
-        .filter(|t| spec(t).study.kind() == StudyKind::GridAdaptive)
+        .filter(|t| {
+            matches!(
+                spec(t).study.kind(),
+                StudyKind::GridAdaptive | StudyKind::ModelAndGridAdaptive
+            )
+        })
         .collect();
     tables.sort();
     tables

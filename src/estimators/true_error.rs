@@ -37,10 +37,7 @@ pub fn elasticity_energy(
                 [g[0][0] - gh[0][0], g[0][1] - gh[0][1]],
                 [g[1][0] - gh[1][0], g[1][1] - gh[1][1]],
             ];
-            let s = model.stress(e);
-            // σ(e) : ε(e), σ symmetric: σ₁₁e₁₁ + σ₂₂e₂₂ + σ₁₂(e₁₂ + e₂₁)
-            sum +=
-                (s[0][0] * e[0][0] + s[1][1] * e[1][1] + s[0][1] * (e[0][1] + e[1][0])) * cv.jxw(q);
+            sum += model.energy_density(e) * cv.jxw(q);
         }
         sum
     });

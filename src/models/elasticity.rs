@@ -113,6 +113,14 @@ impl Elasticity {
         ]
     }
 
+    /// σ(e) : ε(e), the integrand of the energy norm a(e, e) (III.35), from the gradient ∇e
+    /// (rows = components); σ is symmetric, so σ : ε = σ₁₁e₁₁ + σ₂₂e₂₂ + σ₁₂(e₁₂ + e₂₁).
+    #[inline]
+    pub fn energy_density(&self, grad: [[f64; 2]; 2]) -> f64 {
+        let s = self.stress(grad);
+        s[0][0] * grad[0][0] + s[1][1] * grad[1][1] + s[0][1] * (grad[0][1] + grad[1][0])
+    }
+
     /// s = 0 on Γ₀: both components fixed at every vertex of the Dirichlet sides.
     pub fn constrain(&self, system: &mut System) {
         for &side in &self.dirichlet {

@@ -206,9 +206,9 @@ pub fn add_errors(
                 }
                 return Ok(());
             };
-            let dofs = errors.dofs;
+            let measure = errors.measure;
             let errors = errors.errors.into_iter().map(Some).collect();
-            (errors, ErrorMeasure::Reference { dofs })
+            (errors, measure)
         }
     };
     let rows = &result.rows;

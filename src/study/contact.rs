@@ -15,7 +15,10 @@
 use super::clock::PhaseClock;
 use super::elasticity::{deformed_picture, displacement_component};
 use super::error::StudyError;
-use super::problem::{setup_system, Discretisation, Estimate, Pictures, Problem, Solution};
+use super::problem::{
+    setup_system, Discretisation, Estimate, KeptSolve, Pictures, Problem, ReferenceErrors, Solution,
+};
+use super::reference;
 use super::signorini::{converge, Comparison, ComparisonFailures, Converged, FixedPoint};
 use super::transfer::PreviousSolution;
 use crate::estimators;
@@ -100,6 +103,9 @@ pub struct ContactProblem {
     /// Where the fixed point of the comparison failed with `signorini = "linearised"` (the
     /// table goes on; the notes of its section say it).
     pub failures: ComparisonFailures,
+    /// Why the true error could not be measured against the last solve, for the table's note
+    /// ([`reference::against_last_solve`]).
+    reference_note: Option<String>,
     /// The manufactured solution of the scene (`contact-strip`, `contact-strip-tilted`), if it
     /// has one: its surface load is added on Γ_C, and each row gets the true error, the
     /// effectivity and the vertices whose contact state differs from the known one.
@@ -147,6 +153,7 @@ impl ContactProblem {
             compares: true,
             comparison: None,
             failures: ComparisonFailures::default(),
+            reference_note: None,
             exact: None,
         }
     }
@@ -517,7 +524,32 @@ impl Problem for ContactProblem {
     }
 
     fn notes(&self) -> Vec<String> {
-        self.failures.notes()
+        let mut notes = self.failures.notes();
+        notes.extend(self.reference_note.clone());
+        notes
+    }
+
+    fn keeps_solves(&self) -> bool {
+        true
+    }
+
+    /// Where the energy bound fails (or a manufactured scene has no energy): the error against
+    /// the run's own last solve in the energy norm of elasticity (III.35), the norm of Theorems
+    /// III.12 and III.15, with the last solve's error extrapolated
+    /// ([`reference::against_last_solve`]).
+    fn reference_errors(
+        &mut self,
+        kept: &[KeptSolve],
+    ) -> Result<Option<ReferenceErrors>, StudyError> {
+        match reference::against_last_solve(kept, &self.model)? {
+            Ok(errors) => Ok(Some(errors)),
+            Err(why) => {
+                self.reference_note = Some(format!(
+                    "True error: not measured against the last solve — {why}."
+                ));
+                Ok(None)
+            }
+        }
     }
 }
 

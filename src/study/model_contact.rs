@@ -43,7 +43,10 @@ use super::adapt::{boundary_faces, face_partition};
 use super::clock::PhaseClock;
 use super::elasticity::displacement_component;
 use super::error::StudyError;
-use super::problem::{setup_system, Discretisation, Estimate, Pictures, Problem, Solution};
+use super::problem::{
+    setup_system, Discretisation, Estimate, KeptSolve, Pictures, Problem, ReferenceErrors, Solution,
+};
+use super::reference;
 use super::signorini::{converge, Comparison, ComparisonFailures, FixedPoint};
 use super::transfer::PreviousSolution;
 use crate::adaptivity::model::{model_error, ModelUnit};
@@ -102,6 +105,9 @@ pub struct ModelAdaptiveContact {
     comparison: Option<Comparison>,
     /// Where the fixed point of the comparison failed with the linearised reading.
     pub failures: ComparisonFailures,
+    /// Why the true error could not be measured against the last solve, for the table's note
+    /// ([`reference::against_last_solve`]).
+    reference_note: Option<String>,
 }
 
 /// The tools of a forming study and the step the problem is at.
@@ -136,6 +142,7 @@ impl ModelAdaptiveContact {
             compares: false,
             comparison: None,
             failures: ComparisonFailures::default(),
+            reference_note: None,
         }
     }
 
@@ -558,7 +565,34 @@ impl Problem for ModelAdaptiveContact {
     }
 
     fn notes(&self) -> Vec<String> {
-        self.failures.notes()
+        let mut notes = self.failures.notes();
+        notes.extend(self.reference_note.clone());
+        notes
+    }
+
+    /// The model-and-grid-adaptive tables (IV.30–IV.35) keep their solves for the true error;
+    /// the fixed-mesh model-adaptive tables and the load steps measure none.
+    fn keeps_solves(&self) -> bool {
+        self.adapts_grid && self.forming.is_none()
+    }
+
+    /// The error against the run's own last solve, the mixed model of its last cycle, in the
+    /// energy norm of elasticity ([`reference::against_last_solve`]): the discretisation error
+    /// of that model, which the printed estimate (Theorem III.15 with the MGA code's terms)
+    /// bounds; the model error is the `model_error` column's.
+    fn reference_errors(
+        &mut self,
+        kept: &[KeptSolve],
+    ) -> Result<Option<ReferenceErrors>, StudyError> {
+        match reference::against_last_solve(kept, &self.model)? {
+            Ok(errors) => Ok(Some(errors)),
+            Err(why) => {
+                self.reference_note = Some(format!(
+                    "True error: not measured against the last solve — {why}."
+                ));
+                Ok(None)
+            }
+        }
     }
 
     fn rows_are_load_steps(&self) -> bool {

@@ -11,7 +11,9 @@ use crate::fe::{Constraints, DofMap, SparsityPattern, System};
 use crate::linalg::multigrid::VertexHierarchy;
 use crate::linalg::{DirectSolver, LinearSolver};
 use crate::mesh::{BoundaryFace, Mesh, MeshError};
-use crate::results::{columns, Cuts, DeformedPicture, FieldPicture, MeshField, Value};
+use crate::results::{
+    columns, Cuts, DeformedPicture, ErrorMeasure, FieldPicture, MeshField, Value,
+};
 
 use super::clock::PhaseClock;
 use super::error::StudyError;
@@ -436,13 +438,15 @@ pub trait Problem {
 pub struct ReferenceErrors {
     /// One per kept solve, in its order.
     pub errors: Vec<f64>,
-    /// The unknowns of the reference solve.
-    pub dofs: usize,
+    /// How they were measured (the page's sentence).
+    pub measure: ErrorMeasure,
 }
 
-/// One solve kept for a reference error ([`Problem::reference_errors`]): its discretisation,
-/// its dofs and its field.
+/// One solve kept for a reference error ([`Problem::reference_errors`]): its printed cycle, its
+/// estimate, its discretisation, its dofs and its field.
 pub struct KeptSolve {
+    pub cycle: usize,
+    pub estimate: Option<f64>,
     pub disc: Discretisation,
     pub dofs: DofMap,
     pub u: Vec<f64>,

@@ -124,6 +124,8 @@ impl<'a> Recorder<'a> {
         }
         if measures && problem.keeps_solves() {
             self.kept.push(KeptSolve {
+                cycle,
+                estimate: row.estimate(),
                 disc: disc.clone(),
                 dofs: dofs.clone(),
                 u: solution.u.clone(),

@@ -42,7 +42,7 @@ use crate::models::substokes_uzawa::{
     default_options, solve_cavitation_uzawa, solve_uzawa, CavitationUzawaOptions, UzawaStats,
 };
 use crate::models::thin_film::ThinFilm;
-use crate::results::{columns, FieldPicture};
+use crate::results::{columns, ErrorMeasure, FieldPicture};
 
 /// The Uzawa options of `solver = "uzawa"`: CG-SSOR (III.92) with the safeguarded step of
 /// [`crate::models::substokes_uzawa`] to 1e-12 of ‖(f, g)‖, the inner A-solves by one sparse
@@ -420,7 +420,9 @@ impl Problem for SubStokesFilm {
         }
         Ok(Some(ReferenceErrors {
             errors: reference::extrapolated_errors(&d),
-            dofs: dofs.n_dofs(),
+            measure: ErrorMeasure::Reference {
+                dofs: dofs.n_dofs(),
+            },
         }))
     }
 

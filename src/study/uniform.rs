@@ -32,12 +32,17 @@ use crate::results::{columns, ErrorMeasure, RunResult, UniformRow};
 pub const DOFS_FACTOR: f64 = 1.0;
 
 /// Whether the table gets a uniform run: a grid-adaptive study whose error was measured by the
-/// energy identity. A run measured against a reference (SubStokes) would need a second
-/// reference solve for the uniform meshes, about as costly as the first (IV.57: 5.5 s against
-/// the table's 1 s), which the report's time cannot take: those tables have no uniform run yet.
+/// energy identity or against its own last solve (the uniform run is then measured against its
+/// own last solve too, [`super::reference::against_last_solve`]). A run measured against a
+/// reference solve (SubStokes) would need a second reference solve for the uniform meshes,
+/// about as costly as the first (IV.57: 5.5 s against the table's 1 s), which the report's time
+/// cannot take: those tables have no uniform run yet.
 pub fn applies(experiment: &Experiment, run: &RunResult) -> bool {
     experiment.study.kind() == StudyKind::GridAdaptive
-        && matches!(run.accuracy, Some(ErrorMeasure::Energy { .. }))
+        && matches!(
+            run.accuracy,
+            Some(ErrorMeasure::Energy { .. } | ErrorMeasure::LastSolve { .. })
+        )
 }
 
 /// The uniform run of `experiment` beside its adaptive run `run` (rows with `error`), on a
@@ -109,6 +114,8 @@ fn uniform_cycles(
         });
         if problem.keeps_solves() {
             kept.push(KeptSolve {
+                cycle,
+                estimate: rows.last().map(|r| r.estimate),
                 disc: disc.clone(),
                 dofs: dofs.clone(),
                 u: solution.u.clone(),

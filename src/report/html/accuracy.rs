@@ -33,6 +33,20 @@ fn measure_sentence(measure: &ErrorMeasure) -> String {
                 format_args!("{beta:.2}")
             )
         }
+        ErrorMeasure::LastSolve {
+            effectivity,
+            cycles,
+        } => {
+            let (first, last) = (cycles.first().unwrap_or(&0), cycles.last().unwrap_or(&0));
+            format!(
+                "energy bound fails here, so the error is measured against the run's own last \
+                 solve: the distance of each cycle's solution to it, plus the last solve's own \
+                 error, extrapolated as its estimate divided by {}, the effectivity fitted to \
+                 the distances of cycles {first}–{last}. The last row's effectivity is that \
+                 extrapolation, not a measurement",
+                fmt_sig(*effectivity)
+            )
+        }
         ErrorMeasure::Reference { dofs } => format!(
             "error is measured against a reference solution on a finer mesh ({dofs} \
              unknowns), with the reference's own error extrapolated"
