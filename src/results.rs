@@ -110,6 +110,10 @@ pub mod columns {
     /// Scenes with a manufactured solution only: the error measured as on a scene without one
     /// ([`crate::study::accuracy`]), to check that measurement against the true `error`.
     pub const MEASURED_ERROR: &str = "measured_error";
+    /// Scenes with a manufactured solution measured against a reference solve (SubStokes)
+    /// only: the error measured against the run's own last solve, as the uniform runs beside
+    /// those tables are ([`crate::study::reference::against_last_solve`]), to check it.
+    pub const LAST_SOLVE_ERROR: &str = "last_solve_error";
 }
 
 /// One cycle of the uniform run beside a grid-adaptive table ([`crate::study::uniform`]).
@@ -705,6 +709,7 @@ impl RunResult {
                 n != columns::CG_ITERATIONS
                     && n != columns::ENERGY
                     && n != columns::MEASURED_ERROR
+                    && n != columns::LAST_SOLVE_ERROR
                     && !crate::study::signorini::columns::is_comparison(n)
             }) {
                 s += &snapshot_column(name, v);

@@ -227,6 +227,16 @@ pub fn add_errors(
         );
         return Ok(());
     }
+    if exact && matches!(measure, ErrorMeasure::Reference { .. }) {
+        let last_solve = super::reference::against_last_solve(kept, |on, a, b| {
+            problem.solve_distance(on, a, b)
+        })?;
+        if let Ok(last_solve) = last_solve {
+            for (row, error) in result.rows.iter_mut().zip(last_solve.errors) {
+                row.set(columns::LAST_SOLVE_ERROR, Value::real(Some(error)));
+            }
+        }
+    }
     for (row, error) in result.rows.iter_mut().zip(errors) {
         if exact {
             row.set(columns::MEASURED_ERROR, Value::real(error));

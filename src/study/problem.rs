@@ -4,6 +4,7 @@
 
 use std::collections::BTreeSet;
 
+use super::reference::VertexField;
 use crate::adaptivity::model::{ModelIndicators, ModelUnit};
 use crate::experiment::Scene;
 use crate::fe::hierarchy::CoarseLevels;
@@ -421,6 +422,14 @@ pub trait Problem {
     /// after the last cycle.
     fn keeps_solves(&self) -> bool {
         false
+    }
+
+    /// ‖a − b‖ of two solves in the norm of the problem's estimator, integrated on `on` (a mesh
+    /// at least as fine as both), for the error against the last solve
+    /// ([`super::reference::against_last_solve`]). `None` where the problem has no such norm
+    /// or a cell of `on` lies in no cell of a field's mesh.
+    fn solve_distance(&self, _on: &Mesh, _a: VertexField, _b: VertexField) -> Option<f64> {
+        None
     }
 
     /// The true error of each of `kept` (in its order), in the norm of the problem's estimator,

@@ -151,57 +151,87 @@ pub fn distance(
 
 impl VertexField<'_> {
     /// The cell of the field's mesh that holds the cell `key` of a finer mesh, with the
-    /// field's displacement (components 0 and 1) at its corners; `None` where no active cell
-    /// holds it.
-    fn displacement_holding(&self, key: CellKey) -> Option<(CellShape, [[f64; 4]; 2])> {
+    /// field's first `N` components at its corners; `None` where no active cell holds it.
+    fn corners_holding<const N: usize>(&self, key: CellKey) -> Option<(CellShape, [[f64; 4]; N])> {
         let holder = self.mesh.active_cell_holding(key)?;
         let k = self.mesh.active_index(holder);
-        let corners = [0, 1].map(|comp| self.dofs.corner_values(self.u, k, comp));
+        let corners = std::array::from_fn(|comp| self.dofs.corner_values(self.u, k, comp));
         Some((self.mesh.cell_shape(holder), corners))
     }
 }
 
+/// ∫ of `density` over the cells of `on` (a mesh at least as fine as both fields' meshes:
+/// their [`overlay`]), `density` taking the difference a − b of the first `N` components at a
+/// point, each as (value, gradient), with 4×4 Gauss points per cell, exact on rectangles for
+/// a quadratic density (both fields are polynomial on each cell of `on`). `None` where a cell
+/// of `on` lies in no cell of one of the fields' meshes.
+fn integrate_difference<const N: usize>(
+    on: &Mesh,
+    a: VertexField,
+    b: VertexField,
+    density: impl Fn(&[(f64, [f64; 2]); N]) -> f64 + Sync,
+) -> Option<f64> {
+    let rule = square_rule::<16>();
+    let cells = per_cell(on, &rule, |_, c, cv| {
+        let key = on.cell_key(c);
+        let (shape_a, ua) = a.corners_holding::<N>(key)?;
+        let (shape_b, ub) = b.corners_holding::<N>(key)?;
+        let mut sum = 0.0;
+        for q in 0..rule.len() {
+            let x = cv.point(q);
+            let e = std::array::from_fn(|comp| {
+                let (va, ga) = evaluate_at(&shape_a, ua[comp], x);
+                let (vb, gb) = evaluate_at(&shape_b, ub[comp], x);
+                (va - vb, [ga[0] - gb[0], ga[1] - gb[1]])
+            });
+            sum += density(&e) * cv.jxw(q);
+        }
+        Some(sum)
+    });
+    let sum: Option<Vec<f64>> = cells.into_iter().collect();
+    Some(sum?.iter().sum::<f64>())
+}
+
 /// ‖a − b‖_a = √a(e, e) of two displacement fields, the energy norm of elasticity (III.35) in
 /// which the contact estimators of Theorems III.12 and III.15 bound the error
-/// ([`Elasticity::energy_density`]), integrated on the cells of `on` (a mesh at least as fine
-/// as both: their [`overlay`]) with 4×4 Gauss points per cell, exact on rectangles (both
-/// gradients are polynomial on each cell of `on`). `None` where a cell of `on` lies in no cell
-/// of one of the fields' meshes.
+/// ([`Elasticity::energy_density`]), integrated on the cells of `on`
+/// ([`integrate_difference`]).
 pub fn energy_distance(
     on: &Mesh,
     a: VertexField,
     b: VertexField,
     model: &Elasticity,
 ) -> Option<f64> {
-    let rule = square_rule::<16>();
-    let cells = per_cell(on, &rule, |_, c, cv| {
-        let key = on.cell_key(c);
-        let (shape_a, ua) = a.displacement_holding(key)?;
-        let (shape_b, ub) = b.displacement_holding(key)?;
-        let mut sum = 0.0;
-        for q in 0..rule.len() {
-            let x = cv.point(q);
-            let grad = [0, 1].map(|comp| {
-                let (_, ga) = evaluate_at(&shape_a, ua[comp], x);
-                let (_, gb) = evaluate_at(&shape_b, ub[comp], x);
-                [ga[0] - gb[0], ga[1] - gb[1]]
-            });
-            sum += model.energy_density(grad) * cv.jxw(q);
-        }
-        Some(sum)
-    });
-    let sum: Option<Vec<f64>> = cells.into_iter().collect();
-    Some(sum?.iter().sum::<f64>().sqrt())
+    let squared = integrate_difference::<2>(on, a, b, |e| model.energy_density([e[0].1, e[1].1]))?;
+    Some(squared.sqrt())
 }
 
-/// The true error of the contact runs whose energy bound fails, measured against the run's
-/// own last solve (module docs, "Against the last solve"): d_k = ‖u_n − u_k‖_a on the overlay
-/// of the kept meshes ([`energy_distance`]), e_n from [`last_solve_errors`]. `None` with fewer
+/// ‖a − b‖ in the norm of `weights` (module docs, [`distance`]) of two fields of `N`
+/// components, integrated on the cells of `on` ([`integrate_difference`]).
+pub fn weighted_distance<const N: usize>(
+    on: &Mesh,
+    a: VertexField,
+    b: VertexField,
+    weights: &[(f64, f64); N],
+) -> Option<f64> {
+    let squared = integrate_difference::<N>(on, a, b, |e| {
+        e.iter()
+            .zip(weights)
+            .map(|((v, g), (w0, w1))| w0 * v * v + w1 * (g[0] * g[0] + g[1] * g[1]))
+            .sum()
+    })?;
+    Some(squared.sqrt())
+}
+
+/// The true error of the contact runs whose energy bound fails, and of the uniform runs beside
+/// the tables measured against a reference solve, measured against the run's own last solve
+/// (module docs, "Against the last solve"): d_k = ‖u_n − u_k‖ on the overlay of the kept
+/// meshes in the norm of the problem's estimator (`distance`, [`crate::study::Problem::solve_distance`]), e_n from [`last_solve_errors`]. `None` with fewer
 /// than four kept solves, where a distance cannot be taken or a solve has no estimate, or
 /// where the fit fails: then the reason, for the table's note.
 pub fn against_last_solve(
     kept: &[KeptSolve],
-    model: &Elasticity,
+    distance: impl Fn(&Mesh, VertexField, VertexField) -> Option<f64>,
 ) -> Result<Result<ReferenceErrors, String>, MeshError> {
     let meshes: Vec<&Mesh> = kept.iter().map(|k| &k.disc.mesh).collect();
     let (Some(last), Some(on)) = (kept.last(), overlay(&meshes)?) else {
@@ -216,7 +246,7 @@ pub fn against_last_solve(
     }
     let d: Option<Vec<f64>> = kept
         .iter()
-        .map(|k| energy_distance(&on, field(last), field(k), model))
+        .map(|k| distance(&on, field(last), field(k)))
         .collect();
     let Some(d) = d else {
         return Ok(Err(
@@ -237,6 +267,21 @@ pub fn against_last_solve(
                 cycles: fit.window.map(|i| kept[i].cycle).collect(),
             },
         }))
+}
+
+/// The errors of [`against_last_solve`], or `None` with the reason put into `note` as the
+/// table's note.
+pub fn noting_why_not(
+    errors: Result<ReferenceErrors, String>,
+    note: &mut Option<String>,
+) -> Option<ReferenceErrors> {
+    errors
+        .map_err(|why| {
+            *note = Some(format!(
+                "True error: not measured against the last solve — {why}."
+            ))
+        })
+        .ok()
 }
 
 /// The errors of [`last_solve_errors`] and its fit.

@@ -247,6 +247,10 @@ impl SubStokesFilm {
     }
 }
 
+/// The weights (value, gradient) of χ₁, χ₂ and ψ in the norm of the true error
+/// ([`true_error::substokes_norm`], [`reference::distance`]).
+const NORM_WEIGHTS: [(f64, f64); 3] = [(1.0, 1.0), (1.0, 1.0), (1.0, 0.0)];
+
 impl Problem for SubStokesFilm {
     fn setup(&mut self, disc: &Discretisation) -> System {
         let system = setup_system(disc, 3, &mut self.solver, |s| self.problem.constrain(s));
@@ -371,6 +375,16 @@ impl Problem for SubStokesFilm {
     /// left-hand side of Theorems III.23/III.24 — extrapolated by e_k = √(d_k² + e_ref²),
     /// e_ref = d_last/√3 ([`super::reference::extrapolated_errors`]; for this saddle point an
     /// approximation, not the Pythagoras of a symmetric Galerkin problem).
+    /// The norm of [`true_error::substokes_norm`], (‖χ‖²_{H¹} + ‖ψ‖²_{L²})^{1/2}.
+    fn solve_distance(
+        &self,
+        on: &crate::mesh::Mesh,
+        a: reference::VertexField,
+        b: reference::VertexField,
+    ) -> Option<f64> {
+        reference::weighted_distance(on, a, b, &NORM_WEIGHTS)
+    }
+
     fn reference_errors(
         &mut self,
         kept: &[KeptSolve],
@@ -405,7 +419,7 @@ impl Problem for SubStokesFilm {
             dofs: &dofs,
             u: &u,
         };
-        let weights = [(1.0, 1.0), (1.0, 1.0), (1.0, 0.0)];
+        let weights = NORM_WEIGHTS;
         let mut d = Vec::with_capacity(kept.len());
         for k in kept {
             let field = reference::VertexField {

@@ -8,7 +8,7 @@ use std::fmt::Write as _;
 use super::{fmt_seconds, fmt_sig};
 use crate::report::{effectivity_range, fmt_effectivity};
 use crate::results::{ErrorMeasure, RunResult};
-use crate::study::uniform::{saving, DOFS_FACTOR};
+use crate::study::uniform::saving;
 
 /// How the error of a run was measured, in one sentence.
 fn measure_sentence(measure: &ErrorMeasure) -> String {
@@ -70,8 +70,20 @@ pub(super) fn true_error(h: &mut String, run: &RunResult) {
     if run.uniform.is_empty() {
         return;
     }
+    let uniform_measure = match measure {
+        ErrorMeasure::Energy { .. } => "by the energy with the adaptive run's J(u)",
+        ErrorMeasure::LastSolve { .. } | ErrorMeasure::Reference { .. } => {
+            "against the uniform run's own last solve, its error carried from the estimator's \
+             effectivity over the cycles before"
+        }
+    };
+    let _ = writeln!(
+        h,
+        "<details><summary>Adaptive against uniform refinement (each uniform cycle's error \
+         measured {uniform_measure})</summary>"
+    );
     h.push_str(
-        "<details><summary>Adaptive against uniform refinement</summary>\n\
+        "\
          <div class=\"scroll\"><table>\n<thead><tr><th>uniform cycle</th><th>cells</th>\
          <th>dofs</th><th>error</th><th>estimate</th><th>seconds</th></tr></thead>\n<tbody>\n",
     );
@@ -97,10 +109,10 @@ pub(super) fn true_error(h: &mut String, run: &RunResult) {
     };
     let how = if s.extrapolated {
         format!(
-            "extrapolated with the uniform run's own order {:.2} (no uniform cycle up to {} \
-             dofs reached it)",
+            "extrapolated with the uniform run's own order {:.2} (no uniform cycle reached it; \
+             the last has {} dofs)",
             s.uniform_order,
-            (s.adaptive_dofs * DOFS_FACTOR) as u64
+            run.uniform.last().map_or(0, |u| u.dofs)
         )
     } else {
         "interpolated between the uniform cycles that bracket it".to_string()
