@@ -151,7 +151,8 @@ fn manufactured_cavitation_converges_at_order_one_half_and_finds_its_zone() {
 /// within 10 % from the third cycle (cycle 2) on, in every cycle of the quick tier. Measured:
 /// within 0.5 % up to cycle 5 on both scenes, then growing with the weight of the extrapolated
 /// J(u) in the last cycles, to −1.5 % (elasticity) and +6.7 % (Reynolds) in cycle 9; at the
-/// full tier −4.0 % and +7.7 % in cycle 11. The check fails when J(u_h) is integrated with the
+/// full tier −4.0 % and +7.7 % in cycle 11. The cavitation scene, where the energy only bounds
+/// the error, within 2.4 % at the quick tier and 8.2 % at the full tier. The check fails when J(u_h) is integrated with the
 /// assembly's 2×2 points instead of 4×4 (Reynolds, cycle 2: +11.4 %).
 fn check_measured_error(id: &str) {
     check_within_ten_percent(id, columns::MEASURED_ERROR);
@@ -177,6 +178,7 @@ fn check_within_ten_percent(id: &str, measured: &str) {
 fn the_measured_error_matches_the_true_error_on_the_manufactured_scenes() {
     check_measured_error("manufactured-elasticity");
     check_measured_error("manufactured-reynolds");
+    check_measured_error("manufactured-cavitation");
 }
 
 /// The contact scenes have no energy (their surface load would have to enter J), so they are
@@ -302,7 +304,7 @@ fn refuse_edits(id: &str, cases: &[(&str, &str, &str, &str)], dir: &std::path::P
 /// (measured: within 6.2 %, the largest deviation in the last cycle, whose value rests on the
 /// extrapolated e_ref). The error against the run's own last solve, as the uniform runs beside
 /// the SubStokes tables measure theirs (`last_solve_error` here), is within 10 % too (measured:
-/// within 6.6 %, in cycle 8).
+/// within 6.6 %, in cycle 8; at the full tier +11.6 % in cycle 10, the one before the last).
 #[test]
 fn manufactured_substokes_converges_at_order_one_half_with_a_steady_effectivity() {
     let id = "manufactured-substokes";
