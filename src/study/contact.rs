@@ -533,15 +533,15 @@ impl Problem for ContactProblem {
         true
     }
 
-    /// Where the energy bound fails (or a manufactured scene has no energy): the error against
-    /// the run's own last solve in the energy norm of elasticity (III.35), the norm of Theorems
-    /// III.12 and III.15, with the last solve's error extrapolated
-    /// ([`reference::against_last_solve`]).
     /// The energy norm of elasticity (III.35), the norm of Theorems III.12 and III.15.
     fn solve_distance(&self, on: &Mesh, a: VertexField, b: VertexField) -> Option<f64> {
         reference::energy_distance(on, a, b, &self.model)
     }
 
+    /// Where the energy bound fails (or a manufactured scene has no energy): the error against
+    /// the run's own last solve in the energy norm of elasticity (III.35), the norm of Theorems
+    /// III.12 and III.15, with the last solve's error extrapolated
+    /// ([`reference::against_last_solve`]).
     fn reference_errors(
         &mut self,
         kept: &[KeptSolve],

@@ -576,15 +576,15 @@ impl Problem for ModelAdaptiveContact {
         self.adapts_grid && self.forming.is_none()
     }
 
-    /// The error against the run's own last solve, the mixed model of its last cycle, in the
-    /// energy norm of elasticity ([`reference::against_last_solve`]): the discretisation error
-    /// of that model, which the printed estimate (Theorem III.15 with the MGA code's terms)
-    /// bounds; the model error is the `model_error` column's.
     /// The energy norm of elasticity (III.35), the norm of Theorems III.12 and III.15.
     fn solve_distance(&self, on: &Mesh, a: VertexField, b: VertexField) -> Option<f64> {
         reference::energy_distance(on, a, b, &self.model)
     }
 
+    /// The error against the run's own last solve, the mixed model of its last cycle, in the
+    /// energy norm of elasticity ([`reference::against_last_solve`]): the discretisation error
+    /// of that model, which the printed estimate (Theorem III.15 with the MGA code's terms)
+    /// bounds; the model error is the `model_error` column's.
     fn reference_errors(
         &mut self,
         kept: &[KeptSolve],
