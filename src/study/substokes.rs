@@ -368,13 +368,6 @@ impl Problem for SubStokesFilm {
         true
     }
 
-    /// The reference of [`super::reference`]: the overlay of the kept meshes refined once,
-    /// solved afresh by the LDLᵀ with the model in use at the end of the run (with cavitation
-    /// where it ran, the active set warm-started from the last kept solve), and the distance of each kept solve to it in the norm of
-    /// [`true_error::substokes_norm`] — (‖χ‖²_{H¹} + ‖ψ‖²_{L²})^{1/2}, the Euclidean form of the
-    /// left-hand side of Theorems III.23/III.24 — extrapolated by e_k = √(d_k² + e_ref²),
-    /// e_ref = d_last/√3 ([`super::reference::extrapolated_errors`]; for this saddle point an
-    /// approximation, not the Pythagoras of a symmetric Galerkin problem).
     /// The norm of [`true_error::substokes_norm`], (‖χ‖²_{H¹} + ‖ψ‖²_{L²})^{1/2}.
     fn solve_distance(
         &self,
@@ -385,6 +378,13 @@ impl Problem for SubStokesFilm {
         reference::weighted_distance(on, a, b, &NORM_WEIGHTS)
     }
 
+    /// The reference of [`super::reference`]: the overlay of the kept meshes refined once,
+    /// solved afresh by the LDLᵀ with the model in use at the end of the run (with cavitation
+    /// where it ran, the active set warm-started from the last kept solve), and the distance of each kept solve to it in the norm of
+    /// [`true_error::substokes_norm`] — (‖χ‖²_{H¹} + ‖ψ‖²_{L²})^{1/2}, the Euclidean form of the
+    /// left-hand side of Theorems III.23/III.24 — extrapolated by e_k = √(d_k² + e_ref²),
+    /// e_ref = d_last/√3 ([`super::reference::extrapolated_errors`]; for this saddle point an
+    /// approximation, not the Pythagoras of a symmetric Galerkin problem).
     fn reference_errors(
         &mut self,
         kept: &[KeptSolve],
