@@ -152,8 +152,14 @@ fn manufactured_cavitation_converges_at_order_one_half_and_finds_its_zone() {
 /// within 0.5 % up to cycle 5 on both scenes, then growing with the weight of the extrapolated
 /// J(u) in the last cycles, to −1.5 % (elasticity) and +6.7 % (Reynolds) in cycle 9; at the
 /// full tier −4.0 % and +7.7 % in cycle 11. The cavitation scene, where the energy only bounds
-/// the error, within 2.4 % at the quick tier and 8.2 % at the full tier. The check fails when J(u_h) is integrated with the
-/// assembly's 2×2 points instead of 4×4 (Reynolds, cycle 2: +11.4 %).
+/// the error, within 2.4 % at the quick tier and 8.2 % at the full tier. The check fails when
+/// J(u_h) is integrated with the assembly's 2×2 points instead of 4×4 (Reynolds, cycle 2:
+/// +11.4 %).
+///
+/// The cavitation scene's error against its own last solve in the Reynolds norm
+/// (`last_solve_error`), as the cavitation tables whose energy falls irregularly (IV.64) and
+/// the uniform runs beside them are measured: within +2.0 % at the quick tier (cycle 9),
+/// +5.1 % at the full tier (cycle 11).
 fn check_measured_error(id: &str) {
     check_within_ten_percent(id, columns::MEASURED_ERROR);
 }
@@ -179,6 +185,7 @@ fn the_measured_error_matches_the_true_error_on_the_manufactured_scenes() {
     check_measured_error("manufactured-elasticity");
     check_measured_error("manufactured-reynolds");
     check_measured_error("manufactured-cavitation");
+    check_within_ten_percent("manufactured-cavitation", columns::LAST_SOLVE_ERROR);
 }
 
 /// The contact scenes have no energy (their surface load would have to enter J), so they are

@@ -13,8 +13,10 @@
 use super::clock::{Phase, PhaseClock};
 use super::error::StudyError;
 use super::problem::{
-    cg_column, setup_system, Discretisation, Estimate, Pictures, Problem, Solution,
+    cg_column, setup_system, Discretisation, Estimate, KeptSolve, Pictures, Problem,
+    ReferenceErrors, Solution,
 };
+use super::reference::{self, VertexField};
 use super::thin_film::{noise_floor, CavitationSwitch, FieldSample, PreviousEstimate};
 use super::transfer::PreviousSolution;
 use crate::estimators;
@@ -51,6 +53,8 @@ pub struct ReynoldsFilm {
     domain: Rectangle,
     /// Why the cut of the last solution could not be sampled, if it could not (a note).
     cut_failure: Option<String>,
+    /// Why the error against the last solve could not be measured, if it could not (a note).
+    reference_note: Option<String>,
 }
 
 impl ReynoldsFilm {
@@ -67,6 +71,7 @@ impl ReynoldsFilm {
             solver: LinearSolver::spd(solver),
             domain: *domain,
             cut_failure: None,
+            reference_note: None,
         }
     }
 
@@ -345,6 +350,34 @@ impl Problem for ReynoldsFilm {
             .cut_failure
             .as_ref()
             .map(|e| format!("The cut of ψ_h on the last mesh could not be sampled: {e}"));
-        self.switch.note().into_iter().chain(failure).collect()
+        self.switch
+            .note()
+            .into_iter()
+            .chain(failure)
+            .chain(self.reference_note.clone())
+            .collect()
+    }
+
+    /// With cavitation the energy only bounds the error and can fall irregularly while the
+    /// cavitation zone moves (IV.64): the solves are kept for the error against the last one.
+    fn keeps_solves(&self) -> bool {
+        self.switch.may_run()
+    }
+
+    /// The Reynolds norm (II.9) of Theorems III.16 and III.17.
+    fn solve_distance(&self, on: &Mesh, a: VertexField, b: VertexField) -> Option<f64> {
+        reference::reynolds_distance(on, a, b, &self.problem.film)
+    }
+
+    /// Where the energy gives no error (with cavitation: the energies fall irregularly while the
+    /// zone moves): the error against the run's own last solve in the Reynolds norm (II.9), the
+    /// norm of Theorem III.17, with the last solve's error extrapolated
+    /// ([`reference::against_last_solve`]).
+    fn reference_errors(
+        &mut self,
+        kept: &[KeptSolve],
+    ) -> Result<Option<ReferenceErrors>, StudyError> {
+        let errors = reference::against_last_solve(kept, |on, a, b| self.solve_distance(on, a, b))?;
+        Ok(reference::noting_why_not(errors, &mut self.reference_note))
     }
 }

@@ -115,6 +115,11 @@ impl CavitationSwitch {
         }
     }
 
+    /// Whether the cavitation model can run in this study (`on` or `auto`).
+    pub fn may_run(&self) -> bool {
+        self.mode != Cavitation::Off
+    }
+
     /// Whether the cavitation model is in use.
     pub fn is_on(&self) -> bool {
         self.on

@@ -39,8 +39,8 @@ fn measure_sentence(measure: &ErrorMeasure) -> String {
         } => {
             let (first, last) = (cycles.first().unwrap_or(&0), cycles.last().unwrap_or(&0));
             format!(
-                "energy bound fails here, so the error is measured against the run's own last \
-                 solve: the distance of each cycle's solution to it, plus the last solve's own \
+                "error is measured against the run's own last solve, in the estimator's norm: \
+                 the distance of each cycle's solution to it, plus the last solve's own \
                  error, extrapolated as its estimate divided by {}, the effectivity fitted to \
                  the distances of cycles {first}–{last}. The last row's effectivity is that \
                  extrapolation, not a measurement",
