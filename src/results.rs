@@ -523,6 +523,71 @@ pub struct MeshField {
     /// 1 for a scalar, 2 for a vector in the plane (s₁, s₂ or χ₁, χ₂).
     pub components: usize,
     pub values: Vec<f64>,
+    /// What the values are: reals, or small whole numbers (flags, levels) that a file may
+    /// store in one byte each.
+    pub kind: FieldKind,
+}
+
+/// The kind of a [`MeshField`]'s values, which sets how a file stores them.
+#[derive(Clone, Copy, Debug, Serialize, PartialEq, Eq)]
+pub enum FieldKind {
+    /// A computed solution (ψ, χ, the displacement): stored as doubles, bit for bit.
+    Real,
+    /// A field derived for display (the mean pressure ψ/g, the gap, the indicators η²):
+    /// stored in single precision, 7 significant digits.
+    Display,
+    /// Whole numbers in 0..=255: a 0/1 flag of a vertex set, a refinement level.
+    Small,
+}
+
+impl MeshField {
+    /// A field of reals, `components` per point or cell.
+    pub fn real(name: &str, components: usize, values: Vec<f64>) -> MeshField {
+        MeshField {
+            name: name.into(),
+            components,
+            values,
+            kind: FieldKind::Real,
+        }
+    }
+
+    /// A scalar field derived for display ([`FieldKind::Display`]).
+    pub fn display(name: &str, values: Vec<f64>) -> MeshField {
+        MeshField {
+            name: name.into(),
+            components: 1,
+            values,
+            kind: FieldKind::Display,
+        }
+    }
+
+    /// A scalar field of small whole numbers ([`FieldKind::Small`]).
+    pub fn small(name: &str, values: Vec<f64>) -> MeshField {
+        MeshField {
+            name: name.into(),
+            components: 1,
+            values,
+            kind: FieldKind::Small,
+        }
+    }
+
+    /// A 0/1 field: 1 where `member` holds.
+    pub fn flags(name: &str, member: impl IntoIterator<Item = bool>) -> MeshField {
+        let values = member.into_iter().map(|m| f64::from(u8::from(m))).collect();
+        MeshField::small(name, values)
+    }
+}
+
+/// Which meshes of a run go into `data/` as VTU files (`report --vtu`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum VtuOutput {
+    /// No VTU file.
+    None,
+    /// The last printed mesh of each table as written (not of its alternative readings).
+    #[default]
+    Last,
+    /// Every printed cycle of each table and of its alternative readings.
+    All,
 }
 
 /// The mesh of the last printed cycle with the solution on it, for `data/<table>.vtu`: every
@@ -591,6 +656,10 @@ pub struct RunResult {
     /// `data/<table>.vtu` and then drops it (it is as large as the mesh).
     #[serde(skip)]
     pub last_mesh: Option<LastMesh>,
+    /// The meshes of the printed cycles before the last, with their fields, where the run
+    /// keeps them (`report --vtu all`); written and dropped like `last_mesh`.
+    #[serde(skip)]
+    pub cycle_meshes: Vec<LastMesh>,
 }
 
 impl RunResult {
@@ -619,6 +688,7 @@ impl RunResult {
             uniform: Vec::new(),
             parameters: Vec::new(),
             last_mesh: None,
+            cycle_meshes: Vec::new(),
         }
     }
 

@@ -568,14 +568,15 @@ fn assert_honest_folder(out: &Path, pending: &str, finished: &str) {
                 "{name}"
             );
         }
-        if name.ends_with(".vtu") {
+        if name.ends_with(".vtu") || name.ends_with(".pvd") {
             assert!(bytes.ends_with(b"</VTKFile>\n"), "{name} is cut off");
         }
         assert!(
             name.starts_with('.')
                 || name.ends_with(".csv")
                 || name.ends_with(".parquet")
-                || name.ends_with(".vtu"),
+                || name.ends_with(".vtu")
+                || name.ends_with(".pvd"),
             "{name}"
         );
     }

@@ -227,6 +227,7 @@ fn the_comparison_runs_with_the_alternatives_only() {
         tier: Tier::Quick,
         budget: study::Budget::machine(),
         alternatives,
+        vtu: tribo::results::VtuOutput::Last,
     };
     let table = study::run_table(&experiment, options(true), &Keep).unwrap();
     assert!(compared(&table.run));

@@ -3,7 +3,7 @@
 
 use std::sync::Mutex;
 
-use tribo::results::RunResult;
+use tribo::results::{RunResult, VtuOutput};
 use tribo::study::table::Solves;
 use tribo::study::{self, TableHost, TableOptions, TableRun, Tier};
 
@@ -45,6 +45,7 @@ fn options(alternatives: bool) -> TableOptions {
         tier: Tier::Quick,
         budget: study::Budget::machine(),
         alternatives,
+        vtu: VtuOutput::Last,
     }
 }
 
@@ -69,6 +70,11 @@ fn readings_run_after_the_table_each_kept_before_the_next() {
     );
     assert_eq!(table.alternatives.len(), 2);
     assert!(table.alternatives.iter().all(|a| a.outcome.is_ok()));
+    // `--vtu last`: the table keeps its last mesh, the readings none.
+    assert!(table.run.last_mesh.is_some() && table.run.cycle_meshes.is_empty());
+    for reading in &table.alternatives {
+        assert!(reading.outcome.as_ref().unwrap().last_mesh.is_none());
+    }
 
     let alone = Recorder::default();
     let table = study::run_table(&experiment, options(false), &alone).expect("IV.64 runs");
@@ -81,6 +87,40 @@ fn readings_run_after_the_table_each_kept_before_the_next() {
 
 /// A table whose result cannot be kept is that failure, and no reading runs; a reading whose
 /// result cannot be kept is a failed reading, and the next still runs.
+/// `--vtu all` keeps the mesh of every printed cycle, of the table and of its readings, each
+/// with its cycle; `--vtu none` keeps none.
+#[test]
+fn every_printed_mesh_is_kept_on_request_only() {
+    let experiment = spec("IV.64");
+    let all = TableOptions {
+        vtu: VtuOutput::All,
+        ..options(true)
+    };
+    let table = study::run_table(&experiment, all, &Recorder::default()).expect("IV.64 runs");
+    let printed = table.run.rows.len();
+    for run in std::iter::once(&table.run).chain(
+        table
+            .alternatives
+            .iter()
+            .map(|a| a.outcome.as_ref().unwrap()),
+    ) {
+        let cycles: Vec<usize> = run.cycle_meshes.iter().map(|m| m.cycle).collect();
+        assert_eq!(
+            cycles,
+            (0..printed - 1).collect::<Vec<_>>(),
+            "{}",
+            run.table
+        );
+        assert_eq!(run.last_mesh.as_ref().map(|m| m.cycle), Some(printed - 1));
+    }
+    let none = TableOptions {
+        vtu: VtuOutput::None,
+        ..options(false)
+    };
+    let table = study::run_table(&experiment, none, &Recorder::default()).expect("IV.64 runs");
+    assert!(table.run.last_mesh.is_none() && table.run.cycle_meshes.is_empty());
+}
+
 #[test]
 fn a_failure_to_keep_stops_the_table_not_the_other_readings() {
     let experiment = spec("IV.64");

@@ -840,6 +840,9 @@ pub struct Study {
     /// readings, which the page compares by their estimates (the error is the table's as
     /// written; measuring it again for each reading would double the cavitation tables' cost).
     pub true_error: bool,
+    /// Which printed meshes the run keeps for the VTU files (`report --vtu`): the last one as
+    /// loaded; none for the alternative readings unless every one is asked for.
+    pub vtu: crate::results::VtuOutput,
     /// What the kind iterates, with its fields.
     pub plan: Plan,
 }

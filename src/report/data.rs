@@ -316,14 +316,26 @@ pub fn write_joined(dir: &Path, run: &RunResult, thesis: &ThesisTable) -> Polars
     Ok(true)
 }
 
-/// Write the run's last mesh as `<table>.vtu` ([`super::vtk`]) where it has one; returns
-/// whether it wrote it.
+/// Write the run's meshes as VTU files ([`super::vtk`]) where it kept any: the last printed
+/// one as `<table>.vtu`, each earlier one (`report --vtu all`) as `<table>.cycle-<k>.vtu`, and
+/// `<table>.pvd`, the series of them for ParaView (time = the printed cycle, or the load step
+/// of the forming). Returns whether it wrote any.
 pub fn write_vtu(dir: &Path, run: &RunResult) -> std::io::Result<bool> {
-    let Some(mesh) = &run.last_mesh else {
+    let Some(last) = &run.last_mesh else {
         return Ok(false);
     };
     std::fs::create_dir_all(dir)?;
-    super::vtk::write_file(&dir.join(format!("{}.vtu", csv_stem(&run.table))), mesh)?;
+    let stem = csv_stem(&run.table);
+    let mut series = Vec::new();
+    for mesh in &run.cycle_meshes {
+        let name = format!("{stem}.cycle-{}.vtu", mesh.cycle);
+        super::vtk::write_file(&dir.join(&name), mesh)?;
+        series.push((name, mesh.cycle));
+    }
+    let name = format!("{stem}.vtu");
+    super::vtk::write_file(&dir.join(&name), last)?;
+    series.push((name, last.cycle));
+    super::vtk::write_collection(&dir.join(format!("{stem}.pvd")), &series)?;
     Ok(true)
 }
 

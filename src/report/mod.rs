@@ -308,7 +308,7 @@ fn with_path(e: io::Error, path: &Path) -> io::Error {
 
 /// Remove the output a table left in `out_dir` from an earlier run: `data/<table>.csv`,
 /// `data/<table>.<word>….csv` (its probes and alternative readings), the same names ending in
-/// `.parquet` and `.vtu`, and
+/// `.parquet`, `.vtu` and `.pvd`, and
 /// `figures/<table>-<word>….svg`; return the files removed.
 ///
 /// Called before a table runs, so that a table that fails leaves no data or figures that look
@@ -323,6 +323,7 @@ pub fn remove_outputs(out_dir: &Path, table: &str) -> io::Result<Vec<PathBuf>> {
         (out_dir.join("data"), data_stem.as_str(), '.', ".csv"),
         (out_dir.join("data"), data_stem.as_str(), '.', ".parquet"),
         (out_dir.join("data"), data_stem.as_str(), '.', ".vtu"),
+        (out_dir.join("data"), data_stem.as_str(), '.', ".pvd"),
         (out_dir.join("figures"), figure_stem.as_str(), '-', ".svg"),
     ] {
         let entries = match fs::read_dir(&dir) {

@@ -198,23 +198,35 @@ pub fn add_errors(
     let (errors, measure) = match by_energy {
         Ok(Some(measured)) => measured,
         Ok(None) | Err(_) => {
-            let Some(errors) = problem.reference_errors(kept)? else {
-                if let Err(why) = by_energy {
-                    result
-                        .notes
-                        .push(format!("True error: not measured — {why}."));
-                }
-                return Ok(());
+            let reference = if kept.is_empty() {
+                Err(None)
+            } else {
+                problem.reference_errors(kept)?.map_err(Some)
             };
-            if let Err(why) = by_energy {
-                result.notes.push(format!(
-                    "True error: the energy gives none here — {why}; it is measured against \
-                     the run's own last solve instead."
-                ));
+            let notes = &mut result.notes;
+            match (reference, by_energy) {
+                (Ok(errors), by_energy) => {
+                    if let Err(why) = by_energy {
+                        notes.push(format!(
+                            "True error: the energy gives none here — {why}; it is measured \
+                             against the run's own last solve instead."
+                        ));
+                    }
+                    let measure = errors.measure;
+                    (errors.errors.into_iter().map(Some).collect(), measure)
+                }
+                (Err(why_not), by_energy) => {
+                    if let Err(why) = by_energy {
+                        notes.push(format!("True error: not measured — {why}."));
+                    }
+                    if let Some(why) = why_not {
+                        notes.push(format!(
+                            "True error: not measured against a reference — {why}."
+                        ));
+                    }
+                    return Ok(());
+                }
             }
-            let measure = errors.measure;
-            let errors = errors.errors.into_iter().map(Some).collect();
-            (errors, measure)
         }
     };
     let rows = &result.rows;

@@ -15,9 +15,7 @@
 use super::clock::PhaseClock;
 use super::elasticity::{deformed_picture, displacement_component};
 use super::error::StudyError;
-use super::problem::{
-    setup_system, Discretisation, Estimate, KeptSolve, Pictures, Problem, ReferenceErrors, Solution,
-};
+use super::problem::{setup_system, Discretisation, Estimate, Pictures, Problem, Solution};
 use super::reference::{self, VertexField};
 use super::signorini::{converge, Comparison, ComparisonFailures, Converged, FixedPoint};
 use super::transfer::PreviousSolution;
@@ -103,9 +101,6 @@ pub struct ContactProblem {
     /// Where the fixed point of the comparison failed with `signorini = "linearised"` (the
     /// table goes on; the notes of its section say it).
     pub failures: ComparisonFailures,
-    /// Why the true error could not be measured against the last solve, for the table's note
-    /// ([`reference::against_last_solve`]).
-    reference_note: Option<String>,
     /// The manufactured solution of the scene (`contact-strip`, `contact-strip-tilted`), if it
     /// has one: its surface load is added on Γ_C, and each row gets the true error, the
     /// effectivity and the vertices whose contact state differs from the known one.
@@ -153,7 +148,6 @@ impl ContactProblem {
             compares: true,
             comparison: None,
             failures: ComparisonFailures::default(),
-            reference_note: None,
             exact: None,
         }
     }
@@ -302,20 +296,16 @@ pub fn contact_set_field(state: &Option<CycleState>, dofs: &DofMap) -> Vec<MeshF
     let Some(state) = state else {
         return Vec::new();
     };
-    let mut values = vec![0.0; dofs.vertices.len()];
+    let mut member = vec![false; dofs.vertices.len()];
     for (c, _) in state
         .constraints
         .iter()
         .zip(&state.solution.active)
         .filter(|(_, &a)| a)
     {
-        values[c.vertex as usize] = 1.0;
+        member[c.vertex as usize] = true;
     }
-    vec![MeshField {
-        name: "contact".into(),
-        components: 1,
-        values,
-    }]
+    vec![MeshField::flags("contact", member)]
 }
 
 fn model_label(model: ContactModel) -> &'static str {
@@ -524,11 +514,11 @@ impl Problem for ContactProblem {
     }
 
     fn notes(&self) -> Vec<String> {
-        let mut notes = self.failures.notes();
-        notes.extend(self.reference_note.clone());
-        notes
+        self.failures.notes()
     }
 
+    /// Where the energy bound fails (or a manufactured scene has no energy), the error is
+    /// measured against the run's own last solve (the default [`Problem::reference_errors`]).
     fn keeps_solves(&self) -> bool {
         true
     }
@@ -536,18 +526,6 @@ impl Problem for ContactProblem {
     /// The energy norm of elasticity (III.35), the norm of Theorems III.12 and III.15.
     fn solve_distance(&self, on: &Mesh, a: VertexField, b: VertexField) -> Option<f64> {
         reference::energy_distance(on, a, b, &self.model)
-    }
-
-    /// Where the energy bound fails (or a manufactured scene has no energy): the error against
-    /// the run's own last solve in the energy norm of elasticity (III.35), the norm of Theorems
-    /// III.12 and III.15, with the last solve's error extrapolated
-    /// ([`reference::against_last_solve`]).
-    fn reference_errors(
-        &mut self,
-        kept: &[KeptSolve],
-    ) -> Result<Option<ReferenceErrors>, StudyError> {
-        let errors = reference::against_last_solve(kept, |on, a, b| self.solve_distance(on, a, b))?;
-        Ok(reference::noting_why_not(errors, &mut self.reference_note))
     }
 }
 

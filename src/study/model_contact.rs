@@ -43,9 +43,7 @@ use super::adapt::{boundary_faces, face_partition};
 use super::clock::PhaseClock;
 use super::elasticity::displacement_component;
 use super::error::StudyError;
-use super::problem::{
-    setup_system, Discretisation, Estimate, KeptSolve, Pictures, Problem, ReferenceErrors, Solution,
-};
+use super::problem::{setup_system, Discretisation, Estimate, Pictures, Problem, Solution};
 use super::reference::{self, VertexField};
 use super::signorini::{converge, Comparison, ComparisonFailures, FixedPoint};
 use super::transfer::PreviousSolution;
@@ -105,9 +103,6 @@ pub struct ModelAdaptiveContact {
     comparison: Option<Comparison>,
     /// Where the fixed point of the comparison failed with the linearised reading.
     pub failures: ComparisonFailures,
-    /// Why the true error could not be measured against the last solve, for the table's note
-    /// ([`reference::against_last_solve`]).
-    reference_note: Option<String>,
 }
 
 /// The tools of a forming study and the step the problem is at.
@@ -142,7 +137,6 @@ impl ModelAdaptiveContact {
             compares: false,
             comparison: None,
             failures: ComparisonFailures::default(),
-            reference_note: None,
         }
     }
 
@@ -565,13 +559,13 @@ impl Problem for ModelAdaptiveContact {
     }
 
     fn notes(&self) -> Vec<String> {
-        let mut notes = self.failures.notes();
-        notes.extend(self.reference_note.clone());
-        notes
+        self.failures.notes()
     }
 
-    /// The model-and-grid-adaptive tables (IV.30–IV.35) keep their solves for the true error;
-    /// the fixed-mesh model-adaptive tables and the load steps measure none.
+    /// The model-and-grid-adaptive tables (IV.30–IV.35) keep their solves for the true error
+    /// against the run's own last solve, the mixed model of its last cycle (the default
+    /// [`Problem::reference_errors`]); the fixed-mesh model-adaptive tables and the load steps
+    /// measure none.
     fn keeps_solves(&self) -> bool {
         self.adapts_grid && self.forming.is_none()
     }
@@ -579,18 +573,6 @@ impl Problem for ModelAdaptiveContact {
     /// The energy norm of elasticity (III.35), the norm of Theorems III.12 and III.15.
     fn solve_distance(&self, on: &Mesh, a: VertexField, b: VertexField) -> Option<f64> {
         reference::energy_distance(on, a, b, &self.model)
-    }
-
-    /// The error against the run's own last solve, the mixed model of its last cycle, in the
-    /// energy norm of elasticity ([`reference::against_last_solve`]): the discretisation error
-    /// of that model, which the printed estimate (Theorem III.15 with the MGA code's terms)
-    /// bounds; the model error is the `model_error` column's.
-    fn reference_errors(
-        &mut self,
-        kept: &[KeptSolve],
-    ) -> Result<Option<ReferenceErrors>, StudyError> {
-        let errors = reference::against_last_solve(kept, |on, a, b| self.solve_distance(on, a, b))?;
-        Ok(reference::noting_why_not(errors, &mut self.reference_note))
     }
 
     fn rows_are_load_steps(&self) -> bool {

@@ -392,6 +392,12 @@ pub trait Problem {
         Vec::new()
     }
 
+    /// The thin film of a fluid problem, whose gap g the VTU files show beside ψ with the mean
+    /// pressure p = ψ/g (`None` for the solids).
+    fn film(&self) -> Option<&crate::models::thin_film::ThinFilm> {
+        None
+    }
+
     /// Notes the run adds to its table (e.g. where `cavitation = "auto"` switched).
     fn notes(&self) -> Vec<String> {
         Vec::new()
@@ -432,14 +438,19 @@ pub trait Problem {
         None
     }
 
-    /// The true error of each of `kept` (in its order), in the norm of the problem's estimator,
-    /// measured against a reference solution on a finer mesh: for the problems without an
-    /// energy ([`Problem::energy`]). `None` where the problem measures no reference error.
+    /// The true error of each of `kept` (in its order, not empty: the problem keeps its solves,
+    /// [`Problem::keeps_solves`]), in the norm of the problem's estimator, for the problems
+    /// without an energy ([`Problem::energy`]) or whose energy gives none: by default against
+    /// the run's own last solve in [`Problem::solve_distance`]
+    /// ([`super::reference::against_last_solve`]). `Ok(Err(why))` where it cannot be measured,
+    /// with the reason for the table's note.
     fn reference_errors(
         &mut self,
-        _kept: &[KeptSolve],
-    ) -> Result<Option<ReferenceErrors>, StudyError> {
-        Ok(None)
+        kept: &[KeptSolve],
+    ) -> Result<Result<ReferenceErrors, String>, StudyError> {
+        let errors =
+            super::reference::against_last_solve(kept, |on, a, b| self.solve_distance(on, a, b))?;
+        Ok(errors)
     }
 }
 

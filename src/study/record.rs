@@ -12,7 +12,7 @@ use crate::fe::DofMap;
 use crate::mesh::{CellId, Mesh, Side};
 use crate::results::{
     columns, CellBox, FaceModel, LastMesh, MeshField, MeshPicture, PartitionPicture, PhaseSeconds,
-    Probe, Row, RunResult, Value,
+    Probe, Row, RunResult, Value, VtuOutput,
 };
 
 /// Builds the [`RunResult`] of one study.
@@ -78,8 +78,20 @@ impl<'a> Recorder<'a> {
         let last = cycle + 1 == self.printed;
         if last && problem.vertex_field() {
             self.result.probes = self.probes(disc, dofs, solution, &*problem);
-            self.result.last_mesh =
-                Some(last_mesh(disc, dofs, solution, estimate, &*problem, cycle));
+        }
+        // The meshes of the VTU files: the last one, or every printed cycle's (`--vtu`).
+        let vtu = match self.experiment.study.vtu {
+            VtuOutput::None => false,
+            VtuOutput::Last => last,
+            VtuOutput::All => true,
+        };
+        if vtu && problem.vertex_field() {
+            let mesh = last_mesh(disc, dofs, solution, estimate, &*problem, cycle);
+            if last {
+                self.result.last_mesh = Some(mesh);
+            } else {
+                self.result.cycle_meshes.push(mesh);
+            }
         }
         // A load-step study draws the body after every step (the frames of its animation).
         let load_steps = problem.rows_are_load_steps();
@@ -264,66 +276,39 @@ fn last_mesh(
             let values = (0..vertices.len())
                 .flat_map(|v| [u[v * nc + a], u[v * nc + b]])
                 .collect();
-            point_fields.push(MeshField {
-                name: name.into(),
-                components: 2,
-                values,
-            });
+            point_fields.push(MeshField::real(name, 2, values));
         }
     }
     if let Some(psi) = problem.component("psi") {
-        let values = component(psi);
-        if let Some(on) = problem.cavitation_ran() {
-            let set = values
-                .iter()
-                .map(|&p| if on && p <= 0.0 { 1.0 } else { 0.0 })
-                .collect();
-            point_fields.push(MeshField {
-                name: "psi".into(),
-                components: 1,
-                values,
-            });
-            point_fields.push(MeshField {
-                name: "cavitation".into(),
-                components: 1,
-                values: set,
-            });
-        } else {
-            point_fields.push(MeshField {
-                name: "psi".into(),
-                components: 1,
-                values,
-            });
-        }
+        let psi = component(psi);
+        // The cavitation zone only where the cavitation model ran.
+        let zone = (problem.cavitation_ran() == Some(true))
+            .then(|| MeshField::flags("cavitation", psi.iter().map(|&p| p <= 0.0)));
+        // The film's gap g and the mean pressure p = ψ/g (ψ = ∫p dx₃ across the gap).
+        let film = problem.film().map(|film| {
+            let gap: Vec<f64> = vertices.coords.iter().map(|&x| film.gap(x).0).collect();
+            let pressure = psi.iter().zip(&gap).map(|(p, g)| p / g).collect();
+            [
+                MeshField::display("p", pressure),
+                MeshField::display("g", gap),
+            ]
+        });
+        point_fields.push(MeshField::real("psi", 1, psi));
+        point_fields.extend(zone);
+        point_fields.extend(film.into_iter().flatten());
     }
     point_fields.extend(problem.point_sets(dofs));
-    point_fields.push(MeshField {
-        name: "hanging".into(),
-        components: 1,
-        values: vertices
-            .is_hanging
-            .iter()
-            .map(|&h| if h { 1.0 } else { 0.0 })
-            .collect(),
-    });
+    point_fields.push(MeshField::flags(
+        "hanging",
+        vertices.is_hanging.iter().copied(),
+    ));
     let mesh = &disc.mesh;
     let mut cell_fields = Vec::new();
     if estimate.cells.len() == mesh.n_active() {
-        cell_fields.push(MeshField {
-            name: "eta_squared".into(),
-            components: 1,
-            values: estimate.cells.clone(),
-        });
+        cell_fields.push(MeshField::display("eta_squared", estimate.cells.clone()));
     }
-    cell_fields.push(MeshField {
-        name: "level".into(),
-        components: 1,
-        values: mesh
-            .active()
-            .iter()
-            .map(|&c| f64::from(mesh.level(c)))
-            .collect(),
-    });
+    let levels = mesh.active().iter().map(|&c| f64::from(mesh.level(c)));
+    cell_fields.push(MeshField::small("level", levels.collect()));
     LastMesh {
         cycle,
         points: vertices.coords.clone(),

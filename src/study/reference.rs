@@ -294,21 +294,6 @@ pub fn against_last_solve(
         }))
 }
 
-/// The errors of [`against_last_solve`], or `None` with the reason put into `note` as the
-/// table's note.
-pub fn noting_why_not(
-    errors: Result<ReferenceErrors, String>,
-    note: &mut Option<String>,
-) -> Option<ReferenceErrors> {
-    errors
-        .map_err(|why| {
-            *note = Some(format!(
-                "True error: not measured against the last solve — {why}."
-            ))
-        })
-        .ok()
-}
-
 /// The errors of [`last_solve_errors`] and its fit.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LastSolveFit {

@@ -13,8 +13,7 @@
 use super::clock::{Phase, PhaseClock};
 use super::error::StudyError;
 use super::problem::{
-    cg_column, setup_system, Discretisation, Estimate, KeptSolve, Pictures, Problem,
-    ReferenceErrors, Solution,
+    cg_column, setup_system, Discretisation, Estimate, Pictures, Problem, Solution,
 };
 use super::reference::{self, VertexField};
 use super::thin_film::{noise_floor, CavitationSwitch, FieldSample, PreviousEstimate};
@@ -53,8 +52,6 @@ pub struct ReynoldsFilm {
     domain: Rectangle,
     /// Why the cut of the last solution could not be sampled, if it could not (a note).
     cut_failure: Option<String>,
-    /// Why the error against the last solve could not be measured, if it could not (a note).
-    reference_note: Option<String>,
 }
 
 impl ReynoldsFilm {
@@ -71,7 +68,6 @@ impl ReynoldsFilm {
             solver: LinearSolver::spd(solver),
             domain: *domain,
             cut_failure: None,
-            reference_note: None,
         }
     }
 
@@ -337,6 +333,10 @@ impl Problem for ReynoldsFilm {
         }
     }
 
+    fn film(&self) -> Option<&crate::models::thin_film::ThinFilm> {
+        Some(&self.problem.film)
+    }
+
     fn component(&self, name: &str) -> Option<usize> {
         (name == "psi").then_some(0)
     }
@@ -350,16 +350,12 @@ impl Problem for ReynoldsFilm {
             .cut_failure
             .as_ref()
             .map(|e| format!("The cut of ψ_h on the last mesh could not be sampled: {e}"));
-        self.switch
-            .note()
-            .into_iter()
-            .chain(failure)
-            .chain(self.reference_note.clone())
-            .collect()
+        self.switch.note().into_iter().chain(failure).collect()
     }
 
     /// With cavitation the energy only bounds the error and can fall irregularly while the
-    /// cavitation zone moves (IV.64): the solves are kept for the error against the last one.
+    /// cavitation zone moves (IV.64): the solves are kept for the error against the last one
+    /// (the default [`Problem::reference_errors`]).
     fn keeps_solves(&self) -> bool {
         self.switch.may_run()
     }
@@ -367,17 +363,5 @@ impl Problem for ReynoldsFilm {
     /// The Reynolds norm (II.9) of Theorems III.16 and III.17.
     fn solve_distance(&self, on: &Mesh, a: VertexField, b: VertexField) -> Option<f64> {
         reference::reynolds_distance(on, a, b, &self.problem.film)
-    }
-
-    /// Where the energy gives no error (with cavitation: the energies fall irregularly while the
-    /// zone moves): the error against the run's own last solve in the Reynolds norm (II.9), the
-    /// norm of Theorem III.17, with the last solve's error extrapolated
-    /// ([`reference::against_last_solve`]).
-    fn reference_errors(
-        &mut self,
-        kept: &[KeptSolve],
-    ) -> Result<Option<ReferenceErrors>, StudyError> {
-        let errors = reference::against_last_solve(kept, |on, a, b| self.solve_distance(on, a, b))?;
-        Ok(reference::noting_why_not(errors, &mut self.reference_note))
     }
 }

@@ -360,6 +360,10 @@ impl Problem for SubStokesFilm {
         }
     }
 
+    fn film(&self) -> Option<&crate::models::thin_film::ThinFilm> {
+        Some(&self.problem.film)
+    }
+
     fn component(&self, name: &str) -> Option<usize> {
         COMPONENTS.iter().position(|&c| c == name)
     }
@@ -388,10 +392,10 @@ impl Problem for SubStokesFilm {
     fn reference_errors(
         &mut self,
         kept: &[KeptSolve],
-    ) -> Result<Option<ReferenceErrors>, StudyError> {
+    ) -> Result<Result<ReferenceErrors, String>, StudyError> {
         let meshes: Vec<&crate::mesh::Mesh> = kept.iter().map(|k| &k.disc.mesh).collect();
         let Some(mesh) = reference::reference_mesh(&meshes)? else {
-            return Ok(None);
+            return Ok(Err("the run kept no mesh".into()));
         };
         let (dofs, u) = if self.switch.is_on() {
             // Warm start: active where the last kept solve has ψ ≤ 0 (one or two factorisations
@@ -429,10 +433,15 @@ impl Problem for SubStokesFilm {
             };
             match reference::distance(reference, field, &weights) {
                 Some(dk) => d.push(dk),
-                None => return Ok(None),
+                None => {
+                    return Ok(Err(format!(
+                        "a cell of the reference mesh lies in no cell of the mesh of cycle {}",
+                        k.cycle
+                    )))
+                }
             }
         }
-        Ok(Some(ReferenceErrors {
+        Ok(Ok(ReferenceErrors {
             errors: reference::extrapolated_errors(&d),
             measure: ErrorMeasure::Reference {
                 dofs: dofs.n_dofs(),

@@ -9,7 +9,7 @@ use super::{
     RunError, Tier,
 };
 use crate::experiment::Experiment;
-use crate::results::RunResult;
+use crate::results::{RunResult, VtuOutput};
 
 /// How the runs of every table are made.
 #[derive(Clone, Copy, Debug)]
@@ -20,6 +20,9 @@ pub struct TableOptions {
     /// Whether the alternative readings and the cost study run beside the table as written
     /// (`report --no-alternatives` runs neither: the table alone, once).
     pub alternatives: bool,
+    /// Which printed meshes go into the VTU files ([`crate::experiment::Study::vtu`]): the
+    /// alternative readings keep theirs only for [`VtuOutput::All`].
+    pub vtu: VtuOutput,
 }
 
 impl TableOptions {
@@ -118,18 +121,17 @@ pub fn run_table<H: TableHost>(
     let TableOptions { tier, budget, .. } = options;
     // The comparison of the linearised Signorini solutions with the converged ones is part of
     // what `--no-alternatives` leaves out, and no reading repeats it.
-    let mut without_comparison;
-    let experiment = if options.alternatives {
-        experiment
-    } else {
-        without_comparison = experiment.clone();
-        without_comparison.study.signorini_comparison = false;
-        &without_comparison
-    };
+    let mut experiment = experiment.clone();
+    experiment.study.signorini_comparison &= options.alternatives;
+    experiment.study.vtu = options.vtu;
+    let experiment = &experiment;
     let mut readings = options.readings(experiment);
     for reading in &mut readings {
         reading.experiment.study.signorini_comparison = false;
         reading.experiment.study.true_error = false;
+        if options.vtu != VtuOutput::All {
+            reading.experiment.study.vtu = VtuOutput::None;
+        }
     }
     let written = TableRun {
         experiment,

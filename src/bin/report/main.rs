@@ -2,9 +2,10 @@
 //!
 //! Writes `report/index.html`, `report/figures/*.svg`, `report/data/<table>.csv` and
 //! `report/data/<table>.probes.csv` (each also as `.parquet`), `<table>.joined.*` (the rows
-//! beside the printed table) and `<table>.vtu` (the last mesh). Each table runs on its own: a file that does not load, a run
-//! that fails and a run that panics each become a failed entry of the page (in the summary with
-//! its status, and in a section with the table, the cycle and the message); the other tables are
+//! beside the printed table), `<table>.vtu` (the last mesh, `--vtu`) and `<table>.pvd` (their
+//! series). Each table runs on its own: a file that does not load, a run that fails and a run
+//! that panics each become a failed entry of the page (in the summary with its status, and in a
+//! section with the table, the cycle and the message); the other tables are
 //! still reported, and the exit status is 1. Usage errors, an experiment folder that cannot be
 //! listed and an output folder that cannot be written end the program before anything is solved,
 //! with exit status 2. So does a folder that another run is writing ([`folder::FolderLock`]);
@@ -97,6 +98,13 @@ struct Cli {
     /// always use the direct solver. The solver changes the run time, not the results.
     #[arg(long, value_enum, value_name = "SOLVER")]
     solver: Option<tribo::linalg::SolverKind>,
+
+    /// Which meshes go into `data/` as VTU files, with a `.pvd` series per table for
+    /// ParaView: `none`; `last`, the last printed mesh of each table (not of its alternative
+    /// readings); `all`, every printed cycle of each table and of its readings (several times
+    /// the disk of `last`).
+    #[arg(long, value_enum, value_name = "MESHES", default_value = "last")]
+    vtu: tribo::results::VtuOutput,
 
     /// Memory a table may use, e.g. `4G`, `1500M` or `4e3M` (default: the machine's memory).
     /// A table predicted to need more is refused before its first solve, naming the cycle.
@@ -201,6 +209,7 @@ fn run(cli: &Cli) -> Result<bool, String> {
             tier,
             budget: cli.memory_budget.unwrap_or_else(study::Budget::machine),
             alternatives: !cli.no_alternatives,
+            vtu: cli.vtu,
         },
         solver: cli.solver,
         jobs: cli.jobs,

@@ -49,8 +49,9 @@ fn record_name(stem: &str) -> String {
     format!("{}/{stem}.json", record::DIR)
 }
 
-/// The last meshes (`data/*.vtu`) of the shards, copied into `out/data/`: the records do not
-/// hold them (a mesh of 0.7 M cells), so merge takes the files the shard runs wrote.
+/// The meshes (`data/*.vtu`) and their series (`data/*.pvd`) of the shards, copied into
+/// `out/data/`: the records do not hold them (a mesh of 0.7 M cells), so merge takes the files
+/// the shard runs wrote.
 fn copy_meshes(shards: &[PathBuf], out: &Path) -> std::io::Result<()> {
     let target = out.join("data");
     std::fs::create_dir_all(&target)?;
@@ -60,7 +61,7 @@ fn copy_meshes(shards: &[PathBuf], out: &Path) -> std::io::Result<()> {
         };
         for file in files {
             let path = file?.path();
-            if path.extension().is_some_and(|e| e == "vtu") {
+            if path.extension().is_some_and(|e| e == "vtu" || e == "pvd") {
                 let to = target.join(path.file_name().expect("a file in a folder"));
                 let same = matches!(
                     (path.canonicalize(), to.canonicalize()),

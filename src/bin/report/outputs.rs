@@ -59,8 +59,9 @@ impl Outcome {
 pub fn write_data(out: &Path, spec: &Experiment, mut run: RunResult) -> Result<RunResult, Failure> {
     let dir = out.join("data");
     let written = data::write_all(&dir, &run, &ThesisTable::of(spec));
-    // The last mesh is written; the page does not need it, and it is as large as the mesh.
+    // The meshes are written; the page does not need them, and they are as large as the mesh.
     run.last_mesh = None;
+    run.cycle_meshes = Vec::new();
     match written {
         Ok(()) => Ok(run),
         Err(e) => Err(failure_of(

@@ -251,6 +251,7 @@ impl Check<'_> {
             solver: study.solver,
             signorini_comparison: true,
             true_error: true,
+            vtu: crate::results::VtuOutput::Last,
             plan,
         })
     }
