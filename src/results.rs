@@ -528,14 +528,20 @@ pub struct MeshField {
     pub kind: FieldKind,
 }
 
+/// Mantissa bits an [`FieldKind::Indicator`] keeps (relative rounding 2⁻¹³ ≈ 1.2e-4).
+pub const INDICATOR_BITS: u32 = 12;
+
 /// The kind of a [`MeshField`]'s values, which sets how a file stores them.
 #[derive(Clone, Copy, Debug, Serialize, PartialEq, Eq)]
 pub enum FieldKind {
-    /// A computed solution (ψ, χ, the displacement): stored as doubles, bit for bit.
+    /// Reals: the solutions (ψ, χ, the displacement) and the fields derived from them (the mean
+    /// pressure ψ/g, the gap, the stresses, the indicators η²), stored in single precision,
+    /// 7 significant digits: enough to look at, half the bytes of doubles.
     Real,
-    /// A field derived for display (the mean pressure ψ/g, the gap, the indicators η²):
-    /// stored in single precision, 7 significant digits.
-    Display,
+    /// The indicators η_Q² of a marking: single precision rounded to
+    /// [`INDICATOR_BITS`] bits of mantissa (4 significant digits, the page's), which halves
+    /// their compressed size; an indicator ranks cells, its fifth digit says nothing.
+    Indicator,
     /// Whole numbers in 0..=255: a 0/1 flag of a vertex set, a refinement level.
     Small,
 }
@@ -551,13 +557,13 @@ impl MeshField {
         }
     }
 
-    /// A scalar field derived for display ([`FieldKind::Display`]).
-    pub fn display(name: &str, values: Vec<f64>) -> MeshField {
+    /// A scalar field of marking indicators ([`FieldKind::Indicator`]).
+    pub fn indicator(name: &str, values: Vec<f64>) -> MeshField {
         MeshField {
             name: name.into(),
             components: 1,
             values,
-            kind: FieldKind::Display,
+            kind: FieldKind::Indicator,
         }
     }
 

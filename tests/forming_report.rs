@@ -144,7 +144,8 @@ fn quick_forming_report_writes_frames_animation_chart_and_step_table() {
     );
     assert!(s.contains(
         "<th>step</th><th>z_faces</th><th>s_faces</th><th>dofs</th><th>model_error</th>\
-         <th>penetration</th><th>tip_x</th><th>tip_y</th><th>z_iterations</th>\
+         <th>penetration</th><th>contact_force_top</th><th>contact_force_bottom</th>\
+         <th>tip_x</th><th>tip_y</th><th>z_iterations</th>\
          <th>mixed_iterations</th><th>seconds</th>"
     ));
     for absent in [

@@ -7,6 +7,7 @@ mod common;
 mod contact;
 mod docs;
 mod elasticity;
+mod engineering;
 mod figures;
 mod forming;
 mod forming_report;

@@ -191,11 +191,11 @@ fn the_elasticity_mesh_reads_back_with_its_cells_and_fields() {
     }
     assert!(s.iter().any(|&u| u != 0.0), "the body moves");
     // The indicators: √Σ η_Q² is the last row's estimate.
-    // (η² is a display field, in single precision: 6e-8 relative per cell.)
+    // (η² is rounded to 4 significant digits: 1.2e-4 relative per cell at most.)
     let eta2 = vtu_array(&text, "eta_squared");
     assert_eq!(eta2.len(), cells);
     let total = eta2.iter().sum::<f64>().sqrt();
-    assert!((total / last(&rows, "estimate") - 1.0).abs() < 1e-6);
+    assert!((total / last(&rows, "estimate") - 1.0).abs() < 1e-4);
     let connectivity = vtu_array(&text, "connectivity");
     assert_eq!(connectivity.len(), 4 * cells);
     assert!(vtu_array(&text, "types").iter().all(|&t| t == 9.0));

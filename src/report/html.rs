@@ -13,6 +13,7 @@
 
 mod accuracy;
 mod pages;
+mod quantities;
 mod readings;
 mod signorini;
 mod summary;
@@ -573,6 +574,7 @@ fn table_section(h: &mut String, s: &Section, figs: &SectionFigures) {
     } else {
         comparison_table(h, s);
     }
+    quantities::engineering(h, run);
     signorini::signorini_comparison(h, run);
     accuracy::true_error(h, run);
     for alt in s.alternatives {

@@ -16,6 +16,7 @@ use super::clock::PhaseClock;
 use super::elasticity::{deformed_picture, displacement_component};
 use super::error::StudyError;
 use super::problem::{setup_system, Discretisation, Estimate, Pictures, Problem, Solution};
+use super::quantities;
 use super::reference::{self, VertexField};
 use super::signorini::{converge, Comparison, ComparisonFailures, Converged, FixedPoint};
 use super::transfer::PreviousSolution;
@@ -290,22 +291,53 @@ pub fn contact_picture(
     pic
 }
 
-/// The contact set of a cycle as a point field `contact` of the last mesh: 1 at the contact
-/// vertices whose constraint is active (in contact with the obstacle), 0 at every other vertex.
-pub fn contact_set_field(state: &Option<CycleState>, dofs: &DofMap) -> Vec<MeshField> {
+/// The contact set of a cycle as point fields of the last mesh: `contact`, 1 at the contact
+/// vertices whose constraint is active (in contact with the obstacle), 0 at every other vertex,
+/// and `contact_pressure`, the nodal contact force λ_i of the active-set solve (the residual
+/// (F − Ku)·n) over the length ℓ_i of boundary the vertex stands for ([`tributary_lengths`]):
+/// the lumped reading of a traction, exact for a uniform pressure; 0 off the contact set.
+pub fn contact_set_fields(
+    state: &Option<CycleState>,
+    boundaries: &[ContactBoundary],
+    dofs: &DofMap,
+) -> Vec<MeshField> {
     let Some(state) = state else {
         return Vec::new();
     };
     let mut member = vec![false; dofs.vertices.len()];
-    for (c, _) in state
+    let mut pressure = vec![0.0; dofs.vertices.len()];
+    let lengths: Vec<Vec<f64>> = boundaries
+        .iter()
+        .map(|b| tributary_lengths(dofs, b.side))
+        .collect();
+    for ((c, &active), &force) in state
         .constraints
         .iter()
         .zip(&state.solution.active)
-        .filter(|(_, &a)| a)
+        .zip(&state.solution.multipliers)
     {
-        member[c.vertex as usize] = true;
+        let v = c.vertex as usize;
+        member[v] |= active;
+        pressure[v] += force / lengths[c.boundary][v];
     }
-    vec![MeshField::flags("contact", member)]
+    vec![
+        MeshField::flags("contact", member),
+        MeshField::real("contact_pressure", 1, pressure),
+    ]
+}
+
+/// Per vertex the length of the side `side` it stands for: half of each boundary face it ends
+/// (0 off the side). A nodal force λ_i over ℓ_i is the mean traction there.
+pub fn tributary_lengths(dofs: &DofMap, side: Side) -> Vec<f64> {
+    let coords = &dofs.vertices.coords;
+    let mut lengths = vec![0.0; coords.len()];
+    for face in dofs.vertices.side_vertices(side).windows(2) {
+        let [a, b] = [face[0] as usize, face[1] as usize];
+        let half = 0.5 * (coords[b][0] - coords[a][0]).hypot(coords[b][1] - coords[a][1]);
+        lengths[a] += half;
+        lengths[b] += half;
+    }
+    lengths
 }
 
 fn model_label(model: ContactModel) -> &'static str {
@@ -509,8 +541,24 @@ impl Problem for ContactProblem {
         displacement_component(name)
     }
 
+    fn elasticity(&self) -> Option<&Elasticity> {
+        Some(&self.model)
+    }
+
+    fn quantities(
+        &self,
+        _disc: &Discretisation,
+        dofs: &DofMap,
+        _solution: &Solution,
+    ) -> Vec<(String, f64)> {
+        self.state
+            .as_ref()
+            .map(|state| quantities::contact(state, &self.boundaries, dofs))
+            .unwrap_or_default()
+    }
+
     fn point_sets(&self, dofs: &DofMap) -> Vec<MeshField> {
-        contact_set_field(&self.state, dofs)
+        contact_set_fields(&self.state, &self.boundaries, dofs)
     }
 
     fn notes(&self) -> Vec<String> {

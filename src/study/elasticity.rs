@@ -127,6 +127,10 @@ impl Problem for ElasticityProblem {
         displacement_component(name)
     }
 
+    fn elasticity(&self) -> Option<&Elasticity> {
+        Some(&self.model)
+    }
+
     fn energy(&self, disc: &Discretisation, dofs: &DofMap, solution: &Solution) -> Option<f64> {
         Some(self.model.energy(&disc.mesh, dofs, &solution.u))
     }

@@ -19,6 +19,7 @@ pub mod error;
 pub mod model_contact;
 pub mod model_fluid;
 pub mod problem;
+pub mod quantities;
 pub mod readings;
 pub mod record;
 pub mod reference;

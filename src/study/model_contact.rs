@@ -44,6 +44,7 @@ use super::clock::PhaseClock;
 use super::elasticity::displacement_component;
 use super::error::StudyError;
 use super::problem::{setup_system, Discretisation, Estimate, Pictures, Problem, Solution};
+use super::quantities;
 use super::reference::{self, VertexField};
 use super::signorini::{converge, Comparison, ComparisonFailures, FixedPoint};
 use super::transfer::PreviousSolution;
@@ -62,7 +63,7 @@ use crate::models::contact::{
 use crate::models::elasticity::Elasticity;
 use crate::results::{columns, MeshField, Value};
 
-use super::contact::{contact_picture, contact_set_field, CycleState, PENETRATION_SAMPLES};
+use super::contact::{contact_picture, contact_set_fields, CycleState, PENETRATION_SAMPLES};
 
 /// η_Q² per cell and the estimate's columns of a model-and-grid cycle.
 type GridEstimate = (Vec<f64>, Vec<(String, Value)>);
@@ -558,6 +559,22 @@ impl Problem for ModelAdaptiveContact {
         displacement_component(name)
     }
 
+    fn elasticity(&self) -> Option<&Elasticity> {
+        Some(&self.model)
+    }
+
+    fn quantities(
+        &self,
+        _disc: &Discretisation,
+        dofs: &DofMap,
+        _solution: &Solution,
+    ) -> Vec<(String, f64)> {
+        self.state
+            .as_ref()
+            .map(|state| quantities::contact(state, &self.boundaries, dofs))
+            .unwrap_or_default()
+    }
+
     fn notes(&self) -> Vec<String> {
         self.failures.notes()
     }
@@ -580,6 +597,6 @@ impl Problem for ModelAdaptiveContact {
     }
 
     fn point_sets(&self, dofs: &DofMap) -> Vec<MeshField> {
-        contact_set_field(&self.state, dofs)
+        contact_set_fields(&self.state, &self.boundaries, dofs)
     }
 }

@@ -398,6 +398,22 @@ pub trait Problem {
         None
     }
 
+    /// The engineering quantities of a solve ([`super::quantities`]), appended to its row.
+    fn quantities(
+        &self,
+        _disc: &Discretisation,
+        _dofs: &DofMap,
+        _solution: &Solution,
+    ) -> Vec<(String, f64)> {
+        Vec::new()
+    }
+
+    /// The elastic body of a solid problem, whose stresses σ(s_h) the VTU files show beside the
+    /// displacement (`None` for the fluids).
+    fn elasticity(&self) -> Option<&crate::models::elasticity::Elasticity> {
+        None
+    }
+
     /// Notes the run adds to its table (e.g. where `cavitation = "auto"` switched).
     fn notes(&self) -> Vec<String> {
         Vec::new()

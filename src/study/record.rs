@@ -10,6 +10,7 @@ use crate::adaptivity::model::ModelUnit;
 use crate::experiment::Experiment;
 use crate::fe::DofMap;
 use crate::mesh::{CellId, Mesh, Side};
+use crate::models::elasticity::Elasticity;
 use crate::results::{
     columns, CellBox, FaceModel, LastMesh, MeshField, MeshPicture, PartitionPicture, PhaseSeconds,
     Probe, Row, RunResult, Value, VtuOutput,
@@ -125,6 +126,9 @@ impl<'a> Recorder<'a> {
         }
         for (name, n) in &solution.counters {
             row.columns.push((name.clone(), Value::Count(*n)));
+        }
+        for (name, value) in problem.quantities(disc, dofs, solution) {
+            row = row.real(&name, Some(value));
         }
         // The energy and the kept solves serve the true error only: a run that does not measure
         // it (an alternative reading) computes neither.
@@ -289,8 +293,8 @@ fn last_mesh(
             let gap: Vec<f64> = vertices.coords.iter().map(|&x| film.gap(x).0).collect();
             let pressure = psi.iter().zip(&gap).map(|(p, g)| p / g).collect();
             [
-                MeshField::display("p", pressure),
-                MeshField::display("g", gap),
+                MeshField::real("p", 1, pressure),
+                MeshField::real("g", 1, gap),
             ]
         });
         point_fields.push(MeshField::real("psi", 1, psi));
@@ -305,7 +309,10 @@ fn last_mesh(
     let mesh = &disc.mesh;
     let mut cell_fields = Vec::new();
     if estimate.cells.len() == mesh.n_active() {
-        cell_fields.push(MeshField::display("eta_squared", estimate.cells.clone()));
+        cell_fields.push(MeshField::indicator("eta_squared", estimate.cells.clone()));
+    }
+    if let Some(body) = problem.elasticity() {
+        cell_fields.extend(stresses(body, mesh, dofs, u));
     }
     let levels = mesh.active().iter().map(|&c| f64::from(mesh.level(c)));
     cell_fields.push(MeshField::small("level", levels.collect()));
@@ -321,6 +328,32 @@ fn last_mesh(
         point_fields,
         cell_fields,
     }
+}
+
+/// The stresses of a solid at the cells' centres, as cell fields: `stress`, the tensor
+/// σ(s_h) = 2μ ε(s_h) + 2λ (div s_h) I of the model (§1 of docs/models.md, the thesis's 2λ) in
+/// ParaView's six-component symmetric order (xx, yy, zz, xy, yz, xz; the 2-D model has no zz,
+/// yz, xz: written 0), and `von_mises`, √(σ₁₁² − σ₁₁σ₂₂ + σ₂₂² + 3σ₁₂²), the von Mises stress of
+/// that in-plane tensor (σ₃₃ = 0: the thesis names neither plane strain nor plane stress). The
+/// centre is where the gradient of a Q₁ displacement is most accurate.
+fn stresses(body: &Elasticity, mesh: &Mesh, dofs: &DofMap, u: &[f64]) -> [MeshField; 2] {
+    let (tensor, mises): (Vec<[f64; 6]>, Vec<f64>) = mesh
+        .active()
+        .iter()
+        .enumerate()
+        .map(|(k, &c)| {
+            let corners = mesh.cell_shape(c).vertices();
+            let centre = [0, 1].map(|i| corners.iter().map(|p| p[i]).sum::<f64>() / 4.0);
+            let s = body.stress(Elasticity::gradient_at(mesh, dofs, u, k, centre));
+            let (xx, yy, xy) = (s[0][0], s[1][1], s[0][1]);
+            let mises = (xx * xx - xx * yy + yy * yy + 3.0 * xy * xy).sqrt();
+            ([xx, yy, 0.0, xy, 0.0, 0.0], mises)
+        })
+        .unzip();
+    [
+        MeshField::real("stress", 6, tensor.into_iter().flatten().collect()),
+        MeshField::real("von_mises", 1, mises),
+    ]
 }
 
 /// The contact faces of a model-adaptive cycle with their models and indicators.

@@ -15,6 +15,7 @@ use super::error::StudyError;
 use super::problem::{
     cg_column, setup_system, Discretisation, Estimate, Pictures, Problem, Solution,
 };
+use super::quantities::{self, FilmSolution};
 use super::reference::{self, VertexField};
 use super::thin_film::{noise_floor, CavitationSwitch, FieldSample, PreviousEstimate};
 use super::transfer::PreviousSolution;
@@ -343,6 +344,26 @@ impl Problem for ReynoldsFilm {
 
     fn cavitation_ran(&self) -> Option<bool> {
         Some(self.switch.is_on())
+    }
+
+    fn quantities(
+        &self,
+        disc: &Discretisation,
+        dofs: &DofMap,
+        solution: &Solution,
+    ) -> Vec<(String, f64)> {
+        let film = FilmSolution {
+            film: &self.problem.film,
+            boundary_pressure: self.problem.boundary_pressure,
+            u: &solution.u,
+            psi: 0,
+            chi: None,
+            cavitation: self.switch.is_on(),
+        };
+        quantities::film(&disc.mesh, dofs, &film)
+            .into_iter()
+            .map(|(name, value)| (name.to_string(), value))
+            .collect()
     }
 
     fn notes(&self) -> Vec<String> {

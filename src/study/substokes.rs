@@ -21,6 +21,7 @@ use super::error::StudyError;
 use super::problem::{
     setup_system, Discretisation, Estimate, KeptSolve, Pictures, Problem, ReferenceErrors, Solution,
 };
+use super::quantities::{self, FilmSolution};
 use super::reference;
 use super::thin_film::{CavitationSwitch, FieldSample, PreviousEstimate};
 use super::transfer::PreviousSolution;
@@ -451,6 +452,27 @@ impl Problem for SubStokesFilm {
 
     fn cavitation_ran(&self) -> Option<bool> {
         Some(self.switch.is_on())
+    }
+
+    fn quantities(
+        &self,
+        disc: &Discretisation,
+        dofs: &DofMap,
+        solution: &Solution,
+    ) -> Vec<(String, f64)> {
+        let component = |name| COMPONENTS.iter().position(|&c| c == name).expect(name);
+        let film = FilmSolution {
+            film: &self.problem.film,
+            boundary_pressure: self.problem.boundary_pressure,
+            u: &solution.u,
+            psi: component("psi"),
+            chi: Some([component("chi1"), component("chi2")]),
+            cavitation: self.switch.is_on(),
+        };
+        quantities::film(&disc.mesh, dofs, &film)
+            .into_iter()
+            .map(|(name, value)| (name.to_string(), value))
+            .collect()
     }
 
     fn notes(&self) -> Vec<String> {

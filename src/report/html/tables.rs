@@ -7,9 +7,13 @@ use super::*;
 /// Names of tribo's columns the thesis does not print, in first-appearance order.
 pub(super) fn tribo_only_columns(rows: &[Row], thesis_columns: &[String]) -> Vec<(String, bool)> {
     let mut out: Vec<(String, bool)> = Vec::new();
-    // The energy J(u_h) is the measurement behind `error` (in data/<table>.csv), not a result.
+    // The energy J(u_h) is the measurement behind `error` (in data/<table>.csv), not a result;
+    // the engineering quantities have a table of their own.
     let known = |n: &str| {
-        thesis_columns.iter().any(|c| c == n) || is_signorini_column(n) || n == columns::ENERGY
+        thesis_columns.iter().any(|c| c == n)
+            || is_signorini_column(n)
+            || n == columns::ENERGY
+            || crate::study::quantities::label(n).is_some()
     };
     for r in rows {
         for (name, value) in &r.columns {
@@ -32,12 +36,14 @@ pub(super) fn row_noun(run: &RunResult) -> &'static str {
 
 /// The columns of a load-step run that its section shows, in this order and where the run has
 /// them (`data/<table>.csv` has every column).
-pub(super) const LOAD_STEP_COLUMNS: [&str; 9] = [
+pub(super) const LOAD_STEP_COLUMNS: [&str; 11] = [
     columns::Z_FACES,
     columns::S_FACES,
     columns::DOFS,
     columns::MODEL_ERROR,
     columns::PENETRATION,
+    "contact_force_top",
+    "contact_force_bottom",
     columns::TIP_X,
     columns::TIP_Y,
     "z_iterations",
