@@ -388,3 +388,64 @@ fn merge_refuses_two_records_of_one_table_under_other_stems() {
     assert!(!dir.join("merged/data/IV.1.csv").exists());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `--list` shows each experiment with its family, rows and predictions, runs nothing and
+/// writes no folder; a file that does not load is listed with its error, and the exit code
+/// says so.
+#[test]
+fn list_shows_the_experiments_without_running_them() {
+    let dir = temp_dir("list");
+    let out = dir.join("never-written");
+    let listed = report()
+        .args(["--list", "--quick", "--only", "IV.1,IV.36", "--experiments"])
+        .arg(experiments())
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(listed.status.success(), "{listed:?}");
+    let text = String::from_utf8_lossy(&listed.stdout);
+    let line = |id: &str| {
+        text.lines()
+            .find(|l| l.split_whitespace().next() == Some(id))
+            .unwrap_or_else(|| panic!("no line for {id}:\n{text}"))
+            .to_string()
+    };
+    let iv1 = line("IV.1");
+    let fields: Vec<&str> = iv1.split_whitespace().collect();
+    assert_eq!((fields[1], fields[2]), ("elasticity", "4"), "{text}");
+    assert!(line("IV.36").contains("reynolds"), "{text}");
+    assert!(text.contains("quick tier"), "{text}");
+    assert!(!out.exists(), "--list writes nothing");
+
+    let broken = dir.join("broken");
+    std::fs::create_dir_all(&broken).unwrap();
+    std::fs::write(broken.join("bad.toml"), "table = \"bad\"\n[scene\n").unwrap();
+    let listed = report()
+        .args(["--list", "--experiments"])
+        .arg(&broken)
+        .output()
+        .unwrap();
+    assert_eq!(listed.status.code(), Some(1));
+    let text = String::from_utf8_lossy(&listed.stdout);
+    assert!(
+        text.contains("bad") && text.contains("does not load"),
+        "{text}"
+    );
+}
+
+/// A relative experiment folder that does not exist is named with the folder it is relative
+/// to, and the flag that chooses it.
+#[test]
+fn a_missing_experiment_folder_is_named() {
+    let dir = temp_dir("no-experiments");
+    let run = report().arg("--list").current_dir(&dir).output().unwrap();
+    assert_eq!(run.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert!(
+        err.contains("experiments: cannot list the experiment directory")
+            && err.contains(&format!("relative to {}", dir.display()))
+            && err.contains("--experiments DIR"),
+        "{err}"
+    );
+}

@@ -46,7 +46,11 @@ pub enum ExperimentError {
     },
 
     /// The experiment directory could not be listed.
-    #[error("{}: cannot list the experiment directory: {source}", dir.display())]
+    #[error(
+        "{}: cannot list the experiment directory{}: {source} (choose it with --experiments DIR)",
+        dir.display(),
+        relative_to_cwd(dir)
+    )]
     ReadDir {
         dir: PathBuf,
         #[source]
@@ -134,5 +138,13 @@ impl ExperimentError {
             | Self::ReadDir { .. }
             | Self::UnknownTable { .. } => None,
         }
+    }
+}
+
+/// Where a relative path points: " (relative to <cwd>)", or nothing for an absolute path.
+fn relative_to_cwd(path: &Path) -> String {
+    match std::env::current_dir() {
+        Ok(cwd) if path.is_relative() => format!(" (relative to {})", cwd.display()),
+        _ => String::new(),
     }
 }

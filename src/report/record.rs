@@ -177,16 +177,30 @@ impl PrintedTable {
     }
 }
 
-/// Create `<out>/shard/` and remove the records in it (`*.json`): a run's records are those of
-/// its page, never an earlier run's, so that merging the folder merges what its page shows.
-pub fn clear(out: &Path) -> io::Result<()> {
+/// Remove the records of an earlier run from `<out>/shard/` (`*.json`): a run's records are
+/// those of its page, never an earlier run's, so that merging the folder merges what its page
+/// shows. With `keep` (`--shard`, a merge) the folder is made if missing and stays; otherwise a
+/// folder left empty is removed, and none is made.
+pub fn clear(out: &Path, keep: bool) -> io::Result<()> {
     let dir = out.join(DIR);
-    fs::create_dir_all(&dir).map_err(|e| with_path(e, &dir))?;
+    if keep {
+        fs::create_dir_all(&dir).map_err(|e| with_path(e, &dir))?;
+    } else if !dir.is_dir() {
+        return Ok(());
+    }
     for entry in fs::read_dir(&dir).map_err(|e| with_path(e, &dir))? {
         let path = entry.map_err(|e| with_path(e, &dir))?.path();
         if path.extension().is_some_and(|e| e == "json") && path.is_file() {
             fs::remove_file(&path).map_err(|e| with_path(e, &path))?;
         }
+    }
+    if !keep
+        && fs::read_dir(&dir)
+            .map_err(|e| with_path(e, &dir))?
+            .next()
+            .is_none()
+    {
+        fs::remove_dir(&dir).map_err(|e| with_path(e, &dir))?;
     }
     Ok(())
 }

@@ -180,6 +180,13 @@ impl Budget {
         })
     }
 
+    /// The predicted active cells of the last solve of a run, and their sum over its solves
+    /// (the model of the module docs), for `report --list`.
+    pub fn predicted_size(experiment: &Experiment, schedule: Schedule) -> (f64, f64) {
+        predicted_cells(experiment, schedule)
+            .fold((0.0, 0.0), |(_, sum), (_, cells)| (cells, sum + cells))
+    }
+
     /// Check the predicted size of the whole run before its first solve.
     pub fn admit_run(&self, experiment: &Experiment, schedule: Schedule) -> Result<(), RunError> {
         for (solve, cells) in predicted_cells(experiment, schedule) {
@@ -327,7 +334,7 @@ fn count(cells: f64) -> String {
 }
 
 /// Bytes in GiB, MiB, KiB or bytes for a message (a budget of 10K is "10 KiB", not "0 MiB").
-fn human(bytes: f64) -> String {
+pub fn human(bytes: f64) -> String {
     const MIB: f64 = 1024.0 * 1024.0;
     if bytes >= GIB {
         format!("{:.1} GiB", bytes / GIB)

@@ -22,6 +22,7 @@
 
 mod folder;
 mod isolate;
+mod list;
 mod merge;
 mod outputs;
 mod progress;
@@ -106,6 +107,13 @@ struct Cli {
     #[arg(long, value_enum, value_name = "MESHES", default_value = "last")]
     vtu: tribo::results::VtuOutput,
 
+    /// List the experiments of `--experiments DIR` (with `--only`, those) without running them:
+    /// id, family, rows of the tier (`--quick`), the predicted cells of the last solve and
+    /// peak memory, and the seconds of the last run into `--out` (else a rough guess); a file
+    /// that does not load is listed with its error.
+    #[arg(long)]
+    list: bool,
+
     /// Memory a table may use, e.g. `4G`, `1500M` or `4e3M` (default: the machine's memory).
     /// A table predicted to need more is refused before its first solve, naming the cycle.
     #[arg(long, value_name = "SIZE", value_parser = parse_budget)]
@@ -189,9 +197,14 @@ fn run(cli: &Cli) -> Result<bool, String> {
             cli.experiments.display()
         ));
     }
+    let tier = if cli.quick { Tier::Quick } else { Tier::Full };
+    if cli.list {
+        let (text, all) = list::listing(&loaded, tier, &cli.out);
+        print!("{text}");
+        return Ok(all);
+    }
     let _lock = folder::FolderLock::take(&cli.out)?;
     folder::check(&cli.out)?;
-    let tier = if cli.quick { Tier::Quick } else { Tier::Full };
     let stems: Vec<String> = loaded.iter().map(|(stem, _)| stem.clone()).collect();
     let page = folder::PendingPage::new(
         &cli.out,
@@ -200,7 +213,7 @@ fn run(cli: &Cli) -> Result<bool, String> {
     );
     report::prepare_output(&cli.out)
         .and_then(|()| page.write())
-        .and_then(|()| record::clear(&cli.out))
+        .and_then(|()| record::clear(&cli.out, cli.shard))
         .map_err(|e| format!("cannot write the report into {}: {e}", cli.out.display()))?;
 
     let settings = schedule::Settings {

@@ -105,7 +105,7 @@ pub fn merge(shards: &[PathBuf], out: &Path) -> Result<bool, String> {
         .and_then(|()| page.write())
         .map_err(|e| cannot_write(&e))?;
     // Every record is in memory now, so `out` may be one of the shards.
-    record::clear(out).map_err(|e| cannot_write(&e))?;
+    record::clear(out, true).map_err(|e| cannot_write(&e))?;
     let mut theses = Vec::with_capacity(records.len());
     let mut failed = 0;
     for r in &records {
