@@ -2240,6 +2240,13 @@ fn own_gap_shapes_load() {
     assert_eq!(file, "pad.csv");
     assert_eq!(rows.len(), 5);
     assert_eq!(rows[1], [0.25, 0.15]);
+    // As a spreadsheet saves it: a byte-order mark and Windows line ends.
+    let saved = format!("\u{feff}{}", GAP_CSV.replace('\n', "\r\n"));
+    loads_beside(
+        "tabulated-spreadsheet-ok",
+        &gap_scene(r#"{ kind = "tabulated", file = "pad.csv" }"#),
+        &[("pad.csv", &saved)],
+    );
     // A path into a subfolder, relative to the experiment file.
     loads_beside(
         "tabulated-subfolder-ok",

@@ -3,7 +3,8 @@
 //!
 //! A profile is a text file of two columns: a header line naming them (`x1,g` for a gap,
 //! `x1,b` for an obstacle), then one row `x₁,value` per line, x₁ strictly increasing. Blank
-//! lines and lines starting with `#` are skipped. Every message names the experiment file, the
+//! lines and lines starting with `#` are skipped; a byte-order mark and Windows line ends, as
+//! spreadsheets write them, are accepted. Every message names the experiment file, the
 //! field (`scene.reynolds.gap.file`), the CSV file and the line.
 
 use std::fs;
@@ -108,6 +109,8 @@ impl Check<'_> {
         let text = read_profile(&path).map_err(|why| self.fail(field, &expected_file, why))?;
         let shown = path.display();
         let mut lines = text
+            .strip_prefix('\u{feff}')
+            .unwrap_or(&text)
             .lines()
             .enumerate()
             .map(|(i, line)| (i + 1, line.trim()))
