@@ -2128,3 +2128,543 @@ fn unknown_substokes_exact_field_is_refused() {
         "no compare_with",
     );
 }
+
+// The wider vocabulary of own scenes: step, parabolic and tabulated gaps, periodic obstacles
+// with a period and a phase, tabulated obstacles, and the material by E and ν.
+
+/// A gap profile over the unit square's x₁ ∈ [0, 1]: a converging pad.
+const GAP_CSV: &str = "x1,g\n0.0,0.2\n0.25,0.15\n0.5,0.12\n0.75,0.11\n1.0,0.1\n";
+
+/// An obstacle profile over the thesis's x₁ ∈ [−16, 16].
+const OBSTACLE_CSV: &str = "x1,b\n-16,-2\n-4,-2\n0,-1.2\n4,-2\n16,-2\n";
+
+/// Loads `text` as `IV.1.toml` with `files` (name, text) beside it and returns the error,
+/// checking as [`expect_error`] that it names the file and `field` and contains `needle`; a
+/// message about a profile (`…file`) must also name the CSV file's path.
+fn expect_error_beside(
+    case: &str,
+    text: &str,
+    files: &[(&str, &str)],
+    field: &str,
+    needle: &str,
+) -> ExperimentError {
+    let dir = scratch_dir(case);
+    for (name, content) in files {
+        if let Some(folder) = dir.join(name).parent() {
+            fs::create_dir_all(folder).expect("a profile folder");
+        }
+        write(&dir, name, content);
+    }
+    let path = write(&dir, "IV.1.toml", text);
+    let error = match load(&path) {
+        Ok(_) => panic!("{case}: expected an error, the file loaded"),
+        Err(error) => error,
+    };
+    let message = error.to_string();
+    assert!(
+        message.contains(&path.display().to_string()),
+        "{case}: message does not name the file:\n{message}"
+    );
+    assert!(
+        message.contains(&format!("`{field}`")),
+        "{case}: message does not name field `{field}`:\n{message}"
+    );
+    assert!(
+        message.contains(needle),
+        "{case}: message does not contain `{needle}`:\n{message}"
+    );
+    if let (true, Some((csv, _))) = (field.ends_with(".file"), files.first()) {
+        let shown = dir.join(csv).display().to_string();
+        assert!(
+            message.contains(&shown),
+            "{case}: message does not name the CSV file {shown}:\n{message}"
+        );
+    }
+    assert_eq!(error.field(), Some(field), "{case}: field()");
+    let _ = fs::remove_dir_all(&dir);
+    error
+}
+
+/// Loads `text` as `IV.1.toml` with `files` beside it; it must load.
+fn loads_beside(case: &str, text: &str, files: &[(&str, &str)]) -> tribo::experiment::Experiment {
+    let dir = scratch_dir(case);
+    for (name, content) in files {
+        if let Some(folder) = dir.join(name).parent() {
+            fs::create_dir_all(folder).expect("a profile folder");
+        }
+        write(&dir, name, content);
+    }
+    let path = write(&dir, "IV.1.toml", text);
+    let spec = load(&path).unwrap_or_else(|e| panic!("{case}: {e}"));
+    let _ = fs::remove_dir_all(&dir);
+    spec
+}
+
+fn gap_scene(gap: &str) -> String {
+    reynolds_scene(gap, r#"components = ["psi"]"#)
+}
+
+#[test]
+fn own_gap_shapes_load() {
+    use tribo::experiment::{GapShape, Problem};
+    loads_beside(
+        "step-ok",
+        &gap_scene(r#"{ kind = "step", g_in = 0.2, g_out = 0.1, at = 0.7, s = 0.01 }"#),
+        &[],
+    );
+    loads_beside(
+        "journal-ok",
+        &gap_scene(r#"{ kind = "parabolic", g0 = 0.05, center = 0.5, radius = 4.0 }"#),
+        &[],
+    );
+    loads_beside(
+        "ball-ok",
+        &gap_scene(
+            r#"{ kind = "parabolic", g0 = 0.05, center = 0.5, radius = 4.0, center_x2 = 0.5, radius_x2 = 2.0 }"#,
+        ),
+        &[],
+    );
+    // Comments and blank lines in the profile are skipped; the rows reach the loaded scene.
+    let csv = format!("# measured\n{GAP_CSV}\n\n# end\n");
+    let spec = loads_beside(
+        "tabulated-ok",
+        &gap_scene(r#"{ kind = "tabulated", file = "pad.csv" }"#),
+        &[("pad.csv", &csv)],
+    );
+    let Problem::Reynolds(r) = &spec.problem else {
+        panic!("a Reynolds scene")
+    };
+    let GapShape::Tabulated { file, rows } = &r.gap else {
+        panic!("a tabulated gap")
+    };
+    assert_eq!(file, "pad.csv");
+    assert_eq!(rows.len(), 5);
+    assert_eq!(rows[1], [0.25, 0.15]);
+    // As a spreadsheet saves it: a byte-order mark and Windows line ends.
+    let saved = format!("\u{feff}{}", GAP_CSV.replace('\n', "\r\n"));
+    loads_beside(
+        "tabulated-spreadsheet-ok",
+        &gap_scene(r#"{ kind = "tabulated", file = "pad.csv" }"#),
+        &[("pad.csv", &saved)],
+    );
+    // A path into a subfolder, relative to the experiment file.
+    loads_beside(
+        "tabulated-subfolder-ok",
+        &gap_scene(r#"{ kind = "tabulated", file = "profiles/pad.csv" }"#),
+        &[("profiles/pad.csv", GAP_CSV)],
+    );
+}
+
+#[test]
+fn own_gap_shapes_name_file_and_field() {
+    let step = r#"{ kind = "step", g_in = 0.2, g_out = 0.1, at = 0.7, s = 0.01 }"#;
+    let journal = r#"{ kind = "parabolic", g0 = 0.05, center = 0.5, radius = 4.0 }"#;
+    let tabulated = gap_scene(r#"{ kind = "tabulated", file = "pad.csv" }"#);
+    let cases: Vec<(&str, String, &str, &str)> = vec![
+        (
+            "step-closed",
+            gap_scene(&step.replace("g_out = 0.1", "g_out = 0.0")),
+            "scene.reynolds.gap.g_out",
+            "a finite number > 0",
+        ),
+        (
+            "step-negative-inlet",
+            gap_scene(&step.replace("g_in = 0.2", "g_in = -0.2")),
+            "scene.reynolds.gap.g_in",
+            "a finite number > 0",
+        ),
+        (
+            "step-sharp",
+            gap_scene(&step.replace("s = 0.01", "s = 0.0")),
+            "scene.reynolds.gap.s",
+            "a finite number > 0",
+        ),
+        (
+            "step-at-nan",
+            gap_scene(&step.replace("at = 0.7", "at = nan")),
+            "scene.reynolds.gap.at",
+            "a finite number",
+        ),
+        (
+            "step-unknown-field",
+            gap_scene(&step.replace("s = 0.01", "s = 0.01, g0 = 0.1")),
+            "scene.reynolds.gap",
+            "unknown field `g0`",
+        ),
+        (
+            "journal-flat",
+            gap_scene(&journal.replace("radius = 4.0", "radius = 0.0")),
+            "scene.reynolds.gap.radius",
+            "a finite number > 0",
+        ),
+        (
+            "journal-closed",
+            gap_scene(&journal.replace("g0 = 0.05", "g0 = 0.0")),
+            "scene.reynolds.gap.g0",
+            "a finite number > 0",
+        ),
+        (
+            "journal-center-inf",
+            gap_scene(&journal.replace("center = 0.5", "center = inf")),
+            "scene.reynolds.gap.center",
+            "a finite number",
+        ),
+        (
+            "ball-without-radius",
+            gap_scene(&journal.replace("radius = 4.0", "radius = 4.0, center_x2 = 0.5")),
+            "scene.reynolds.gap.radius_x2",
+            "radius_x2 with center_x2",
+        ),
+        (
+            "ball-without-center",
+            gap_scene(&journal.replace("radius = 4.0", "radius = 4.0, radius_x2 = 2.0")),
+            "scene.reynolds.gap.center_x2",
+            "center_x2 with radius_x2",
+        ),
+        (
+            "ball-flat",
+            gap_scene(&journal.replace(
+                "radius = 4.0",
+                "radius = 4.0, center_x2 = 0.5, radius_x2 = -1.0",
+            )),
+            "scene.reynolds.gap.radius_x2",
+            "a finite number > 0",
+        ),
+        (
+            "tabulated-rows-in-toml",
+            gap_scene(r#"{ kind = "tabulated", file = "pad.csv", rows = [[0.0, 0.1]] }"#),
+            "scene.reynolds.gap",
+            "unknown field `rows`",
+        ),
+    ];
+    for (case, text, field, needle) in &cases {
+        expect_error_beside(case, text, &[("pad.csv", GAP_CSV)], field, needle);
+    }
+    // The profile itself: each bad file names the experiment file, the field, the CSV file,
+    // the line and what was expected.
+    let f = "scene.reynolds.gap.file";
+    let csv_cases: [(&str, String, &str); 10] = [
+        (
+            "header",
+            GAP_CSV.replace("x1,g", "x,g"),
+            "the header `x1,g`",
+        ),
+        (
+            "three-rows",
+            "x1,g\n0,0.2\n0.5,0.1\n1,0.1\n".into(),
+            "at least 4 rows",
+        ),
+        (
+            "decreasing",
+            GAP_CSV.replace("0.5,0.12", "0.2,0.12"),
+            "strictly increasing from row to row, found",
+        ),
+        (
+            "closed",
+            GAP_CSV.replace("0.5,0.12", "0.5,0.0"),
+            "the gap width > 0",
+        ),
+        (
+            "semicolon",
+            GAP_CSV.replace("0.5,0.12", "0.5;0.12"),
+            "two numbers",
+        ),
+        (
+            "three-columns",
+            GAP_CSV.replace("0.5,0.12", "0.5,0.12,1"),
+            "two numbers",
+        ),
+        (
+            "nan",
+            GAP_CSV.replace("0.5,0.12", "0.5,nan"),
+            "finite numbers",
+        ),
+        (
+            "short",
+            GAP_CSV.replace("0.0,0.2", "0.1,0.2"),
+            "reach over scene.domain.x",
+        ),
+        (
+            "overshoot",
+            // A drop from 0.3 to 0.01 that the spline undershoots to −0.0204 at x₁ ≈ 0.54.
+            "x1,g\n0,0.3\n0.2,0.3\n0.4,0.3\n0.5,0.01\n0.6,0.01\n0.8,0.01\n1,0.01\n".into(),
+            "stays positive on scene.domain.x",
+        ),
+        ("empty", String::new(), "no lines"),
+    ];
+    for (case, csv, needle) in &csv_cases {
+        let error = expect_error_beside(
+            &format!("csv-{case}"),
+            &tabulated,
+            &[("pad.csv", csv)],
+            f,
+            needle,
+        );
+        // Every row message points at a line of the file.
+        if !["three-rows", "short", "overshoot", "empty"].contains(case) {
+            assert!(error.to_string().contains(", line "), "{case}: {error}");
+        }
+    }
+    let error = expect_error_beside("csv-missing", &tabulated, &[], f, "cannot read it");
+    assert!(error.to_string().contains("pad.csv"), "{error}");
+    expect_error_beside(
+        "csv-empty-name",
+        &tabulated.replace("pad.csv", ""),
+        &[],
+        f,
+        "an empty file name",
+    );
+    // A directory where the profile should be.
+    let dir = scratch_dir("csv-directory");
+    fs::create_dir_all(dir.join("pad.csv")).expect("a directory");
+    let path = write(&dir, "IV.1.toml", &tabulated);
+    let error = load(&path).expect_err("a directory is no profile");
+    assert!(error.to_string().contains("not a regular file"), "{error}");
+    assert_eq!(error.field(), Some(f));
+    let _ = fs::remove_dir_all(&dir);
+    // The same checks in a SubStokes section name that section.
+    let substokes = fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments/templates/substokes.toml"),
+    )
+    .expect("template");
+    let gap_line = substokes
+        .lines()
+        .find(|l| l.starts_with("gap = "))
+        .expect("a gap line");
+    expect_error_in(
+        "substokes.toml",
+        "substokes-step-sharp",
+        &substokes.replace(
+            gap_line,
+            r#"gap = { kind = "step", g_in = 0.2, g_out = 0.1, at = 0.7, s = -1.0 }"#,
+        ),
+        "scene.substokes.gap.s",
+        "a finite number > 0",
+    );
+}
+
+#[test]
+fn own_obstacles_name_file_and_field() {
+    let obstacle = |shape: &str| format!(r#"[{{ side = "bottom", shape = {shape} }}]"#);
+    let scene = |shape: &str| contact_scene(&obstacle(shape), r#"["left", "right"]"#);
+    let wave =
+        r#"{ kind = "periodic", offset = -2.0, amplitude = 0.5, period = 8.0, phase = 1.0 }"#;
+    let tabulated = r#"{ kind = "tabulated", file = "die.csv" }"#;
+    let files = [("die.csv", OBSTACLE_CSV)];
+    loads_beside("wave-ok", &scene(wave), &[]);
+    loads_beside(
+        "wave-without-phase-ok",
+        &scene(&wave.replace(", phase = 1.0", "")),
+        &[],
+    );
+    let spec = loads_beside("die-ok", &scene(tabulated), &files);
+    let tribo::experiment::Problem::Contact { contact, .. } = &spec.problem else {
+        panic!("a contact scene")
+    };
+    assert!(matches!(
+        &contact.obstacles[0].shape,
+        tribo::experiment::ObstacleShape::Tabulated { rows, .. } if rows.len() == 5
+    ));
+    let f = "scene.contact.obstacles[0].shape";
+    let cases: Vec<(&str, String, &str, &str)> = vec![
+        (
+            "periods-and-period",
+            scene(&wave.replace("phase = 1.0", "periods = 2.0")),
+            "scene.contact.obstacles[0].shape.period",
+            "not both",
+        ),
+        (
+            "neither-periods-nor-period",
+            scene(&wave.replace("period = 8.0, phase = 1.0", "phase = 1.0")),
+            "scene.contact.obstacles[0].shape.period",
+            "`period` (a length",
+        ),
+        (
+            "phase-with-periods",
+            scene(&wave.replace("period = 8.0", "periods = 2.0")),
+            "scene.contact.obstacles[0].shape.phase",
+            "no phase with `periods`",
+        ),
+        (
+            "period-zero",
+            scene(&wave.replace("period = 8.0", "period = 0.0")),
+            "scene.contact.obstacles[0].shape.period",
+            "a finite number > 0",
+        ),
+        (
+            "period-negative",
+            scene(&wave.replace("period = 8.0", "period = -8.0")),
+            "scene.contact.obstacles[0].shape.period",
+            "a finite number > 0",
+        ),
+        (
+            "phase-infinite",
+            scene(&wave.replace("phase = 1.0", "phase = inf")),
+            "scene.contact.obstacles[0].shape.phase",
+            "a finite number",
+        ),
+    ];
+    for (case, text, field, needle) in &cases {
+        expect_error_beside(case, text, &[], field, needle);
+    }
+    let file = format!("{f}.file");
+    let csv_cases: [(&str, String, &str); 5] = [
+        ("one-row", "x1,b\n-16,-2\n".into(), "at least 2 rows"),
+        (
+            "gap-header",
+            OBSTACLE_CSV.replace("x1,b", "x1,g"),
+            "the header `x1,b`",
+        ),
+        (
+            "short",
+            OBSTACLE_CSV.replace("16,-2\n", "15,-2\n"),
+            "reach over scene.domain.x",
+        ),
+        (
+            "repeated-x",
+            OBSTACLE_CSV.replace("0,-1.2", "-4,-1.2"),
+            "strictly increasing",
+        ),
+        (
+            "inf",
+            OBSTACLE_CSV.replace("0,-1.2", "0,-inf"),
+            "finite numbers",
+        ),
+    ];
+    for (case, csv, needle) in &csv_cases {
+        expect_error_beside(
+            &format!("die-{case}"),
+            &scene(tabulated),
+            &[("die.csv", csv)],
+            &file,
+            needle,
+        );
+    }
+    expect_error_beside("die-missing", &scene(tabulated), &[], &file, "die.csv");
+}
+
+#[test]
+fn material_by_young_and_poisson_names_file_and_field() {
+    use tribo::experiment::Problem;
+    let lame = "mu = 1.0\nlambda = 1.0";
+    let by = |e: &str, nu: &str| edit(lame, &format!("young_modulus = {e}\npoisson_ratio = {nu}"));
+    // E = 8/3, ν = 1/3 is the thesis's μ = λ = 1 (with its 2λ, λ_std = 2).
+    let spec = loads_beside(
+        "young-ok",
+        &by("2.6666666666666665", "0.3333333333333333"),
+        &[],
+    );
+    let Problem::Elasticity(data) = &spec.problem else {
+        panic!("an elasticity scene")
+    };
+    let tribo::experiment::Lame { mu, lambda } = data.lame();
+    assert!(
+        (mu - 1.0).abs() < 1e-15 && (lambda - 1.0).abs() < 1e-15,
+        "{mu} {lambda}"
+    );
+    loads_beside("auxetic-ok", &by("1.0", "-0.5"), &[]);
+    let cases: Vec<(&str, String, &str, &str)> = vec![
+        (
+            "both-pairs",
+            edit(
+                lame,
+                &format!("{lame}\nyoung_modulus = 1.0\npoisson_ratio = 0.3"),
+            ),
+            "scene.elasticity.young_modulus",
+            "not both",
+        ),
+        (
+            "lame-and-poisson",
+            edit(lame, &format!("{lame}\npoisson_ratio = 0.3")),
+            "scene.elasticity.poisson_ratio",
+            "not both",
+        ),
+        (
+            "neither",
+            edit(lame, ""),
+            "scene.elasticity",
+            "the material: `mu` and `lambda`",
+        ),
+        (
+            "mu-alone",
+            edit(lame, "mu = 1.0"),
+            "scene.elasticity.lambda",
+            "together",
+        ),
+        (
+            "lambda-alone",
+            edit(lame, "lambda = 1.0"),
+            "scene.elasticity.mu",
+            "together",
+        ),
+        (
+            "young-alone",
+            edit(lame, "young_modulus = 1.0"),
+            "scene.elasticity.poisson_ratio",
+            "together",
+        ),
+        (
+            "poisson-alone",
+            edit(lame, "poisson_ratio = 0.3"),
+            "scene.elasticity.young_modulus",
+            "together",
+        ),
+        (
+            "nu-half",
+            by("1.0", "0.5"),
+            "scene.elasticity.poisson_ratio",
+            "−1 < ν < ½",
+        ),
+        (
+            "nu-minus-one",
+            by("1.0", "-1.0"),
+            "scene.elasticity.poisson_ratio",
+            "−1 < ν < ½",
+        ),
+        (
+            "nu-nan",
+            by("1.0", "nan"),
+            "scene.elasticity.poisson_ratio",
+            "−1 < ν < ½",
+        ),
+        (
+            "nu-large",
+            by("1.0", "2.0"),
+            "scene.elasticity.poisson_ratio",
+            "−1 < ν < ½",
+        ),
+        (
+            "nu-locks",
+            by("1.0", "0.49999999999"),
+            "scene.elasticity.poisson_ratio",
+            "λ/μ = ν/(1 − 2ν) ≤ 1e8",
+        ),
+        (
+            "young-zero",
+            by("0.0", "0.3"),
+            "scene.elasticity.young_modulus",
+            "a finite value",
+        ),
+        (
+            "young-negative",
+            by("-3.0", "0.3"),
+            "scene.elasticity.young_modulus",
+            "a finite value",
+        ),
+        (
+            "young-infinite",
+            by("inf", "0.3"),
+            "scene.elasticity.young_modulus",
+            "a finite value",
+        ),
+        (
+            "young-as-text",
+            by("\"stiff\"", "0.3"),
+            "scene.elasticity.young_modulus",
+            "invalid type",
+        ),
+    ];
+    for (case, text, field, needle) in &cases {
+        expect_error(case, text, field, needle);
+    }
+}

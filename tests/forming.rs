@@ -80,7 +80,7 @@ fn tools_rise_by_the_lift() {
         ObstacleShape::Arc {
             center, plateau, ..
         } => (center, plateau),
-        other => panic!("obstacle {i} is {other:?}"),
+        ref other => panic!("obstacle {i} is {other:?}"),
     };
     let raised = contact.raised(24.0 * lift);
     assert_eq!(contact.obstacles[0].rises, Some(Rise::Plateau));

@@ -290,10 +290,14 @@ fn a_raised_body_with_raised_obstacles_is_the_same_problem() {
                     offset,
                     amplitude,
                     periods,
+                    period,
+                    phase,
                 } => ObstacleShape::Periodic {
                     offset: offset + d,
                     amplitude,
                     periods,
+                    period,
+                    phase,
                 },
                 ObstacleShape::Jump {
                     base,
@@ -306,7 +310,7 @@ fn a_raised_body_with_raised_obstacles_is_the_same_problem() {
                     at,
                     s,
                 },
-                other => panic!("{t}: no raised version of {other:?}"),
+                ref other => panic!("{t}: no raised version of {other:?}"),
             };
         }
         let flat = Discretisation::initial(&e.scene).unwrap();

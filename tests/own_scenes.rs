@@ -22,8 +22,16 @@ const TEMPLATES: [&str; 6] = [
     "model-fluid",
 ];
 
+/// The shipped examples of `experiments/own/`, one per part of the wider vocabulary: the step
+/// gap, the tabulated gap, and the tabulated and periodic obstacles with the material by E and ν.
+const EXAMPLES: [&str; 3] = ["die-and-wave", "step-bearing", "worn-pad"];
+
 fn templates_dir() -> PathBuf {
     experiments_dir().join("templates")
+}
+
+fn examples_dir() -> PathBuf {
+    experiments_dir().join("own")
 }
 
 fn template(name: &str) -> String {
@@ -87,26 +95,107 @@ fn every_template_loads_and_runs_at_quick_tier() {
     }
 }
 
-/// Every template explains its fields: in every block of lines (between blank lines) that sets
-/// a field, a comment comes before the first field; and the file says how to run it.
+/// In every block of lines (between blank lines) of `text` that sets a field, a comment comes
+/// before the first field.
+fn assert_commented(name: &str, text: &str) {
+    for block in text.split("\n\n") {
+        let lines: Vec<&str> = block.lines().map(str::trim_start).collect();
+        let Some(first) = lines
+            .iter()
+            .position(|l| l.contains(" = ") && !l.starts_with('#'))
+        else {
+            continue;
+        };
+        assert!(
+            lines[..first].iter().any(|l| l.starts_with('#')),
+            "{name}: no comment before `{}`",
+            lines[first]
+        );
+    }
+}
+
+/// Every template explains its fields ([`assert_commented`]) and says how to run it.
 #[test]
 fn templates_are_commented() {
     for name in TEMPLATES {
         let text = template(name);
         assert!(text.contains("--experiments my-dir"), "{name}: how to run");
-        for block in text.split("\n\n") {
-            let lines: Vec<&str> = block.lines().map(str::trim_start).collect();
-            let Some(first) = lines
+        assert_commented(name, &text);
+    }
+}
+
+/// The examples of `experiments/own/` are commented like the templates, say how to run them,
+/// load as scenes of the user's own, do not warn, and run at the quick tier with results that
+/// show what each is about: the step bearing's pressure peaks at the step, the worn pad's at the
+/// end of its taper, and the strip rests on the die's insert.
+#[test]
+fn the_own_examples_run_and_show_their_point() {
+    let loaded = experiment::load_dir(&examples_dir(), None).unwrap();
+    let ids: Vec<&str> = loaded.iter().map(|e| e.table.as_str()).collect();
+    assert_eq!(ids, EXAMPLES);
+    for spec in &loaded {
+        let id = spec.table.as_str();
+        let text = fs::read_to_string(examples_dir().join(format!("{id}.toml"))).unwrap();
+        assert!(
+            text.contains("--experiments experiments/own"),
+            "{id}: how to run"
+        );
+        assert_commented(id, &text);
+        assert_eq!(spec.comparison, Comparison::OwnScene, "{id}");
+        assert_eq!(spec.warnings(), Vec::new(), "{id}");
+        let run = study::run(spec, Tier::Quick, &|_, _, _| {})
+            .unwrap_or_else(|e| panic!("{id}: quick tier fails: {e}"));
+        assert_eq!(run.rows.len(), spec.study.quick_rows, "{id}");
+        assert!(
+            run.rows
                 .iter()
-                .position(|l| l.contains(" = ") && !l.starts_with('#'))
-            else {
-                continue;
-            };
-            assert!(
-                lines[..first].iter().any(|l| l.starts_with('#')),
-                "{name}: no comment before `{}`",
-                lines[first]
-            );
+                .all(|r| r.value("estimate").is_some_and(f64::is_finite)),
+            "{id}: every row has a finite estimate"
+        );
+        assert_eq!(run.warnings, Vec::<String>::new(), "{id}");
+        let probe = |x: f64, y: f64| {
+            run.probes
+                .iter()
+                .find(|p| p.x == x && p.y == y)
+                .unwrap_or_else(|| panic!("{id}: no probe at ({x}, {y})"))
+                .value
+        };
+        match id {
+            "step-bearing" => {
+                let psi: Vec<f64> = [0.2, 0.5, 0.65, 0.7, 0.75, 0.85, 0.95]
+                    .iter()
+                    .map(|&x| probe(x, 0.5))
+                    .collect();
+                assert!(psi.iter().all(|&p| p > 0.0), "{psi:?}");
+                // ψ ≈ g·p rises to the step, and p ≈ ψ/g falls after it.
+                assert!(psi[0] < psi[1] && psi[1] < psi[2], "{psi:?}");
+                assert!(psi[4] / 0.1 > psi[1] / 0.2 && psi[4] > psi[5] && psi[5] > psi[6]);
+            }
+            "worn-pad" => {
+                let psi: Vec<f64> = [0.1, 0.3, 0.5, 0.9]
+                    .iter()
+                    .map(|&x| probe(x, 0.5))
+                    .collect();
+                assert!(
+                    psi[1] > psi[0] && psi[1] > psi[2] && psi[2] > psi[3],
+                    "{psi:?}"
+                );
+            }
+            "die-and-wave" => {
+                // Resting on the insert b = −0.6, pushed against the wave's trough
+                // b = 0.8 − 0.3 at x₁ = 6.5 (the probes lie beside it, below the wave).
+                assert!(
+                    (probe(-7.0, 0.0) + 0.6).abs() < 1e-9,
+                    "{}",
+                    probe(-7.0, 0.0)
+                );
+                for x in [5.0, 8.0] {
+                    let top = 0.8 + 0.3 * (std::f64::consts::TAU * (x - 2.0) / 6.0).sin();
+                    assert!(probe(x, 1.0) <= top + 1e-9, "x = {x}");
+                }
+                assert!(run.rows[0].count_of("contact_vertices") > Some(0));
+            }
+            other => panic!("{other}: an example without a check"),
         }
     }
 }
@@ -120,8 +209,8 @@ fn the_default_experiment_folder_does_not_pick_up_the_templates() {
         84,
         "75 tables, 3 figures and the 6 manufactured scenes: {stems:?}"
     );
-    for id in TEMPLATES {
-        assert!(!stems.contains(&id), "{id} picked up");
+    for id in TEMPLATES.iter().chain(&EXAMPLES) {
+        assert!(!stems.contains(id), "{id} picked up");
     }
 }
 

@@ -298,3 +298,42 @@ fn the_report_shows_warnings_in_summary_section_and_stderr() {
     assert!(!section("IV.2").contains("Suspicious scene."));
     let _ = fs::remove_dir_all(&dir);
 }
+
+/// The step gap warns where its step lies outside the domain, and where it is sharper than half
+/// the cells of the first mesh (the Reynolds system is then indefinite, and the run fails — as
+/// the warning says); the shipped example is clear of both.
+#[test]
+fn a_step_gap_warns_outside_the_domain_and_below_the_first_cells() {
+    let shipped =
+        fs::read_to_string(experiments_dir().join("own/step-bearing.toml")).expect("example");
+    let gap = "gap = { kind = \"step\", g_in = 0.2, g_out = 0.1, at = 0.7, s = 0.02 }";
+    assert!(shipped.contains(gap));
+    let load = |case: &str, to: &str| {
+        let dir = temp_dir(&format!("warn-{case}"));
+        let path = write(&dir, "step-bearing", &shipped.replacen(gap, to, 1));
+        let e = experiment::load(&path).unwrap_or_else(|err| panic!("{case}: {err}"));
+        let _ = fs::remove_dir_all(&dir);
+        e
+    };
+    let outside = load("step-outside", &gap.replace("at = 0.7", "at = 1.5"));
+    assert_eq!(
+        warning_lines(&outside),
+        [
+            "scene.reynolds.gap.at: the jump at x₁ = 1.5 lies outside the domain's x₁ ∈ (0, 1): \
+          the gap is (up to the smoothing θ_s) constant on the domain"
+        ]
+    );
+    let sharp = load("step-sharp", &gap.replace("s = 0.02", "s = 0.01"));
+    let lines = warning_lines(&sharp);
+    assert_eq!(lines.len(), 1, "{lines:?}");
+    assert!(
+        lines[0].starts_with("scene.reynolds.gap.s: a step smoothed over s = 0.01, less than half")
+            && lines[0].contains("take s ≥ 0.015625"),
+        "{lines:?}"
+    );
+    let failed = study::run(&sharp, Tier::Quick, &|_, _, _| {});
+    assert!(
+        failed.is_err(),
+        "the sharp step is expected to fail, as warned"
+    );
+}

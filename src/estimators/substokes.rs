@@ -510,7 +510,7 @@ fn residual_parts(
     let (fp, fw) = quadrature::gauss(2);
     let active = mesh.active();
     let psi0 = problem.boundary_pressure;
-    let film = problem.film;
+    let film = &problem.film;
     let grad_div = terms.grad_div;
     let inside = |k: usize| terms.region.is_none_or(|r| r[k]);
     per_cell(mesh, &rule, |k, c, cv| {
@@ -1001,7 +1001,7 @@ mod tests {
             stabilisation: Stabilisation::Literal,
             multiplier: Multiplier::Lumped,
         };
-        let reynolds = p.with_cavitation_source(CavitationSource::Reynolds);
+        let reynolds = p.clone().with_cavitation_source(CavitationSource::Reynolds);
         let e = estimate_cavitation(&mesh, dofs, u, &lambda, &reynolds, as_iii23).unwrap();
         assert_eq!(e, iii23);
         let with_grad_div = CavitationOptions {

@@ -9,6 +9,8 @@
 //! these types (the study does it when it builds a model), so imports run one way: the models
 //! know nothing of the file format.
 
+use std::sync::Arc;
+
 use serde::de::Error as _;
 use serde::{Deserialize, Deserializer, Serialize};
 
@@ -129,11 +131,26 @@ impl Rectangle {
 }
 
 /// Material and loads of the elasticity problem (I.17) with a(s,r) = 2μ⟨ε,ε⟩ + 2λ⟨div,div⟩.
+///
+/// The material is given either by the thesis's constants `mu` and `lambda` of that form, or by
+/// Young's modulus E and Poisson's ratio ν (`young_modulus`, `poisson_ratio`), never both: see
+/// [`ElasticityData::lame`] for the conversion.
 #[derive(Clone, Debug, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct ElasticityData {
-    pub mu: f64,
-    pub lambda: f64,
+    /// μ of a(s, r), the shear modulus (with `lambda`).
+    #[serde(default)]
+    pub mu: Option<f64>,
+    /// λ of a(s, r) (with `mu`). The thesis's form has 2λ where Hooke's law has λ, so this λ is
+    /// half the standard Lamé constant (docs/models.md §1.2).
+    #[serde(default)]
+    pub lambda: Option<f64>,
+    /// Young's modulus E > 0 (with `poisson_ratio`, instead of `mu` and `lambda`).
+    #[serde(default)]
+    pub young_modulus: Option<f64>,
+    /// Poisson's ratio ν ∈ (−1, ½) (with `young_modulus`).
+    #[serde(default)]
+    pub poisson_ratio: Option<f64>,
     /// Sides in Γ₀ (s = 0).
     pub dirichlet: Vec<Side>,
     /// Volume load ρf = direction · profile(x₁).
@@ -147,6 +164,40 @@ pub struct ElasticityData {
     /// the effectivity of the estimate.
     #[serde(default)]
     pub exact: Option<ExactSolution>,
+}
+
+/// The constants μ, λ of the form a(s, r) = 2μ⟨ε,ε⟩ + 2λ⟨div,div⟩ of (II.13).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Lame {
+    pub mu: f64,
+    pub lambda: f64,
+}
+
+impl ElasticityData {
+    /// μ and λ of the form (II.13): as written, or from E and ν.
+    ///
+    /// The 2-D model with the 3-D constants is the plane-strain model (the thesis names neither
+    /// plane strain nor plane stress; docs/models.md §1.2 derives E = 8/3, ν = 1/3 for its
+    /// μ = λ = 1 the same way), so E and ν give the standard Lamé constants
+    ///
+    ///   μ = E / (2(1 + ν)),   λ_std = E ν / ((1 + ν)(1 − 2ν)),
+    ///
+    /// and, since the form has 2λ where Hooke's law has λ_std, λ = λ_std / 2
+    /// = E ν / (2(1 + ν)(1 − 2ν)). E = 8/3, ν = 1/3 is the thesis's μ = λ = 1. NaN where the
+    /// file gives neither pair (the loader refuses such a file).
+    pub fn lame(&self) -> Lame {
+        match (self.mu, self.lambda, self.young_modulus, self.poisson_ratio) {
+            (Some(mu), Some(lambda), _, _) => Lame { mu, lambda },
+            (_, _, Some(e), Some(nu)) => Lame {
+                mu: e / (2.0 * (1.0 + nu)),
+                lambda: e * nu / (2.0 * (1.0 + nu) * (1.0 - 2.0 * nu)),
+            },
+            _ => Lame {
+                mu: f64::NAN,
+                lambda: f64::NAN,
+            },
+        }
+    }
 }
 
 /// The closed-form fields a scene can name as `exact` ([`crate::models::manufactured`]).
@@ -337,7 +388,7 @@ impl ContactData {
         let mut raised = self.clone();
         for o in &mut raised.obstacles {
             if let Some(rise) = o.rises {
-                o.shape = o.shape.raised(rise, by);
+                o.shape = o.shape.clone().raised(rise, by);
             }
         }
         raised
@@ -367,19 +418,41 @@ pub enum Rise {
     Plateau,
 }
 
+/// The rows (x₁, value) of a CSV profile, read by the loader ([`GapShape::Tabulated`],
+/// [`ObstacleShape::Tabulated`]); empty as deserialized.
+pub type ProfileRows = Arc<[[f64; 2]]>;
+
 /// Obstacle function b(x₁) (`models::obstacle::Shape`, thesis §IV.2.1).
-#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
 pub enum ObstacleShape {
     /// b = level.
     Constant { level: f64 },
     /// b = offset + slope·x₁, a straight tilted obstacle (the manufactured Signorini scene).
     Linear { offset: f64, slope: f64 },
-    /// b = offset + amplitude·sin(periods·2π(x₁+16)/32).
+    /// With `periods` (the thesis's tables): b = offset + amplitude·sin(periods·2π(x₁+16)/32),
+    /// `periods` whole periods on the thesis's x₁ ∈ [−16, 16]. With `period` instead:
+    /// b = offset + amplitude·sin(2π(x₁ − phase)/period), `phase` (default 0) where the sine
+    /// rises through `offset`. One of `periods` and `period`, never both; `phase` only with
+    /// `period`.
     Periodic {
         offset: f64,
         amplitude: f64,
-        periods: f64,
+        #[serde(default)]
+        periods: Option<f64>,
+        #[serde(default)]
+        period: Option<f64>,
+        #[serde(default)]
+        phase: Option<f64>,
+    },
+    /// Piecewise linear through the rows (x₁, b) of the CSV file `file` (a header line `x1,b`,
+    /// then one row per line; the path relative to the experiment file's folder), held at the
+    /// end values beyond the first and last row.
+    Tabulated {
+        file: String,
+        /// The rows of `file`, read by the loader.
+        #[serde(skip)]
+        rows: ProfileRows,
     },
     /// b = base + height·θ_s(x₁ − at).
     Jump {
@@ -436,8 +509,9 @@ pub enum SawReading {
     Literal,
 }
 
-/// Gap width g(x₁, x₂) of a fluid example, (IV.7)–(IV.20) (`models::thin_film::Gap`).
-#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+/// Gap width g(x₁, x₂) of a fluid example, (IV.7)–(IV.20), or of a scene of the user's own
+/// (`models::thin_film::Gap`).
+#[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
 pub enum GapShape {
     /// g = g0.
@@ -455,6 +529,35 @@ pub enum GapShape {
         g0: f64,
         amplitude: f64,
         frequency: f64,
+    },
+    /// The Rayleigh step: g = g_in + (g_out − g_in)·θ_s(x₁ − at), θ_s of (IV.3) — g_in before
+    /// the step (x₁ < at), g_out after it, blended over a width of order s > 0 (the Reynolds
+    /// source needs g three times differentiable).
+    Step {
+        g_in: f64,
+        g_out: f64,
+        at: f64,
+        s: f64,
+    },
+    /// A cylinder (a journal) of radius R = `radius` over a plane, in the parabolic
+    /// approximation: g = g0 + (x₁ − center)²/(2R), least gap g0 at x₁ = center. With
+    /// `radius_x2` and `center_x2` also curved across: + (x₂ − center_x2)²/(2·radius_x2).
+    Parabolic {
+        g0: f64,
+        center: f64,
+        radius: f64,
+        #[serde(default)]
+        center_x2: Option<f64>,
+        #[serde(default)]
+        radius_x2: Option<f64>,
+    },
+    /// The natural cubic spline through the rows (x₁, g) of the CSV file `file` (a header line
+    /// `x1,g`, then one row per line; the path relative to the experiment file's folder).
+    Tabulated {
+        file: String,
+        /// The rows of `file`, read by the loader.
+        #[serde(skip)]
+        rows: ProfileRows,
     },
 }
 

@@ -75,6 +75,11 @@ impl Scope {
         }
     }
 
+    /// Width of a cell of the first mesh (the coarse grid refined globally).
+    pub fn first_cell(&self) -> f64 {
+        self.first
+    }
+
     /// Oscillating data whose half period lies below the finest cell the run can reach: no mesh
     /// of the run resolves it, and the quadrature samples it at arbitrary phases (aliasing) — a
     /// sine of half period 1e-300 is a pseudo-random load.

@@ -145,9 +145,21 @@ pub(super) fn data_warnings(experiment: &Experiment, scope: &Scope, out: &mut Ve
                 ),
             )),
             // sin(periods·2π(x₁+16)/32): half period 16/|periods|.
-            ObstacleShape::Periodic { periods, .. } if periods != 0.0 => scope.resolves(
+            ObstacleShape::Periodic {
+                periods: Some(periods),
+                ..
+            } if periods != 0.0 => scope.resolves(
                 &format!("{F}.obstacles[{i}].shape.periods"),
                 16.0 / periods.abs(),
+                out,
+            ),
+            // sin(2π(x₁ − phase)/period): half period period/2.
+            ObstacleShape::Periodic {
+                period: Some(period),
+                ..
+            } => scope.resolves(
+                &format!("{F}.obstacles[{i}].shape.period"),
+                0.5 * period.abs(),
                 out,
             ),
             _ => {}

@@ -3,13 +3,14 @@
 use super::{Facts, Family};
 use crate::experiment::Effect;
 use crate::experiment::{
-    ElasticityData, Experiment, Problem, Profile, SceneFile, Scope, StudyKind, Warning,
+    ElasticityData, Experiment, Lame, Problem, Profile, SceneFile, Scope, StudyKind, Warning,
 };
 use crate::study::{self, elasticity::ElasticityProblem, StudyError};
 
-/// λ/μ beyond which the warning about locking is given: Poisson's ratio ν = λ/(2(λ+μ)) above
-/// 0.495. Pure-displacement Q₁ elements lock as ν → ½ (the discrete displacement is too small
-/// by a factor that grows with λ/μ), and the residual estimator does not see it.
+/// λ/μ beyond which the warning about locking is given: Poisson's ratio ν = λ/(2λ + μ) above
+/// 0.4975 (the form's 2λ is the standard Lamé constant, `ElasticityData::lame`).
+/// Pure-displacement Q₁ elements lock as ν → ½ (the discrete displacement is too small by a
+/// factor that grows with λ/μ), and the residual estimator does not see it.
 const LOCKING_LAMBDA_OVER_MU: f64 = 100.0;
 
 pub struct Elasticity;
@@ -64,15 +65,22 @@ impl Family for Elasticity {
 /// oscillation no mesh of the run resolves.
 pub(super) fn warnings(e: &ElasticityData, scope: &Scope, out: &mut Vec<Warning>) {
     const F: &str = "scene.elasticity";
-    if e.lambda > LOCKING_LAMBDA_OVER_MU * e.mu {
-        let nu = e.lambda / (2.0 * (e.lambda + e.mu));
+    let Lame { mu, lambda } = e.lame();
+    if lambda > LOCKING_LAMBDA_OVER_MU * mu {
+        // The form's 2λ is the standard Lamé constant (ElasticityData::lame).
+        let nu = lambda / (2.0 * lambda + mu);
+        let field = if e.poisson_ratio.is_some() {
+            "poisson_ratio"
+        } else {
+            "lambda"
+        };
         out.push(Warning::new(
-            format!("{F}.lambda"),
+            format!("{F}.{field}"),
             format!(
                 "λ/μ = {:.4e} (Poisson's ratio {nu:.6}): a nearly incompressible material locks \
                  the Q₁ elements — the displacement comes out too small and the residual \
                  estimator does not show it",
-                e.lambda / e.mu
+                lambda / mu
             ),
         ));
     }

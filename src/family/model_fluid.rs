@@ -3,8 +3,8 @@
 
 use super::{Facts, Family};
 use crate::experiment::{
-    Cavitation, Check, Checked, Effect, Experiment, ExperimentFile, FilmSolver, Plan, Problem,
-    ReynoldsData, SceneFile, Scope, StudyKind, SubStokesData, Warning,
+    Cavitation, Check, Checked, Effect, Experiment, ExperimentFile, FilmSolver, GapShape, Plan,
+    Problem, ReynoldsData, SceneFile, Scope, StudyKind, SubStokesData, Warning,
 };
 use crate::study::{self, model_fluid, Adaptation, StudyError};
 
@@ -54,22 +54,22 @@ impl Family for ModelFluid {
         let Problem::FilmModels { reynolds: film, .. } = &own.problem else {
             return Ok(());
         };
-        let same = |equation: &str, gap, velocity: &[f64; 3], pressure| {
+        let same = |equation: &str, gap: &GapShape, velocity: &[f64; 3], pressure| {
             equation == film.equation
-                && gap == film.gap
+                && *gap == film.gap
                 && *velocity == film.upper_wall_velocity
                 && pressure == film.boundary_pressure
         };
         let same_film = match &other.problem {
             Problem::Reynolds(r) => same(
                 &r.equation,
-                r.gap,
+                &r.gap,
                 &r.upper_wall_velocity,
                 r.boundary_pressure,
             ),
             Problem::SubStokes(s) => same(
                 &s.equation,
-                s.gap,
+                &s.gap,
                 &s.upper_wall_velocity,
                 s.boundary_pressure,
             ),

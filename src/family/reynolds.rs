@@ -99,15 +99,48 @@ pub(super) fn film_warnings(r: &ReynoldsData, scope: &Scope, out: &mut Vec<Warni
             ),
         ));
     }
-    scope.resolves("scene.reynolds.gap.frequency", half_period(r.gap), out);
+    scope.resolves("scene.reynolds.gap.frequency", half_period(&r.gap), out);
+    step_inside("scene.reynolds", &r.gap, scope, out);
+    // The form ∫∇ψ·∇φ + (Δg/g)ψφ of crate::models::reynolds is coercive for the exact
+    // integral only: at a step much sharper than the cells, |Δg/g| ≈ |g_out − g_in|/(g s²) at a
+    // quadrature point outweighs the stiffness and the system is indefinite (measured: s = 0.01
+    // fails on cells of 1/32 and 1/16, s = 0.015 does not).
+    if let GapShape::Step { s, .. } = r.gap {
+        let first = scope.first_cell();
+        if s < 0.5 * first {
+            out.push(Warning::new(
+                "scene.reynolds.gap.s",
+                format!(
+                    "a step smoothed over s = {s:?}, less than half the cells of the first mesh \
+                     ({first:?} wide): the Reynolds operator ∫∇ψ·∇φ + (Δg/g)ψφ can be \
+                     indefinite on the cells at the step, and the solve then fails; take \
+                     s ≥ {:?} or refine the first mesh globally",
+                    0.5 * first
+                ),
+            ));
+        }
+    }
 }
 
-/// Half the period of a gap's oscillation (infinite for the plain and linear gaps).
-pub(super) fn half_period(gap: GapShape) -> f64 {
-    match gap {
+/// A step gap whose step lies outside the domain: the gap is then (up to θ_s) constant.
+pub(super) fn step_inside(section: &str, gap: &GapShape, scope: &Scope, out: &mut Vec<Warning>) {
+    if let GapShape::Step { at, .. } = *gap {
+        let field = format!("{section}.gap.at");
+        let consequence = "the gap is (up to the smoothing θ_s) constant on the domain";
+        scope.contains_jump(&field, at, consequence, out);
+    }
+}
+
+/// Half the period of a gap's oscillation (infinite for the gaps that do not oscillate).
+pub(super) fn half_period(gap: &GapShape) -> f64 {
+    match *gap {
         GapShape::WaveHorizontal { frequency, .. } => 0.5 / frequency.abs(),
         // sin²(2π f x) has period 1/(2f).
         GapShape::Hill { frequency, .. } => 0.25 / frequency.abs(),
-        GapShape::Plain { .. } | GapShape::Linear { .. } => f64::INFINITY,
+        GapShape::Plain { .. }
+        | GapShape::Linear { .. }
+        | GapShape::Step { .. }
+        | GapShape::Parabolic { .. }
+        | GapShape::Tabulated { .. } => f64::INFINITY,
     }
 }

@@ -1,7 +1,7 @@
 //! SubStokes thin-film flow (I.58), with or without cavitation (I.66), §IV.3.2 and §IV.3.6,
 //! Tables IV.50–IV.63 and IV.70–IV.75.
 
-use super::reynolds::half_period;
+use super::reynolds::{half_period, step_inside};
 use super::{Facts, Family};
 use crate::experiment::{
     Effect, Experiment, Problem, Rectangle, SceneFile, Scope, StudyKind, SubStokesData, Warning,
@@ -87,9 +87,10 @@ pub(super) fn film_warnings(
     out: &mut Vec<Warning>,
 ) {
     const F: &str = "scene.substokes";
-    scope.resolves(&format!("{F}.gap.frequency"), half_period(s.gap), out);
+    scope.resolves(&format!("{F}.gap.frequency"), half_period(&s.gap), out);
+    step_inside(F, &s.gap, scope, out);
     let (g_min, _) =
-        Gap::from(s.gap).range_on_box([domain.x[0], domain.y[0], domain.x[1], domain.y[1]]);
+        Gap::from(&s.gap).range_on_box([domain.x[0], domain.y[0], domain.x[1], domain.y[1]]);
     let conductance = g_min.powi(3) / 12.0;
     if conductance < f64::MIN_POSITIVE {
         out.push(Warning::new(

@@ -31,7 +31,7 @@ use crate::linalg::active_set::{
     ViolationTolerance,
 };
 use crate::mesh::{BoundaryFace, Side};
-use crate::models::obstacle::ContactSide;
+use crate::models::obstacle::{ContactSide, Shape};
 use crate::models::ModelError;
 
 /// Which contact projection a face uses.
@@ -44,7 +44,7 @@ pub enum ContactModel {
 }
 
 /// One side of the domain in Γ_C with its obstacle.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct ContactBoundary {
     pub side: Side,
     pub obstacle: ContactSide,
@@ -70,7 +70,7 @@ pub fn contact_boundaries(data: &crate::experiment::ContactData) -> Vec<ContactB
         .iter()
         .map(|o| ContactBoundary {
             side: o.side,
-            obstacle: ContactSide::new(o.shape.into(), o.side == Side::Top),
+            obstacle: ContactSide::new(Shape::from(&o.shape), o.side == Side::Top),
         })
         .collect()
 }

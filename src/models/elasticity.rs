@@ -287,13 +287,14 @@ impl From<crate::experiment::Profile> for Profile {
 
 impl From<&crate::experiment::ElasticityData> for Elasticity {
     fn from(d: &crate::experiment::ElasticityData) -> Elasticity {
+        let crate::experiment::Lame { mu, lambda } = d.lame();
         Elasticity {
-            mu: d.mu,
-            lambda: d.lambda,
+            mu,
+            lambda,
             dirichlet: d.dirichlet.clone(),
             // A manufactured solution brings its load; the loader forbids both together.
             load: match d.exact {
-                Some(name) => Some(ExactDisplacement::of(name).load(d.mu, d.lambda)),
+                Some(name) => Some(ExactDisplacement::of(name).load(mu, lambda)),
                 None => d
                     .volume_load
                     .as_ref()

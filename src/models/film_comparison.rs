@@ -84,7 +84,7 @@ pub fn pressure_cut(
 }
 
 /// What to compare: the film, ψ₀, and whether (with which γ₃c) the runs have cavitation.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct Comparison {
     pub film: ThinFilm,
     pub boundary_pressure: f64,
@@ -101,7 +101,7 @@ impl Comparison {
     /// The Reynolds problem of the same film.
     fn reynolds(&self) -> ReynoldsProblem {
         ReynoldsProblem {
-            film: self.film,
+            film: self.film.clone(),
             boundary_pressure: self.boundary_pressure,
             cavitation_source: self.cavitation.unwrap_or_default(),
             form: Form::default(),
@@ -258,7 +258,9 @@ mod tests {
     /// max|ψ^S − ψ^R|/max|ψ^R − 200| along the cut of a uniform grid refined `times` times.
     fn difference(film: ThinFilm, times: usize) -> f64 {
         let mesh = uniform(times);
-        let s = SubStokesProblem::new(film, 200.0).solve(&mesh).unwrap();
+        let s = SubStokesProblem::new(film.clone(), 200.0)
+            .solve(&mesh)
+            .unwrap();
         let comparison = Comparison {
             film,
             boundary_pressure: 200.0,
@@ -301,7 +303,9 @@ mod tests {
     fn velocity_reconstruction_of_plain_sliding() {
         let film = example("IV.9").unwrap();
         let mesh = uniform(3);
-        let s = SubStokesProblem::new(film, 200.0).solve(&mesh).unwrap();
+        let s = SubStokesProblem::new(film.clone(), 200.0)
+            .solve(&mesh)
+            .unwrap();
         let comparison = Comparison {
             film,
             boundary_pressure: 200.0,

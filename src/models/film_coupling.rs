@@ -370,7 +370,7 @@ impl Region {
 
 /// The two models of one film (§IV.3.4): the Reynolds problem and the SubStokes problem with
 /// the same film data and boundary pressure ψ₀.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Coupling {
     pub reynolds: ReynoldsProblem,
     pub substokes: SubStokesProblem,
@@ -405,7 +405,7 @@ impl Coupling {
     pub fn new(film: ThinFilm, boundary_pressure: f64) -> Coupling {
         Coupling {
             reynolds: ReynoldsProblem {
-                film,
+                film: film.clone(),
                 boundary_pressure,
                 cavitation_source: Default::default(),
                 form: Default::default(),

@@ -133,7 +133,7 @@ pub struct CellDataCache {
 }
 
 /// One Reynolds example (§IV.3): film data, boundary pressure ψ₀, reading of γ₃c.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct ReynoldsProblem {
     pub film: ThinFilm,
     pub boundary_pressure: f64,
@@ -164,7 +164,7 @@ pub const MAX_ACTIVE_SET_ITERATIONS: usize = 100;
 impl From<&crate::experiment::ReynoldsData> for ReynoldsProblem {
     fn from(d: &crate::experiment::ReynoldsData) -> ReynoldsProblem {
         ReynoldsProblem {
-            film: ThinFilm::new(d.gap.into(), d.upper_wall_velocity),
+            film: ThinFilm::new((&d.gap).into(), d.upper_wall_velocity),
             boundary_pressure: d.boundary_pressure,
             cavitation_source: d.cavitation_source.into(),
             form: Form::default(),

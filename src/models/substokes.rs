@@ -84,7 +84,7 @@ pub const MAX_COMPLEMENTARITY: f64 = 1e-8;
 
 /// One SubStokes example (§IV.3): film data, boundary pressure ψ₀ (I.55), δ_ε and the reading of
 /// γ₃c (I.61) used by the cavitation form.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct SubStokesProblem {
     /// Gap g and wall velocities; γ (I.52) and σ₃ (I.50) are computed from them.
     pub film: ThinFilm,

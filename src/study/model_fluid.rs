@@ -117,7 +117,7 @@ impl ModelAdaptiveFilm {
     /// the Reynolds section describes the same film).
     pub fn new(substokes: &SubStokesData, domain: &experiment::Rectangle) -> ModelAdaptiveFilm {
         let problem = substokes_problem(substokes, domain);
-        let mut coupling = Coupling::new(problem.film, problem.boundary_pressure);
+        let mut coupling = Coupling::new(problem.film.clone(), problem.boundary_pressure);
         coupling.substokes = problem;
         ModelAdaptiveFilm {
             coupling,

@@ -100,7 +100,7 @@ pub struct SubStokesFilm {
 /// the domain's lower-left corner).
 pub fn substokes_problem(d: &SubStokesData, domain: &Rectangle) -> SubStokesProblem {
     SubStokesProblem::new(
-        ThinFilm::new(d.gap.into(), d.upper_wall_velocity),
+        ThinFilm::new((&d.gap).into(), d.upper_wall_velocity),
         d.boundary_pressure,
     )
     .with_delta_eps(d.delta_eps)
@@ -337,7 +337,7 @@ impl Problem for SubStokesFilm {
             u: &solution.u,
         };
         let comparison = Comparison {
-            film: self.problem.film,
+            film: self.problem.film.clone(),
             boundary_pressure: self.problem.boundary_pressure,
             cavitation: self
                 .switch

@@ -130,7 +130,7 @@ fn not_utf8(bytes: &[u8], error: std::str::Utf8Error) -> std::io::Error {
 }
 
 /// What a path that is not a regular file is, for the error message.
-fn file_kind(file_type: &fs::FileType) -> &'static str {
+pub(super) fn file_kind(file_type: &fs::FileType) -> &'static str {
     #[cfg(unix)]
     {
         use std::os::unix::fs::FileTypeExt;

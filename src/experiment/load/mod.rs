@@ -10,9 +10,9 @@
 //! Nothing here panics on user input; every failure is an [`ExperimentError`].
 //!
 //! The work is split by job: [`listing`] finds and reads the files of a folder, [`ids`] knows
-//! the table and figure ids, [`position`] locates toml's errors in the text, and [`check`] with
-//! one module per part of the file (identity, scene, film, study, probes, thesis) does the
-//! semantic checks.
+//! the table and figure ids, [`position`] locates toml's errors in the text, [`table`] reads the
+//! CSV profiles of tabulated gaps and obstacles, and [`check`] with one module per part of the
+//! file (identity, scene, film, study, probes, thesis) does the semantic checks.
 
 mod check;
 mod film;
@@ -24,6 +24,7 @@ mod probes;
 mod related;
 mod scene;
 mod study;
+mod table;
 mod thesis;
 
 use std::collections::BTreeSet;
@@ -50,9 +51,10 @@ pub(super) use listing::{experiment_entries, read_experiment_file};
 /// semantic check of [`ExperimentFile`] (see the module documentation).
 pub fn load(path: &Path) -> Result<Experiment, ExperimentError> {
     let text = read_experiment_file(path)?;
-    let file: ExperimentFile =
+    let mut file: ExperimentFile =
         toml::from_str(&text).map_err(|error| toml_error(path, &text, &error))?;
     let check = Check { path };
+    check.read_profiles(&mut file.scene)?;
     let family = check.experiment(&file)?;
     let problem = check.problem(&file.scene, family)?;
     let typed_study = check.typed_study(&file.study)?;

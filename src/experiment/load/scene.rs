@@ -287,20 +287,103 @@ impl Check<'_> {
         })
     }
 
+    /// The material of (I.17): μ and λ of the form (II.13), or Young's modulus and Poisson's
+    /// ratio ([`ElasticityData::lame`]), one pair complete and the other absent.
+    fn material_constants(&self, data: &ElasticityData) -> Checked {
+        const F: &str = "scene.elasticity";
+        const PAIRS: &str = "`mu` and `lambda` (the constants of the thesis's form) or \
+                             `young_modulus` and `poisson_ratio`";
+        let lame = data.mu.is_some() || data.lambda.is_some();
+        let engineering = data.young_modulus.is_some() || data.poisson_ratio.is_some();
+        let given = [
+            ("mu", data.mu),
+            ("lambda", data.lambda),
+            ("young_modulus", data.young_modulus),
+            ("poisson_ratio", data.poisson_ratio),
+        ]
+        .iter()
+        .filter(|(_, v)| v.is_some())
+        .map(|(name, _)| *name)
+        .collect::<Vec<_>>()
+        .join(", ");
+        self.ensure(
+            lame || engineering,
+            F,
+            &format!("the material: {PAIRS}"),
+            "none of them",
+        )?;
+        let second = if data.young_modulus.is_some() {
+            "young_modulus"
+        } else {
+            "poisson_ratio"
+        };
+        self.ensure(
+            !(lame && engineering),
+            &format!("{F}.{second}"),
+            &format!("either {PAIRS}, not both (the two pairs would contradict each other)"),
+            given.as_str(),
+        )?;
+        if lame {
+            let (Some(mu), Some(lambda)) = (data.mu, data.lambda) else {
+                let missing = if data.mu.is_none() { "mu" } else { "lambda" };
+                return Err(self.fail(
+                    &format!("{F}.{missing}"),
+                    &format!("`mu` and `lambda` together (or {PAIRS})"),
+                    given.as_str(),
+                ));
+            };
+            self.material(&format!("{F}.mu"), mu, false)?;
+            self.material(&format!("{F}.lambda"), lambda, true)?;
+            return self.ensure(
+                lambda <= MAX_LAMBDA_OVER_MU * mu,
+                &format!("{F}.lambda"),
+                &format!(
+                    "λ ≤ {MAX_LAMBDA_OVER_MU:e}·μ (a nearly incompressible material locks the Q₁ \
+                     elements and makes the stiffness matrix numerically singular)"
+                ),
+                format!("λ/μ = {:e}", lambda / mu),
+            );
+        }
+        let (Some(young), Some(nu)) = (data.young_modulus, data.poisson_ratio) else {
+            let missing = if data.young_modulus.is_none() {
+                "young_modulus"
+            } else {
+                "poisson_ratio"
+            };
+            return Err(self.fail(
+                &format!("{F}.{missing}"),
+                &format!("`young_modulus` and `poisson_ratio` together (or {PAIRS})"),
+                given.as_str(),
+            ));
+        };
+        self.material(&format!("{F}.young_modulus"), young, false)?;
+        self.ensure(
+            nu.is_finite() && nu > -1.0 && nu < 0.5,
+            &format!("{F}.poisson_ratio"),
+            "a Poisson's ratio ν with −1 < ν < ½ (at ½ the material is incompressible, which \
+             displacement elements cannot represent; at −1 and beyond the energy is not \
+             positive)",
+            nu,
+        )?;
+        let Lame { mu, lambda } = data.lame();
+        self.material(&format!("{F}.young_modulus"), mu, false)?;
+        self.ensure(
+            lambda <= MAX_LAMBDA_OVER_MU * mu,
+            &format!("{F}.poisson_ratio"),
+            &format!(
+                "ν ≤ {:?} ≈ ½ − 2.5e-9, so that λ/μ = ν/(1 − 2ν) ≤ {MAX_LAMBDA_OVER_MU:e} (a \
+                 nearly incompressible material locks the Q₁ elements and makes the stiffness \
+                 matrix numerically singular)",
+                MAX_LAMBDA_OVER_MU / (1.0 + 2.0 * MAX_LAMBDA_OVER_MU)
+            ),
+            format!("ν = {nu:?}, λ/μ = {:e}", lambda / mu),
+        )
+    }
+
     /// Material and loads of (I.17) / (IV.1).
     fn elasticity(&self, data: &ElasticityData) -> Checked {
         const F: &str = "scene.elasticity";
-        self.material(&format!("{F}.mu"), data.mu, false)?;
-        self.material(&format!("{F}.lambda"), data.lambda, true)?;
-        self.ensure(
-            data.lambda <= MAX_LAMBDA_OVER_MU * data.mu,
-            &format!("{F}.lambda"),
-            &format!(
-                "λ ≤ {MAX_LAMBDA_OVER_MU:e}·μ (a nearly incompressible material locks the Q₁ \
-                 elements and makes the stiffness matrix numerically singular)"
-            ),
-            format!("λ/μ = {:e}", data.lambda / data.mu),
-        )?;
+        self.material_constants(data)?;
         self.unique_sides(&format!("{F}.dirichlet"), data.dirichlet.iter().copied())?;
         if let Some(load) = &data.volume_load {
             self.finite_all(&format!("{F}.volume_load.direction"), &load.direction)?;
@@ -636,7 +719,7 @@ impl Check<'_> {
                 "a side without a traction (Γ_τ = ∂Ω \\ (Γ₀ ∪ Γ_C))",
                 format!("`{}` also in scene.elasticity.tractions", side_name(side)),
             )?;
-            self.obstacle_shape(&format!("{field}.shape"), &obstacle.shape)?;
+            self.obstacle_shape(&format!("{field}.shape"), &obstacle.shape, scene)?;
         }
         if let Some(estimator) = data.estimator {
             self.ensure(
@@ -661,7 +744,7 @@ impl Check<'_> {
         Ok(())
     }
 
-    fn obstacle_shape(&self, field: &str, shape: &ObstacleShape) -> Checked {
+    fn obstacle_shape(&self, field: &str, shape: &ObstacleShape, scene: &SceneFile) -> Checked {
         let f = |name: &str| format!("{field}.{name}");
         match *shape {
             ObstacleShape::Constant { level } => self.finite(&f("level"), level),
@@ -673,10 +756,44 @@ impl Check<'_> {
                 offset,
                 amplitude,
                 periods,
+                period,
+                phase,
             } => {
                 self.finite(&f("offset"), offset)?;
                 self.finite(&f("amplitude"), amplitude)?;
-                self.finite(&f("periods"), periods)
+                match (periods, period) {
+                    (Some(periods), None) => {
+                        self.finite(&f("periods"), periods)?;
+                        self.ensure(
+                            phase.is_none(),
+                            &f("phase"),
+                            "no phase with `periods` (its sine starts at the thesis's x₁ = −16), \
+                             or `period` with `phase`",
+                            "a phase with periods",
+                        )
+                    }
+                    (None, Some(period)) => {
+                        self.positive(&f("period"), period)?;
+                        self.finite(&f("phase"), phase.unwrap_or(0.0))
+                    }
+                    (Some(_), Some(_)) => self.ensure(
+                        false,
+                        &f("period"),
+                        "either `periods` (whole periods on the thesis's x₁ ∈ [−16, 16]) or \
+                         `period` (a length, with an optional `phase`), not both",
+                        "both periods and period",
+                    ),
+                    (None, None) => self.ensure(
+                        false,
+                        &f("period"),
+                        "`period` (a length, with an optional `phase`) or `periods` (whole \
+                         periods on the thesis's x₁ ∈ [−16, 16])",
+                        "neither",
+                    ),
+                }
+            }
+            ObstacleShape::Tabulated { ref file, ref rows } => {
+                self.profile_covers(&f("file"), file, rows, scene.domain.x)
             }
             ObstacleShape::Jump {
                 base,

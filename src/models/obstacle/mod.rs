@@ -13,7 +13,9 @@
 //!     "2 + (10 − 2)·θ_{0.01}(x₁)");
 //!   - IV.2.1.5 lower face `Jump { base: 0, height: -10, at: -1, s: 0.01 }` (l. 5415) and upper
 //!     face `Jump { base: 2, height: -4, at: 2, s: 0.01 }` (l. 5423);
-//!   - IV.2.1.6 `Saw { s, reading }` (l. 5485; repeated verbatim at l. 5940, 6476, 6896).
+//!   - IV.2.1.6 `Saw { s, reading }` (l. 5485; repeated verbatim at l. 5940, 6476, 6896);
+//!   - scenes of the user's own: `Sine` (a periodic obstacle with its own period and phase) and
+//!     `Tabulated` (piecewise linear through the rows of a CSV file).
 //! * [`ContactSide`]: which face of Ω = [−16,16]×\[0,1\] touches the obstacle, with the z-contact
 //!   bound, the signed distance along a normal (III.13) used by the Signorini linearisation and the
 //!   model-error indicator (III.16), deformed-boundary vertex normals and a penetration measure.
@@ -26,7 +28,7 @@ mod side;
 #[cfg(test)]
 mod tests;
 
-pub use shape::{theta, theta_prime, SawReading, Shape};
+pub use shape::{theta, theta_derivatives, theta_prime, Polyline, SawReading, Shape};
 pub use side::ContactSide;
 
 use std::fmt;

@@ -1,5 +1,7 @@
 //! The obstacle functions b(x₁) of §IV.2.1 and the θ_s of (IV.3) they are built from.
 
+use std::sync::Arc;
+
 use super::DEFAULT_SAW_S;
 
 /// θ_s(x) = (x + √(s²+x²)) / (2√(s²+x²)) (IV.3), thesis l. 5326.
@@ -41,6 +43,30 @@ pub fn theta_prime(s: f64, x: f64) -> f64 {
     0.5 * q * q / r
 }
 
+/// [θ_s, θ_s', θ_s'', θ_s'''] at x, for the step gap (`crate::models::thin_film::Gap::Step`),
+/// whose Reynolds source needs three derivatives. With r = √(s² + x²):
+///
+///   θ_s'' = −(3/2) s² x / r⁵,   θ_s''' = (3/2) s² (4x² − s²) / r⁷,
+///
+/// evaluated as powers of s/r and x/r (no overflow for large |x|). For s == 0 the sharp step
+/// with zero derivatives, as [`theta`] and [`theta_prime`].
+pub fn theta_derivatives(s: f64, x: f64) -> [f64; 4] {
+    let value = theta(s, x);
+    let s = s.abs();
+    if s == 0.0 {
+        return [value, 0.0, 0.0, 0.0];
+    }
+    let r = s.hypot(x);
+    let (q, u) = (s / r, x / r);
+    let q2 = q * q;
+    [
+        value,
+        0.5 * q2 / r,
+        -1.5 * q2 * u / (r * r),
+        1.5 * q2 * (4.0 * u * u - q2) / (r * r * r),
+    ]
+}
+
 /// max of θ_s' over an interval [lo, hi] of arguments: θ_s' decreases in |x|.
 fn theta_prime_max(s: f64, lo: f64, hi: f64) -> f64 {
     let d = if lo > 0.0 {
@@ -71,8 +97,74 @@ pub enum SawReading {
 pub(super) const SAW_X: [f64; 5] = [-4.0, -2.0, 1.0, 5.0, 6.0];
 pub(super) const SAW_Y: [f64; 5] = [0.0, -1.0, 0.0, 2.0, 0.0];
 
+/// A tabulated obstacle: the straight lines between the points (x_k, b_k), x_k strictly
+/// increasing, held at the end values beyond the first and the last point.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Polyline {
+    points: Vec<[f64; 2]>,
+}
+
+impl Polyline {
+    /// The polyline through `points` (x strictly increasing, at least two points: the loader
+    /// checks both). No point gives NaN everywhere, one a constant: never a panic.
+    pub fn new(points: &[[f64; 2]]) -> Polyline {
+        Polyline {
+            points: points.to_vec(),
+        }
+    }
+
+    /// The segment k with x_k ≤ x < x_{k+1}; None beyond the ends (x < x_0 or x ≥ x_n).
+    fn segment(&self, x: f64) -> Option<usize> {
+        let after = self.points.partition_point(|p| p[0] <= x);
+        (after >= 1 && after < self.points.len()).then(|| after - 1)
+    }
+
+    /// The slope (b_{k+1} − b_k)/(x_{k+1} − x_k) of segment k.
+    fn slope_of(&self, k: usize) -> f64 {
+        let ([x0, b0], [x1, b1]) = (self.points[k], self.points[k + 1]);
+        (b1 - b0) / (x1 - x0)
+    }
+
+    /// b(x): b_k + (b_{k+1} − b_k)(x − x_k)/(x_{k+1} − x_k) on segment k, b_0 left of x_0, b_n
+    /// from x_n on.
+    pub fn value(&self, x: f64) -> f64 {
+        let (Some(first), Some(last)) = (self.points.first(), self.points.last()) else {
+            return f64::NAN;
+        };
+        match self.segment(x) {
+            Some(k) => {
+                let ([x0, b0], [x1, b1]) = (self.points[k], self.points[k + 1]);
+                b0 + (b1 - b0) * ((x - x0) / (x1 - x0))
+            }
+            None if x < first[0] => first[1],
+            None => last[1],
+        }
+    }
+
+    /// b'(x) from the right: the slope of segment k on [x_k, x_{k+1}), 0 left of x_0 and from
+    /// x_n on (b has kinks at the points; its left and right slopes differ there).
+    pub fn slope(&self, x: f64) -> f64 {
+        self.segment(x).map_or(0.0, |k| self.slope_of(k))
+    }
+
+    /// max |b'| on [lo, hi]: the largest |slope| of the segments that meet the interval (0 for
+    /// the constant continuations) — a Lipschitz constant of b there.
+    pub fn slope_bound(&self, lo: f64, hi: f64) -> f64 {
+        let n = self.points.len();
+        if n < 2 {
+            return 0.0;
+        }
+        // Segments k with x_k ≤ hi and x_{k+1} ≥ lo.
+        let first = self.points.partition_point(|p| p[0] < lo).saturating_sub(1);
+        let end = self.points.partition_point(|p| p[0] <= hi).min(n - 1);
+        (first..end)
+            .map(|k| self.slope_of(k).abs())
+            .fold(0.0, f64::max)
+    }
+}
+
 /// Obstacle function b(x₁).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum Shape {
     /// b = level.
     Constant { level: f64 },
@@ -85,6 +177,17 @@ pub enum Shape {
         amplitude: f64,
         periods: f64,
     },
+    /// b = offset + amplitude·sin(2π(x₁ − phase)/period): the periodic obstacle of a scene of
+    /// the user's own, with its own period and phase (not tied to Ω = [−16, 16] × [0, 1]).
+    Sine {
+        offset: f64,
+        amplitude: f64,
+        period: f64,
+        phase: f64,
+    },
+    /// A tabulated obstacle ([`Polyline`]): piecewise linear between the rows of a CSV file,
+    /// constant beyond them.
+    Tabulated(Arc<Polyline>),
     /// b = base + height·θ_s(x₁ − at) (l. 5351, 5415, 5423 with s = 0.01).
     Jump {
         base: f64,
@@ -165,6 +268,11 @@ impl Shape {
         periods * 2.0 * std::f64::consts::PI / 32.0
     }
 
+    /// The wavenumber 2π/period of [`Shape::Sine`].
+    fn sine_k(period: f64) -> f64 {
+        std::f64::consts::TAU / period
+    }
+
     /// b(x₁).
     pub fn value(&self, x1: f64) -> f64 {
         match *self {
@@ -175,6 +283,13 @@ impl Shape {
                 amplitude,
                 periods,
             } => offset + amplitude * (Self::periodic_k(periods) * (x1 + 16.0)).sin(),
+            Shape::Sine {
+                offset,
+                amplitude,
+                period,
+                phase,
+            } => offset + amplitude * (Self::sine_k(period) * (x1 - phase)).sin(),
+            Shape::Tabulated(ref table) => table.value(x1),
             Shape::Jump {
                 base,
                 height,
@@ -210,6 +325,16 @@ impl Shape {
                 let k = Self::periodic_k(periods);
                 amplitude * k * (k * (x1 + 16.0)).cos()
             }
+            Shape::Sine {
+                amplitude,
+                period,
+                phase,
+                ..
+            } => {
+                let k = Self::sine_k(period);
+                amplitude * k * (k * (x1 - phase)).cos()
+            }
+            Shape::Tabulated(ref table) => table.slope(x1),
             Shape::Jump { height, at, s, .. } => height * theta_prime(s, x1 - at),
             Shape::Arc {
                 center,
@@ -247,6 +372,10 @@ impl Shape {
             Shape::Periodic {
                 amplitude, periods, ..
             } => (amplitude * Self::periodic_k(periods)).abs(),
+            Shape::Sine {
+                amplitude, period, ..
+            } => (amplitude * Self::sine_k(period)).abs(),
+            Shape::Tabulated(ref table) => table.slope_bound(lo, hi),
             Shape::Jump { height, at, s, .. } => {
                 height.abs() * theta_prime_max(s, lo - at, hi - at)
             }
@@ -302,19 +431,43 @@ impl From<crate::experiment::SawReading> for SawReading {
 
 impl From<crate::experiment::ObstacleShape> for Shape {
     fn from(s: crate::experiment::ObstacleShape) -> Shape {
+        Shape::from(&s)
+    }
+}
+
+impl From<&crate::experiment::ObstacleShape> for Shape {
+    /// The obstacle of a file's shape. A `periodic` shape with `periods` is the thesis's
+    /// [`Shape::Periodic`] (its numbers unchanged), one with `period` (and `phase`, default 0)
+    /// a [`Shape::Sine`]; the loader refuses both or neither (here `periods` wins, and neither
+    /// gives NaN).
+    fn from(s: &crate::experiment::ObstacleShape) -> Shape {
         use crate::experiment::ObstacleShape as File;
-        match s {
+        match *s {
             File::Constant { level } => Shape::Constant { level },
             File::Linear { offset, slope } => Shape::Linear { offset, slope },
             File::Periodic {
                 offset,
                 amplitude,
-                periods,
+                periods: Some(periods),
+                ..
             } => Shape::Periodic {
                 offset,
                 amplitude,
                 periods,
             },
+            File::Periodic {
+                offset,
+                amplitude,
+                periods: None,
+                period,
+                phase,
+            } => Shape::Sine {
+                offset,
+                amplitude,
+                period: period.unwrap_or(f64::NAN),
+                phase: phase.unwrap_or(0.0),
+            },
+            File::Tabulated { ref rows, .. } => Shape::Tabulated(Arc::new(Polyline::new(rows))),
             File::Jump {
                 base,
                 height,

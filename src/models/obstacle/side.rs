@@ -12,7 +12,7 @@ use super::{GeometryError, Shape, LOWER_FACE_Y, ROOT_TOL, SEARCH_RADIUS, UPPER_F
 ///
 /// In the deformed frame the obstacle is the curve {(t, y_face + b(t))}, y_face ∈ {0, 1} the
 /// face's x₂ (the constraint s₂ ≥ b at x₂ = 0 reads x₂ + s₂ ≥ 0 + b).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct ContactSide {
     pub shape: Shape,
     pub upper: bool,

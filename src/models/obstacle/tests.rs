@@ -385,7 +385,7 @@ fn distance_saw_and_periodic() {
             periods: 2.0,
         },
     ] {
-        let side = ContactSide::new(shape, false);
+        let side = ContactSide::new(shape.clone(), false);
         for &x1 in &[-4.0, -2.0, -1.0, 1.0, 5.0, 5.5, 6.0] {
             for &dy in &[-0.3, 0.0, 0.4] {
                 for &deg in &[-30.0_f64, 0.0, 30.0] {
@@ -611,4 +611,170 @@ fn penetration_detection() {
     );
     assert_eq!(lowj.penetration([-3.0, 0.0], [-1.1, 0.0], 20), 0.0);
     assert!((lowj.penetration([-0.5, -10.5], [0.5, -10.5], 3) - 0.5).abs() < 1e-2);
+}
+
+/// A tabulated obstacle over x₁ ∈ [−16, 16]: a bump with a flat top and a dip.
+fn polyline() -> Shape {
+    Shape::Tabulated(std::sync::Arc::new(Polyline::new(&[
+        [-16.0, -2.0],
+        [-5.0, -2.0],
+        [-3.0, -0.5],
+        [0.0, -0.5],
+        [2.5, -3.0],
+        [16.0, -2.0],
+    ])))
+}
+
+fn sine() -> Shape {
+    Shape::Sine {
+        offset: -1.0,
+        amplitude: 0.4,
+        period: 5.0,
+        phase: 1.5,
+    }
+}
+
+/// The periodic obstacle with its own period and phase, and the periodic obstacle of the
+/// thesis as the special case period = 32/periods, phase = −16.
+#[test]
+fn sine_values_and_slopes() {
+    let s = sine();
+    assert_eq!(s.value(1.5), -1.0);
+    assert!((s.value(1.5 + 1.25) - (-0.6)).abs() < 1e-15);
+    assert!((s.value(1.5 - 1.25) - (-1.4)).abs() < 1e-15);
+    let k = std::f64::consts::TAU / 5.0;
+    assert!((s.slope(1.5) - 0.4 * k).abs() < 1e-15);
+    assert_eq!(s.slope_bound(-100.0, 100.0), 0.4 * k);
+    let thesis = Shape::Periodic {
+        offset: -2.0,
+        amplitude: 1.2,
+        periods: 2.0,
+    };
+    let same = Shape::Sine {
+        offset: -2.0,
+        amplitude: 1.2,
+        period: 16.0,
+        phase: -16.0,
+    };
+    for i in 0..=64 {
+        let x = -16.0 + 0.5 * i as f64;
+        assert!((thesis.value(x) - same.value(x)).abs() < 1e-14, "x = {x}");
+        assert!((thesis.slope(x) - same.slope(x)).abs() < 1e-14, "x = {x}");
+    }
+}
+
+/// The tabulated obstacle: through its rows, straight between them, constant beyond them; the
+/// slope is the segment's (from the right at a row), and the bound is a Lipschitz constant of b
+/// on the interval, attained by a segment that meets it.
+#[test]
+fn tabulated_values_slopes_and_bounds() {
+    let p = polyline();
+    for (x, b) in [
+        (-16.0, -2.0),
+        (-5.0, -2.0),
+        (-3.0, -0.5),
+        (2.5, -3.0),
+        (16.0, -2.0),
+    ] {
+        assert_eq!(p.value(x), b, "x = {x}");
+    }
+    assert_eq!(p.value(-4.0), -1.25);
+    assert_eq!(p.value(-40.0), -2.0);
+    assert_eq!(p.value(1e6), -2.0);
+    assert_eq!(p.slope(-4.0), 0.75);
+    assert_eq!(p.slope(-3.0), 0.0, "from the right");
+    assert_eq!(p.slope(1.0), -1.0);
+    assert_eq!(p.slope(-20.0), 0.0);
+    assert_eq!(p.slope(16.0), 0.0);
+    assert_eq!(p.slope_bound(-16.0, 16.0), 1.0);
+    assert_eq!(p.slope_bound(-4.0, -3.5), 0.75);
+    assert_eq!(p.slope_bound(-3.0, -3.0), 0.75, "both segments at a row");
+    assert_eq!(p.slope_bound(-2.0, -1.0), 0.0);
+    assert_eq!(p.slope_bound(20.0, 30.0), 0.0);
+    assert_eq!(p.slope_bound(-30.0, -20.0), 0.0);
+    assert_eq!(p.slope_bound(3.0, -4.0), 1.0, "any order");
+    // Slopes against differences away from the rows; the bound against every pair of samples
+    // of random intervals.
+    let mut seed: u64 = 7;
+    let mut next = || {
+        seed = seed
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    for shape in [p, sine()] {
+        for _ in 0..200 {
+            let x = -20.0 + 40.0 * next();
+            let h = 1e-7;
+            if [-16.0, -5.0, -3.0, 0.0, 2.5, 16.0]
+                .iter()
+                .all(|r: &f64| (r - x).abs() > 2.0 * h)
+            {
+                let fd = (shape.value(x + h) - shape.value(x - h)) / (2.0 * h);
+                assert!((fd - shape.slope(x)).abs() < 1e-6, "{shape:?} x = {x}");
+            }
+            let (a, b) = (-20.0 + 40.0 * next(), -20.0 + 40.0 * next());
+            let bound = shape.slope_bound(a, b);
+            let samples: Vec<f64> = (0..=50).map(|i| a + (b - a) * i as f64 / 50.0).collect();
+            for &u in &samples {
+                for &v in &samples {
+                    let rise = (shape.value(u) - shape.value(v)).abs();
+                    assert!(rise <= bound * (u - v).abs() * (1.0 + 1e-12) + 1e-15);
+                }
+            }
+        }
+    }
+    // Fewer than two rows: no panic.
+    let empty = Shape::Tabulated(std::sync::Arc::new(Polyline::new(&[])));
+    assert!(empty.value(0.0).is_nan());
+    assert_eq!(empty.slope_bound(-1.0, 1.0), 0.0);
+}
+
+/// The distance search over the kinks of a tabulated obstacle finds the nearest crossing.
+#[test]
+fn distance_tabulated() {
+    let side = ContactSide::new(polyline(), false);
+    for &x1 in &[-6.0, -5.0, -3.0, -1.0, 0.0, 2.5, 10.0] {
+        for &dy in &[-0.3, 0.0, 0.4] {
+            for &deg in &[-30.0_f64, 0.0, 30.0] {
+                let (sn, cs) = deg.to_radians().sin_cos();
+                let n = [sn, -cs];
+                let q = [x1, side.obstacle_point(x1)[1] + dy];
+                let t = side.signed_distance_along(q, n).unwrap();
+                let p = [q[0] + t * n[0], q[1] + t * n[1]];
+                assert!((p[1] - side.obstacle_point(p[0])[1]).abs() < 1e-10);
+                if let Some(tb) = brute_nearest(&side, q, n, t.abs() + 1e-3) {
+                    assert!(t.abs() <= tb.abs() + 1e-4, "q={q:?} n={n:?}");
+                }
+            }
+        }
+    }
+}
+
+/// θ_s and its derivatives up to third order against differences of the order below.
+#[test]
+fn theta_derivatives_match_fd() {
+    for &s in &[0.01, 0.3] {
+        for &x in &[-1.0, -0.02, -0.004, 0.0, 0.001, 0.015, 0.5, 3.0] {
+            let j = theta_derivatives(s, x);
+            assert_eq!(j[0], theta(s, x));
+            assert_eq!(j[1], theta_prime(s, x));
+            let h = 1e-6 * s;
+            let (p, m) = (theta_derivatives(s, x + h), theta_derivatives(s, x - h));
+            for o in 1..4 {
+                let fd = (p[o - 1] - m[o - 1]) / (2.0 * h);
+                let scale = j[o].abs().max(1.0 / s.powi(o as i32) * 1e-3);
+                assert!(
+                    (fd - j[o]).abs() <= 1e-5 * scale,
+                    "s={s} x={x} order {o}: {fd} vs {}",
+                    j[o]
+                );
+            }
+        }
+    }
+    // Finite far out and for s = 0.
+    for x in [1e200, -1e300, f64::MAX] {
+        assert!(theta_derivatives(0.01, x).iter().all(|v| v.is_finite()));
+    }
+    assert_eq!(theta_derivatives(0.0, 1.0), [1.0, 0.0, 0.0, 0.0]);
 }

@@ -1,13 +1,15 @@
 //! Data of the thin-film (Reynolds / SubStokes) examples (IV.7)–(IV.20) of Gimbel (2012), §IV.3.
 //!
-//! The module is self-contained (std only). It provides
+//! The module is self-contained (std only, and θ_s of [`crate::models::obstacle`] for the step
+//! gap). It provides
 //!
 //! * [`Jet`]: a forward-mode 2-D Taylor jet up to third order (value, gradient, Hessian and third
 //!   derivative tensor). Derivatives lower the order that is known; the unknown orders are marked
 //!   with `NaN`, so any formula that needs more derivatives than its inputs carry yields `NaN`
 //!   instead of a silently wrong number.
-//! * [`Gap`]: the gap functions g(x₁, x₂) of the examples, with analytic derivatives up to third
-//!   order.
+//! * [`Gap`]: the gap functions g(x₁, x₂) of the examples and of scenes of the user's own, with
+//!   analytic derivatives up to third order; [`CubicSpline`] the natural spline of a tabulated
+//!   gap.
 //! * [`FilmJets`]: the general Chapter I source terms (I.47), (I.50), (I.52), (I.61), (I.65),
 //!   (I.77), (I.81) evaluated from arbitrary wall data z₀, z₁, v(z₀), v(z₁), κ given as jets.
 //! * [`ThinFilm`]: one example (gap, constant upper-wall velocity, lower wall z₀ = 0 at rest,
@@ -27,16 +29,18 @@
 mod film;
 mod gap;
 mod jet;
+mod spline;
 #[cfg(test)]
 mod tests;
 
 pub use film::{CavitationSource, FilmJets};
 pub use gap::Gap;
 pub use jet::Jet;
+pub use spline::CubicSpline;
 
 /// One fluid example of §IV.3: Ω₂ = [0, 1]², lower wall z₀ = 0 at rest (v(z₀) = 0), upper wall
 /// z₁ = g moving with the constant velocity `upper_wall_velocity` = δv = 2v̄, κ = 0, η = ρ = 1.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct ThinFilm {
     /// Gap width g = z₁.
     pub gap: Gap,

@@ -71,6 +71,7 @@ fn gap_value(gap: &Gap, x: [f64; 2]) -> f64 {
             let b = (2.0 * PI * frequency * x[1]).sin();
             g0 + amplitude * a * a * b * b
         }
+        ref other => unreachable!("{other:?}: not one of the thesis's gaps"),
     }
 }
 
@@ -642,4 +643,243 @@ fn gap_extrema_on_boxes() {
             );
         }
     }
+}
+
+// The gaps of scenes of the user's own: step, parabolic and tabulated.
+
+/// Rows of a tabulated gap over [−0.05, 1.05], unevenly spaced: a bump over a slope.
+fn profile_rows() -> Vec<[f64; 2]> {
+    let xs: [f64; 10] = [-0.05, 0.1, 0.18, 0.3, 0.45, 0.5, 0.62, 0.8, 0.9, 1.05];
+    xs.iter()
+        .map(|&x| {
+            [
+                x,
+                0.1 + 0.05 * x + 0.04 * (-((x - 0.5) / 0.15).powi(2)).exp(),
+            ]
+        })
+        .collect()
+}
+
+fn own_gaps() -> Vec<Gap> {
+    vec![
+        Gap::Step {
+            g_in: 0.2,
+            g_out: 0.1,
+            at: 0.6,
+            s: 0.02,
+        },
+        Gap::Step {
+            g_in: 0.05,
+            g_out: 0.15,
+            at: 0.3,
+            s: 0.2,
+        },
+        Gap::Parabolic {
+            g0: 0.05,
+            center: [0.4, 0.0],
+            radius: [2.0, f64::INFINITY],
+        },
+        Gap::Parabolic {
+            g0: 0.05,
+            center: [0.4, 0.7],
+            radius: [2.0, 0.5],
+        },
+        Gap::Tabulated(std::sync::Arc::new(CubicSpline::natural(&profile_rows()))),
+    ]
+}
+
+/// Whether `x` lies within `d` of a row of the tabulated gap (its third derivative jumps there).
+fn near_a_row(x: f64, d: f64) -> bool {
+    profile_rows().iter().any(|r| (r[0] - x).abs() < d)
+}
+
+/// The jet of every new gap against central differences of the jet one order lower, at points
+/// whose stencil does not cross a row of the spline (where g''' jumps).
+#[test]
+fn own_gap_jets_match_finite_differences() {
+    let h = 1e-5;
+    for gap in own_gaps() {
+        for x in points(40) {
+            if near_a_row(x[0], 2.0 * h) {
+                continue;
+            }
+            let j = gap.jet(x);
+            assert_eq!(j.valid_order(), Some(3), "{gap:?}");
+            for i in 0..2 {
+                let p = gap.jet(shift(x, e(i, h)));
+                let m = gap.jet(shift(x, e(i, -h)));
+                let fd = (p.v - m.v) / (2.0 * h);
+                assert!((fd - j.d[i]).abs() < 1e-7, "{gap:?} d{i} at {x:?}");
+                for a in 0..2 {
+                    let fd = (p.d[a] - m.d[a]) / (2.0 * h);
+                    assert!(
+                        (fd - j.dd[i][a]).abs() < 1e-5 * (1.0 + j.dd[i][a].abs()),
+                        "{gap:?} dd[{i}][{a}] at {x:?}: {fd} vs {}",
+                        j.dd[i][a]
+                    );
+                    for b in 0..2 {
+                        let fd = (p.dd[a][b] - m.dd[a][b]) / (2.0 * h);
+                        let exact = j.ddd[i][a][b];
+                        assert!(
+                            (fd - exact).abs() < 1e-4 * (1.0 + exact.abs()),
+                            "{gap:?} ddd[{i}][{a}][{b}] at {x:?}: {fd} vs {exact}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// The step, the parabola and the spline in closed form, and x₂ read only where the gap says so.
+#[test]
+fn own_gap_values() {
+    let step = Gap::Step {
+        g_in: 0.2,
+        g_out: 0.1,
+        at: 0.6,
+        s: 0.02,
+    };
+    assert!((step.value([0.6, 0.3]) - 0.15).abs() < 1e-16);
+    assert!((step.value([0.0, 0.0]) - 0.2).abs() < 0.1 * 0.02 * 0.02 / (4.0 * 0.36) + 1e-15);
+    assert!((step.value([1.0, 0.0]) - 0.1).abs() < 0.1 * 0.02 * 0.02 / (4.0 * 0.16) + 1e-15);
+    // θ_s'' is odd and vanishes at the step; θ_s''' there is −(3/2)/s³.
+    let at = step.jet([0.6, 0.0]);
+    assert_eq!(at.dd[0][0], 0.0);
+    let expected = (-0.1) * (-1.5 / (0.02 * 0.02 * 0.02));
+    assert!((at.ddd[0][0][0] - expected).abs() < 1e-12 * expected);
+    let journal = Gap::Parabolic {
+        g0: 0.05,
+        center: [0.4, 0.7],
+        radius: [2.0, f64::INFINITY],
+    };
+    assert_eq!(journal.value([0.4, 0.9]), 0.05);
+    assert!((journal.value([0.9, 0.1]) - (0.05 + 0.25 / 4.0)).abs() < 1e-16);
+    assert!(!journal.varies_in_x2() && journal.varies_in_x1());
+    let ball = Gap::Parabolic {
+        g0: 0.05,
+        center: [0.4, 0.7],
+        radius: [2.0, 0.5],
+    };
+    assert!((ball.value([0.9, 0.2]) - (0.05 + 0.25 / 4.0 + 0.25)).abs() < 1e-15);
+    assert!(ball.varies_in_x2());
+    // Functions of x₁ alone give the same bits whatever x₂.
+    for gap in own_gaps().into_iter().filter(|g| !g.varies_in_x2()) {
+        for x in points(20) {
+            let (a, b) = (gap.jet(x), gap.jet([x[0], 0.123]));
+            assert!(
+                a.v == b.v && a.d == b.d && a.dd == b.dd && a.ddd == b.ddd,
+                "{gap:?}"
+            );
+        }
+    }
+}
+
+/// The natural spline through (0, 0), (1, 1), (2, 0): M₁ = −3, so on [0, 1]
+/// s = 1.5 t − 0.5 t³ (by hand from the tridiagonal system).
+#[test]
+fn spline_of_three_points_by_hand() {
+    let s = CubicSpline::natural(&[[0.0, 0.0], [1.0, 1.0], [2.0, 0.0]]);
+    let [v, d, dd, ddd] = s.derivatives(0.5);
+    assert!((v - 0.6875).abs() < 1e-15 && (d - 1.125).abs() < 1e-15);
+    assert!((dd + 1.5).abs() < 1e-15 && (ddd + 3.0).abs() < 1e-15);
+    // Symmetric about x = 1.
+    assert!((s.value(1.5) - 0.6875).abs() < 1e-15);
+    // Beyond the ends: the straight line of the end slope, ±1.5.
+    assert_eq!(s.derivatives(-1.0), [-1.5, 1.5, 0.0, 0.0]);
+    assert!((s.value(3.0) + 1.5).abs() < 1e-15);
+}
+
+/// The spline meets the conditions that define the natural cubic spline: it passes through
+/// every row, is a cubic on each piece (g''' constant there), value, slope and curvature are
+/// continuous at the rows, and the curvature is 0 at both ends. It reproduces a straight line.
+#[test]
+fn spline_is_the_natural_cubic_spline() {
+    let rows = profile_rows();
+    let s = CubicSpline::natural(&rows);
+    for (k, &[x, y]) in rows.iter().enumerate() {
+        assert!((s.value(x) - y).abs() < 1e-15, "row {k}");
+        if k > 0 && k + 1 < rows.len() {
+            // Left limits by Taylor from just before the knot.
+            let eps = 1e-7;
+            let [v, d, dd, ddd] = s.derivatives(x - eps);
+            let left = [
+                v + eps * d + 0.5 * eps * eps * dd + eps.powi(3) / 6.0 * ddd,
+                d + eps * dd + 0.5 * eps * eps * ddd,
+                dd + eps * ddd,
+            ];
+            let right = s.derivatives(x);
+            for (o, (l, r)) in left.iter().zip(right).enumerate() {
+                assert!((l - r).abs() < 1e-9 * (1.0 + r.abs()), "row {k} order {o}");
+            }
+        }
+    }
+    for w in rows.windows(2) {
+        let (a, b) = (w[0][0], w[1][0]);
+        let third = s.derivatives(a + 0.25 * (b - a))[3];
+        assert_eq!(third, s.derivatives(a + 0.75 * (b - a))[3]);
+    }
+    let (first, last) = (rows[0][0], rows[rows.len() - 1][0]);
+    assert!(s.derivatives(first)[2].abs() < 1e-12);
+    assert!(s.derivatives(last)[2].abs() < 1e-12);
+    let line: Vec<[f64; 2]> = rows.iter().map(|r| [r[0], 2.0 - 3.0 * r[0]]).collect();
+    let straight = CubicSpline::natural(&line);
+    for x in points(30) {
+        let [v, d, dd, ddd] = straight.derivatives(x[0]);
+        assert!((v - (2.0 - 3.0 * x[0])).abs() < 1e-14 && (d + 3.0).abs() < 1e-13);
+        assert!(dd.abs() < 1e-12 && ddd.abs() < 1e-10);
+    }
+    // Fewer than two rows: NaN, not a panic.
+    assert!(CubicSpline::natural(&[]).value(0.5).is_nan());
+    assert!(CubicSpline::natural(&[[0.0, 1.0]]).value(0.5).is_nan());
+}
+
+/// The ranges of the new gaps on boxes (also boxes reaching beyond the rows of the spline)
+/// enclose every sampled value and are close to the sampled extremes.
+#[test]
+fn own_gap_ranges_enclose_sampled_values() {
+    let boxes = [
+        [0.0, 0.0, 1.0, 1.0],
+        [0.0, 0.0, 0.125, 0.125],
+        [0.1, 0.2, 0.3, 0.45],
+        [0.35, 0.0, 0.65, 1.0],
+        [0.55, 0.6, 0.7, 0.65],
+        [0.59, 0.3, 0.61, 0.31],
+        [-0.3, 0.0, 0.05, 0.1],
+        [0.9, 0.5, 1.4, 0.9],
+    ];
+    for gap in own_gaps() {
+        for b in boxes {
+            let (lo, hi) = gap.range_on_box(b);
+            let n = 200;
+            let (mut bmin, mut bmax) = (f64::INFINITY, f64::NEG_INFINITY);
+            for i in 0..=n {
+                for k in 0..=n {
+                    let x = b[0] + (b[2] - b[0]) * i as f64 / n as f64;
+                    let y = b[1] + (b[3] - b[1]) * k as f64 / n as f64;
+                    let v = gap.value([x, y]);
+                    bmin = bmin.min(v);
+                    bmax = bmax.max(v);
+                }
+            }
+            assert!(
+                bmin >= lo && bmax <= hi,
+                "{gap:?} {b:?}: [{lo}, {hi}] vs [{bmin}, {bmax}]"
+            );
+            assert!(
+                bmin - lo < 1e-5 && hi - bmax < 1e-5,
+                "{gap:?} {b:?}: [{lo}, {hi}] vs [{bmin}, {bmax}]"
+            );
+        }
+    }
+    // A spline that overshoots below zero between positive rows: the range sees the dip.
+    // (−0.1193 at x₁ ≈ 0.058, by an independent evaluation.)
+    let rows = [[0.0, 0.01], [0.1, 0.01], [0.2, 1.0], [0.3, 1.0], [0.4, 1.0]];
+    let sharp = CubicSpline::natural(&rows);
+    let (min, at, _) = sharp.range(0.0, 0.4);
+    assert!(
+        (min + 0.119285).abs() < 1e-5 && (at - 0.0577).abs() < 1e-3,
+        "{min} at {at}"
+    );
+    assert!(min <= sharp.value(at));
 }
