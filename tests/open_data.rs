@@ -210,6 +210,21 @@ fn the_contact_mesh_marks_the_vertices_in_contact() {
     let in_contact = contact.iter().filter(|&&c| c == 1.0).count();
     assert_eq!(in_contact as f64, last(&rows, "contact_vertices"));
     assert!(contact.iter().all(|&c| c == 0.0 || c == 1.0));
+    // The contact pressure λᵢ/ℓᵢ: on the contact set only, never negative, and its nodal
+    // forces λᵢ sum to the row's contact force.
+    let pressure = vtu_array(&text, "contact_pressure");
+    for (v, (&c, &p)) in contact.iter().zip(&pressure).enumerate() {
+        assert!(
+            p >= 0.0 && (c == 1.0 || p == 0.0),
+            "vertex {v}: contact {c}, pressure {p}"
+        );
+    }
+    let top = pressure.iter().fold(0.0_f64, |a, &b| a.max(b));
+    let expected = last(&rows, "max_contact_pressure");
+    assert!(
+        (top / expected - 1.0).abs() < 1e-6,
+        "{top} against {expected}"
+    );
     assert_eq!(text.cells as f64, last(&rows, "active_cells"));
 }
 

@@ -316,9 +316,12 @@ pub fn contact_set_fields(
         .zip(&state.solution.active)
         .zip(&state.solution.multipliers)
     {
-        let v = c.vertex as usize;
-        member[v] |= active;
-        pressure[v] += force / lengths[c.boundary][v];
+        // An inactive constraint's multiplier is 0 up to the solve's rounding (1e-12 in IV.7).
+        if active {
+            let v = c.vertex as usize;
+            member[v] = true;
+            pressure[v] += force / lengths[c.boundary][v];
+        }
     }
     vec![
         MeshField::flags("contact", member),
@@ -551,10 +554,7 @@ impl Problem for ContactProblem {
         dofs: &DofMap,
         _solution: &Solution,
     ) -> Vec<(String, f64)> {
-        self.state
-            .as_ref()
-            .map(|state| quantities::contact(state, &self.boundaries, dofs))
-            .unwrap_or_default()
+        quantities::contact(self.state.as_ref(), &self.boundaries, dofs)
     }
 
     fn point_sets(&self, dofs: &DofMap) -> Vec<MeshField> {

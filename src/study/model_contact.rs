@@ -569,10 +569,7 @@ impl Problem for ModelAdaptiveContact {
         dofs: &DofMap,
         _solution: &Solution,
     ) -> Vec<(String, f64)> {
-        self.state
-            .as_ref()
-            .map(|state| quantities::contact(state, &self.boundaries, dofs))
-            .unwrap_or_default()
+        quantities::contact(self.state.as_ref(), &self.boundaries, dofs)
     }
 
     fn notes(&self) -> Vec<String> {

@@ -5,8 +5,8 @@
 //!   pressure the boundary value ψ₀ stands for; ψ = ∫p dx₃, docs/models.md §5.3), the largest
 //!   mean pressure p and where it is, the cavitated area, the flow χ·n out through each side and
 //!   the shear force of the film on each wall.
-//! * A contact problem ([`contact`]): the total contact force Σλᵢ (the nodal multipliers of the
-//!   active-set solve), the contact length, the largest contact pressure λᵢ/ℓᵢ (ℓᵢ the length of
+//! * A contact problem ([`contact`]): the total contact force Σλᵢ over the active constraints
+//!   (the nodal multipliers of the active-set solve), the contact length, the largest contact pressure λᵢ/ℓᵢ (ℓᵢ the length of
 //!   boundary a vertex stands for), and per contact side its force.
 //!
 //! All quantities are per unit depth in the thesis's nondimensional units; the formulas read the
@@ -107,7 +107,7 @@ pub struct FilmSolution<'a> {
 /// Couette shear of a full gap (the model says nothing about a partly filled one).
 /// Integrals by the 2×2 Gauss rule on cells and the 2-point rule on boundary faces (the films'
 /// cells are rectangles: the weights times the area are exact for them).
-pub fn film(mesh: &Mesh, dofs: &DofMap, s: &FilmSolution) -> Vec<(&'static str, f64)> {
+pub fn film(mesh: &Mesh, dofs: &DofMap, s: &FilmSolution) -> Vec<(String, f64)> {
     let dv = s.film.upper_wall_velocity;
     let psi0 = s.boundary_pressure;
     let value = |k: usize, c: usize, xi: f64, eta: f64| {
@@ -173,7 +173,9 @@ pub fn film(mesh: &Mesh, dofs: &DofMap, s: &FilmSolution) -> Vec<(&'static str, 
     }
     out.extend(names::FLOW.into_iter().zip(flows));
     out.extend(names::FRICTION.into_iter().zip(friction));
-    out
+    out.into_iter()
+        .map(|(name, value)| (name.to_string(), value))
+        .collect()
 }
 
 /// ∫ f ds over the side `side` of the mesh's rectangle: f(k, ξ, η, n) at the 2-point Gauss
@@ -210,12 +212,15 @@ fn boundary_integral(mesh: &Mesh, side: Side, f: impl Fn(usize, f64, f64, [f64; 
 
 /// The contact quantities of a solve (module docs): the force Σλᵢ, the length Σℓᵢ over the
 /// vertices in contact, the largest pressure λᵢ/ℓᵢ, and with two contact sides each side's
-/// force (`contact_force_<side>`, e.g. punch and die of the forming).
+/// force (`contact_force_<side>`, e.g. punch and die of the forming); none before a solve.
 pub fn contact(
-    state: &CycleState,
+    state: Option<&CycleState>,
     boundaries: &[ContactBoundary],
     dofs: &DofMap,
 ) -> Vec<(String, f64)> {
+    let Some(state) = state else {
+        return Vec::new();
+    };
     let lengths: Vec<Vec<f64>> = boundaries
         .iter()
         .map(|b| tributary_lengths(dofs, b.side))
@@ -228,12 +233,13 @@ pub fn contact(
         .zip(&state.solution.active)
         .zip(&state.solution.multipliers)
     {
-        let l = lengths[c.boundary][c.vertex as usize];
-        force[c.boundary] += lambda;
+        // An inactive constraint's multiplier is 0 up to the solve's rounding (1e-12 in IV.7).
         if active {
+            let l = lengths[c.boundary][c.vertex as usize];
+            force[c.boundary] += lambda;
             length += l;
+            top = top.max(lambda / l);
         }
-        top = top.max(lambda / l);
     }
     let mut out = vec![
         (names::CONTACT_FORCE.to_string(), force.iter().sum()),

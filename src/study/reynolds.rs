@@ -361,9 +361,6 @@ impl Problem for ReynoldsFilm {
             cavitation: self.switch.is_on(),
         };
         quantities::film(&disc.mesh, dofs, &film)
-            .into_iter()
-            .map(|(name, value)| (name.to_string(), value))
-            .collect()
     }
 
     fn notes(&self) -> Vec<String> {

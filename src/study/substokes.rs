@@ -470,9 +470,6 @@ impl Problem for SubStokesFilm {
             cavitation: self.switch.is_on(),
         };
         quantities::film(&disc.mesh, dofs, &film)
-            .into_iter()
-            .map(|(name, value)| (name.to_string(), value))
-            .collect()
     }
 
     fn notes(&self) -> Vec<String> {
