@@ -306,27 +306,51 @@ pub fn contact_set_fields(
     };
     let mut member = vec![false; dofs.vertices.len()];
     let mut pressure = vec![0.0; dofs.vertices.len()];
-    let lengths: Vec<Vec<f64>> = boundaries
-        .iter()
-        .map(|b| tributary_lengths(dofs, b.side))
-        .collect();
-    for ((c, &active), &force) in state
-        .constraints
-        .iter()
-        .zip(&state.solution.active)
-        .zip(&state.solution.multipliers)
-    {
-        // An inactive constraint's multiplier is 0 up to the solve's rounding (1e-12 in IV.7).
-        if active {
-            let v = c.vertex as usize;
-            member[v] = true;
-            pressure[v] += force / lengths[c.boundary][v];
-        }
+    for load in active_loads(state, boundaries, dofs) {
+        let v = load.vertex as usize;
+        member[v] = true;
+        pressure[v] += load.force / load.length;
     }
     vec![
         MeshField::flags("contact", member),
         MeshField::real("contact_pressure", 1, pressure),
     ]
+}
+
+/// The nodal contact force of an active constraint and the boundary length it stands for.
+pub struct NodalLoad {
+    pub vertex: u32,
+    /// Index into the contact boundaries.
+    pub boundary: usize,
+    /// λᵢ, the multiplier of the active-set solve.
+    pub force: f64,
+    /// ℓᵢ ([`tributary_lengths`]).
+    pub length: f64,
+}
+
+/// The active constraints of a cycle with their nodal forces and lengths. An inactive
+/// constraint's multiplier is 0 up to the solve's rounding (1e-12 in IV.7), so it has none.
+pub fn active_loads<'a>(
+    state: &'a CycleState,
+    boundaries: &[ContactBoundary],
+    dofs: &DofMap,
+) -> impl Iterator<Item = NodalLoad> + 'a {
+    let lengths: Vec<Vec<f64>> = boundaries
+        .iter()
+        .map(|b| tributary_lengths(dofs, b.side))
+        .collect();
+    state
+        .constraints
+        .iter()
+        .zip(&state.solution.active)
+        .zip(&state.solution.multipliers)
+        .filter(|((_, &active), _)| active)
+        .map(move |((c, _), &force)| NodalLoad {
+            vertex: c.vertex,
+            boundary: c.boundary,
+            force,
+            length: lengths[c.boundary][c.vertex as usize],
+        })
 }
 
 /// Per vertex the length of the side `side` it stands for: half of each boundary face it ends

@@ -12,8 +12,7 @@
 //! All quantities are per unit depth in the thesis's nondimensional units; the formulas read the
 //! solution as the model defines it and add no physics of their own.
 
-use super::contact::tributary_lengths;
-use super::contact::CycleState;
+use super::contact::{active_loads, CycleState};
 use crate::fe::cell_values::evaluate;
 use crate::fe::quadrature::{gauss, square};
 use crate::fe::DofMap;
@@ -221,25 +220,12 @@ pub fn contact(
     let Some(state) = state else {
         return Vec::new();
     };
-    let lengths: Vec<Vec<f64>> = boundaries
-        .iter()
-        .map(|b| tributary_lengths(dofs, b.side))
-        .collect();
     let (mut length, mut top) = (0.0, 0.0_f64);
     let mut force = vec![0.0; boundaries.len()];
-    for ((c, &active), &lambda) in state
-        .constraints
-        .iter()
-        .zip(&state.solution.active)
-        .zip(&state.solution.multipliers)
-    {
-        // An inactive constraint's multiplier is 0 up to the solve's rounding (1e-12 in IV.7).
-        if active {
-            let l = lengths[c.boundary][c.vertex as usize];
-            force[c.boundary] += lambda;
-            length += l;
-            top = top.max(lambda / l);
-        }
+    for load in active_loads(state, boundaries, dofs) {
+        force[load.boundary] += load.force;
+        length += load.length;
+        top = top.max(load.force / load.length);
     }
     let mut out = vec![
         (names::CONTACT_FORCE.to_string(), force.iter().sum()),
