@@ -206,12 +206,14 @@ window.addEventListener('load', () => {
 </script>"##;
 
 /// The pages at a laptop's width (1 400 px): none taller than 40 screens of 1 000 px (the table
-/// sections are folded) or wider than the window (wide tables scroll inside the page), and the
-/// front page's load event within a second. The load event is measured in real time, without a
-/// virtual-time budget, and printed for every page: headless Chromium fetches `loading="lazy"`
-/// figures even far below the window, so a family page's load event waits for its figures;
-/// the front page has one. `TRIBO_REPORT` names another report folder to measure (`.ci/run`
-/// gives it the full tier's).
+/// sections are folded) or wider than the window (wide tables scroll inside the page). The load
+/// event is measured in real time and printed for every page, but not asserted: wall-clock time
+/// on a shared CI machine varied from 0.5 to 1.5 s for the same front page, so a bound on it
+/// would be a timed test. What the load costs is asserted in bytes instead, by `page_weight`
+/// (the front page with its figures, each family page with its figures). Headless Chromium
+/// fetches `loading="lazy"` figures even far below the window, so a family page's load event
+/// waits for its figures; the front page has one. `TRIBO_REPORT` names another report folder
+/// to measure (`.ci/run` gives it the full tier's).
 #[test]
 #[ignore = "needs Debian's chromium (headless browser); .ci/run installs it and runs this test by name"]
 fn the_page_is_folded_to_forty_screens_at_1400_px() {
@@ -249,12 +251,5 @@ fn the_page_is_folded_to_forty_screens_at_1400_px() {
             "{name} is {} px wide in a 1400 px window",
             number("width")
         );
-        if name == "index.html" {
-            assert!(
-                number("load_ms") <= 1000,
-                "the front page's load event came after {} ms",
-                number("load_ms")
-            );
-        }
     }
 }
