@@ -114,6 +114,11 @@ pub mod columns {
     /// only: the error measured against the run's own last solve, as the uniform runs beside
     /// those tables are ([`crate::study::reference::against_last_solve`]), to check it.
     pub const LAST_SOLVE_ERROR: &str = "last_solve_error";
+    /// Scenes with a manufactured solution whose measure is not a reference solve (the
+    /// cavitation scene, measured by its energy) only: the error against a reference solve on
+    /// the last mesh refined once, as the tables whose energy gives none are measured (IV.64,
+    /// [`crate::study::reference::against_refined_solve`]), to check it.
+    pub const REFERENCE_ERROR: &str = "reference_error";
 }
 
 /// One cycle of the uniform run beside a grid-adaptive table ([`crate::study::uniform`]).
@@ -143,8 +148,13 @@ pub enum ErrorMeasure {
         cycles: Vec<usize>,
         bound: bool,
     },
-    /// Against a reference solution on a finer mesh of `dofs` unknowns.
-    Reference { dofs: usize },
+    /// Against a reference solution on a finer mesh of `dofs` unknowns, solved in `seconds`
+    /// (setup, assembly and solve, wall time) after the run.
+    Reference {
+        dofs: usize,
+        #[serde(default)]
+        seconds: f64,
+    },
     /// Against the run's own last solve, whose error is extrapolated as the estimate divided
     /// by `effectivity`, fitted to the distances of the cycles `cycles`
     /// ([`crate::study::reference::against_last_solve`]).
@@ -786,6 +796,7 @@ impl RunResult {
                     && n != columns::ENERGY
                     && n != columns::MEASURED_ERROR
                     && n != columns::LAST_SOLVE_ERROR
+                    && n != columns::REFERENCE_ERROR
                     && !crate::study::signorini::columns::is_comparison(n)
             }) {
                 s += &snapshot_column(name, v);

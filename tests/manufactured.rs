@@ -156,23 +156,31 @@ fn manufactured_cavitation_converges_at_order_one_half_and_finds_its_zone() {
 /// J(u_h) is integrated with the assembly's 2×2 points instead of 4×4 (Reynolds, cycle 2:
 /// +11.4 %).
 ///
-/// The cavitation scene's error against its own last solve in the Reynolds norm
-/// (`last_solve_error`), as the cavitation tables whose energy falls irregularly (IV.64) and
-/// the uniform runs beside them are measured: within +2.0 % at the quick tier (cycle 9),
-/// +5.1 % at the full tier (cycle 11).
+/// The cavitation scene's error in the Reynolds norm against a reference solve on the last mesh
+/// refined once (`reference_error`), as the cavitation tables whose energy falls irregularly
+/// (IV.64) are measured: within 10 % (measured: within 0.1 % at the quick tier, 0.5 % at the
+/// full tier). Against its own last solve
+/// (`last_solve_error`), as the uniform runs beside them are measured: within +2.0 % at the
+/// quick tier (cycle 9), +5.1 % at the full tier (cycle 11).
 fn check_measured_error(id: &str) {
     check_within_ten_percent(id, columns::MEASURED_ERROR);
 }
 
 /// The column `measured` of the scene `id` is within 10 % of the true `error` from cycle 2 on.
 fn check_within_ten_percent(id: &str, measured: &str) {
+    check_within(id, measured, 0.10);
+}
+
+/// The column `measured` of the scene `id` is within the fraction `tolerance` of the true
+/// `error` from cycle 2 on.
+fn check_within(id: &str, measured: &str, tolerance: f64) {
     for r in quick_rows(id).iter().filter(|r| r.cycle >= 2) {
         let (Some(truth), Some(value)) = (r.value(columns::ERROR), r.value(measured)) else {
             panic!("{id}, cycle {}: no error or no {measured}", r.cycle);
         };
         let off = value / truth - 1.0;
         assert!(
-            off.abs() <= 0.10,
+            off.abs() <= tolerance,
             "{id}, cycle {}: {measured} {value:.4e} is {:+.1} % off the true error {truth:.4e}",
             r.cycle,
             100.0 * off
@@ -186,19 +194,27 @@ fn the_measured_error_matches_the_true_error_on_the_manufactured_scenes() {
     check_measured_error("manufactured-reynolds");
     check_measured_error("manufactured-cavitation");
     check_within_ten_percent("manufactured-cavitation", columns::LAST_SOLVE_ERROR);
+    check_within_ten_percent("manufactured-cavitation", columns::REFERENCE_ERROR);
 }
 
 /// The contact scenes have no energy (their surface load would have to enter J), so they are
-/// measured as the contact tables whose energy bound fails: against the run's own last solve,
-/// the last solve's error carried from the estimator's effectivity over the four cycles before
-/// (`tribo::study::reference::against_last_solve`). Measured at the quick tier: within +0.8 %
-/// up to cycle 7 on both scenes, +2.8 % (z-contact) and +4.4 % (Signorini) in the last cycle.
-/// A power law in the unknowns for the last solve's error instead fails on the z-contact scene
-/// (−12 % in cycle 8, −21 % in cycle 9).
+/// measured as the contact tables whose energy bound fails and the model-and-grid tables:
+/// against a reference solve on the last mesh refined once, its own error extrapolated
+/// (`tribo::study::reference::against_refined_solve`, `measured_error` here): within 2 % from
+/// cycle 2 on. Measured: within 0.5 % in every cycle on both scenes at the quick tier (+0.1 %
+/// z-contact, +0.5 % Signorini in cycle 9), within 0.3 % at the full tier. The error against
+/// the run's own last solve, the last solve's error carried from the estimator's effectivity
+/// over the four cycles before, as the uniform runs beside those tables measure theirs
+/// (`last_solve_error` here, `tribo::study::reference::against_last_solve`): within 10 %
+/// (measured at the quick tier: +2.8 % and +4.4 % in cycle 9; at the full tier +3.3 % and
+/// +6.2 % in cycle 11). A power law in the unknowns for the last solve's error instead fails
+/// on the z-contact scene (−12 % in cycle 8, −21 % in cycle 9).
 #[test]
-fn the_error_against_the_last_solve_matches_the_true_error_on_the_contact_scenes() {
-    check_measured_error("manufactured-z-contact");
-    check_measured_error("manufactured-signorini");
+fn reference_and_last_solve_errors_match_the_true_error_on_the_contact_scenes() {
+    for id in ["manufactured-z-contact", "manufactured-signorini"] {
+        check_within(id, columns::MEASURED_ERROR, 0.02);
+        check_within_ten_percent(id, columns::LAST_SOLVE_ERROR);
+    }
 }
 
 /// A scene with `exact` is refused, naming the field, where the exact field would not solve it:

@@ -15,8 +15,8 @@ use tribo::results::columns;
 
 use crate::common::{experiments_dir, quick, read_csv, spec};
 
-/// Grid-adaptive tables without a true error at either tier, and why.
-const WITHOUT: [(&str, &str); 2] = [
+/// Grid-adaptive tables without a true error, at either tier, and why.
+const WITHOUT: [(&str, &str); 3] = [
     (
         "IV.38",
         "the exact solution is constant: the discrete solution is exact",
@@ -24,21 +24,6 @@ const WITHOUT: [(&str, &str); 2] = [
     (
         "IV.43",
         "the exact solution is constant: the discrete solution is exact",
-    ),
-];
-
-/// Without a true error at one tier only. IV.32 (model-adaptive contact): the estimate rises
-/// again in the last full-tier cycles, so the distances to the last solve cannot be fitted by
-/// the estimator's effectivity (`tribo::study::reference::last_solve_errors`).
-const WITHOUT_QUICK: [(&str, &str); 1] = [(
-    "IV.52",
-    "the discrete SubStokes solution is exact up to rounding at the quick tier",
-)];
-const WITHOUT_FULL: [(&str, &str); 2] = [
-    (
-        "IV.32",
-        "model-adaptive contact: the estimate rises again in cycles 8 and 9, so the distances \
-         to the last solve cannot be fitted by the estimator's effectivity",
     ),
     (
         "IV.52",
@@ -130,10 +115,9 @@ fn check_every_table<C: Fn(&str) -> Vec<Option<f64>>>(
 
 #[test]
 fn quick_tier_grid_adaptive_tables_have_a_true_error() {
-    let without: Vec<(&str, &str)> = WITHOUT.iter().chain(&WITHOUT_QUICK).copied().collect();
     let tables = grid_adaptive_tables();
     assert!(tables.len() >= 50, "{} grid-adaptive tables", tables.len());
-    check_every_table(&without, |t| {
+    check_every_table(&WITHOUT, |t| {
         let r = quick(t);
         move |name: &str| -> Vec<Option<f64>> { r.rows.iter().map(|row| row.value(name)).collect() }
     });
@@ -146,8 +130,7 @@ fn full_tier_true_error_in_the_report_data() {
         "TRIBO_FULL_REPORT names the folder of a full-tier report (cargo run --release --bin \
          report -- --out DIR)",
     ));
-    let without: Vec<(&str, &str)> = WITHOUT.iter().chain(&WITHOUT_FULL).copied().collect();
-    check_every_table(&without, |t| {
+    check_every_table(&WITHOUT, |t| {
         let data = read_csv(&out.join("data").join(format!("{t}.csv")));
         let rows = data.get(columns::DOFS).map_or(0, Vec::len);
         move |name: &str| data.get(name).cloned().unwrap_or(vec![None; rows])

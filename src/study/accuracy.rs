@@ -207,9 +207,13 @@ pub fn add_errors(
             match (reference, by_energy) {
                 (Ok(errors), by_energy) => {
                     if let Err(why) = by_energy {
+                        let against = match errors.measure {
+                            ErrorMeasure::Reference { .. } => "a reference solve",
+                            _ => "the run's own last solve",
+                        };
                         notes.push(format!(
                             "True error: the energy gives none here — {why}; it is measured \
-                             against the run's own last solve instead."
+                             against {against} instead."
                         ));
                     }
                     let measure = errors.measure;
@@ -245,9 +249,9 @@ pub fn add_errors(
         );
         return Ok(());
     }
-    // On a manufactured scene whose table-like measure is not already the last solve's (the
-    // SubStokes reference, the cavitation energy), the error against the last solve as well:
-    // it validates the measure of the uniform runs and of the runs whose energy fails.
+    // On a manufactured scene whose table-like measure is not already the last solve's (a
+    // reference solve, the cavitation energy), the error against the last solve as well: it
+    // validates the measure of the uniform runs.
     if exact && !kept.is_empty() && !matches!(measure, ErrorMeasure::LastSolve { .. }) {
         let last_solve = super::reference::against_last_solve(kept, |on, a, b| {
             problem.solve_distance(on, a, b)
@@ -255,6 +259,15 @@ pub fn add_errors(
         if let Ok(last_solve) = last_solve {
             for (row, error) in result.rows.iter_mut().zip(last_solve.errors) {
                 row.set(columns::LAST_SOLVE_ERROR, Value::real(Some(error)));
+            }
+        }
+    }
+    // And, where that measure is not a reference solve either, the error against one: it
+    // validates the measure of the tables whose energy gives none (IV.64).
+    if exact && !kept.is_empty() && !matches!(measure, ErrorMeasure::Reference { .. }) {
+        if let Ok(reference) = super::reference::against_refined_solve(problem, kept)? {
+            for (row, error) in result.rows.iter_mut().zip(reference.errors) {
+                row.set(columns::REFERENCE_ERROR, Value::real(Some(error)));
             }
         }
     }

@@ -185,6 +185,18 @@ pub fn setup_system(
     system
 }
 
+/// One solve of `problem` on `disc` outside the cycle loop, as a cycle's (setup, assemble,
+/// solve): its dofs and its field ([`Problem::reference_solve`]).
+pub fn solve_once<P: Problem + ?Sized>(
+    problem: &mut P,
+    disc: &Discretisation,
+) -> Result<(DofMap, Vec<f64>), StudyError> {
+    let mut system = problem.setup(disc);
+    problem.assemble(disc, &mut system)?;
+    let solution = problem.solve(disc, &mut system, &PhaseClock::default())?;
+    Ok((system.dofs, solution.u))
+}
+
 /// A solver made ready for the systems of a new mesh: the direct solver gets the fill-reducing
 /// ordering of the pattern, multigrid the level hierarchy of the mesh.
 pub trait PrepareSolver {
@@ -454,19 +466,35 @@ pub trait Problem {
         None
     }
 
+    /// The problem solved once more after the run, on `disc` (the reference of
+    /// [`super::reference::against_refined_solve`]), as a cycle is solved but without touching
+    /// what the run reports (its notes, its comparisons): the field at the vertices with its
+    /// dofs. `None`, the default, where the problem has no such reference.
+    fn reference_solve(
+        &mut self,
+        _disc: &Discretisation,
+    ) -> Result<Option<(DofMap, Vec<f64>)>, StudyError> {
+        Ok(None)
+    }
+
     /// The true error of each of `kept` (in its order, not empty: the problem keeps its solves,
-    /// [`Problem::keeps_solves`]), in the norm of the problem's estimator, for the problems
-    /// without an energy ([`Problem::energy`]) or whose energy gives none: by default against
-    /// the run's own last solve in [`Problem::solve_distance`]
+    /// [`Problem::keeps_solves`]), in the norm of the problem's estimator
+    /// ([`Problem::solve_distance`]), for the problems without an energy ([`Problem::energy`])
+    /// or whose energy gives none: by default against a reference solve on the last mesh
+    /// refined once ([`super::reference::against_refined_solve`]), and where the problem has no
+    /// [`Problem::reference_solve`] against the run's own last solve
     /// ([`super::reference::against_last_solve`]). `Ok(Err(why))` where it cannot be measured,
     /// with the reason for the table's note.
     fn reference_errors(
         &mut self,
         kept: &[KeptSolve],
     ) -> Result<Result<ReferenceErrors, String>, StudyError> {
-        let errors =
-            super::reference::against_last_solve(kept, |on, a, b| self.solve_distance(on, a, b))?;
-        Ok(errors)
+        match super::reference::against_refined_solve(self, kept)? {
+            Ok(errors) => Ok(Ok(errors)),
+            Err(_) => Ok(super::reference::against_last_solve(kept, |on, a, b| {
+                self.solve_distance(on, a, b)
+            })?),
+        }
     }
 }
 

@@ -398,6 +398,7 @@ impl Problem for SubStokesFilm {
         let Some(mesh) = reference::reference_mesh(&meshes)? else {
             return Ok(Err("the run kept no mesh".into()));
         };
+        let start = std::time::Instant::now();
         let (dofs, u) = if self.switch.is_on() {
             // Warm start: active where the last kept solve has ψ ≤ 0 (one or two factorisations
             // instead of the cold start's many on the largest mesh of the run).
@@ -419,6 +420,7 @@ impl Problem for SubStokesFilm {
             let s = self.problem.solve(&mesh)?;
             (s.dofs, s.u)
         };
+        let seconds = start.elapsed().as_secs_f64();
         let reference = reference::VertexField {
             mesh: &mesh,
             dofs: &dofs,
@@ -446,6 +448,7 @@ impl Problem for SubStokesFilm {
             errors: reference::extrapolated_errors(&d),
             measure: ErrorMeasure::Reference {
                 dofs: dofs.n_dofs(),
+                seconds,
             },
         }))
     }

@@ -47,9 +47,11 @@ fn measure_sentence(measure: &ErrorMeasure) -> String {
                 fmt_sig(*effectivity)
             )
         }
-        ErrorMeasure::Reference { dofs } => format!(
-            "error is measured against a reference solution on a finer mesh ({dofs} \
-             unknowns), with the reference's own error extrapolated"
+        ErrorMeasure::Reference { dofs, seconds } => format!(
+            "error is measured against a reference solution on the overlay of the run's meshes \
+             refined once ({dofs} unknowns, solved in {} after the run), with the reference's \
+             own error extrapolated",
+            fmt_seconds(*seconds)
         ),
     }
 }
