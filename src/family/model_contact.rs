@@ -68,6 +68,7 @@ impl Family for ModelContact {
             suffix: "z-solution".into(),
             experiment: alt,
             needs_cavitation: false,
+            asked: false,
         }]
     }
 

@@ -55,6 +55,7 @@ impl Family for Reynolds {
                     suffix: reading.suffix.into(),
                     experiment: alt,
                     needs_cavitation: true,
+                    asked: false,
                 }
             })
             .collect()

@@ -61,6 +61,7 @@ impl Family for SubStokes {
             suffix: solver.name().into(),
             experiment: alt,
             needs_cavitation: false,
+            asked: true,
         }]
     }
 

@@ -76,7 +76,8 @@ struct Cli {
     no_progress: bool,
 
     /// Do not run the alternative readings beside the experiments (the cavitation tables are
-    /// otherwise run three times: printed, self-consistent and `reynolds` source R₃c).
+    /// otherwise run three times: printed, self-consistent and `reynolds` source R₃c). A scene
+    /// of your own runs them only when its file sets `[study] alternatives = true`.
     #[arg(long)]
     no_alternatives: bool,
 

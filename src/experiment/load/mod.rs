@@ -57,12 +57,16 @@ pub fn load(path: &Path) -> Result<Experiment, ExperimentError> {
     check.read_profiles(&mut file.scene)?;
     let family = check.experiment(&file)?;
     let problem = check.problem(&file.scene, family)?;
-    let typed_study = check.typed_study(&file.study)?;
+    let mut typed_study = check.typed_study(&file.study)?;
     let comparison = if is_thesis_id(&file.table) {
         edited_fields(&file.table, &text).map_or(Comparison::Printed, Comparison::Edited)
     } else {
         Comparison::OwnScene
     };
+    // The thesis's readings explain printed numbers: a scene of one's own runs them on request.
+    let asked_for_readings = file.study.alternatives;
+    typed_study.readings =
+        asked_for_readings.unwrap_or(!matches!(comparison, Comparison::OwnScene));
     let ExperimentFile {
         table,
         section,
@@ -75,7 +79,7 @@ pub fn load(path: &Path) -> Result<Experiment, ExperimentError> {
         thesis,
         figures,
     } = file;
-    Ok(Experiment {
+    let experiment = Experiment {
         table,
         section,
         title,
@@ -103,7 +107,11 @@ pub fn load(path: &Path) -> Result<Experiment, ExperimentError> {
         figures,
         parameters: super::parameters::of_file(&text),
         comparison,
-    })
+    };
+    if asked_for_readings == Some(true) {
+        check.has_readings(&experiment)?;
+    }
+    Ok(experiment)
 }
 
 /// Load every `*.toml` in `dir`, sorted by table number (IV.2 before IV.10).
