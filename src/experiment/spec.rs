@@ -48,6 +48,11 @@ pub struct ExperimentFile {
     /// none. Not part of what the thesis computed, so not fingerprinted.
     #[serde(default)]
     pub figures: ThesisFigures,
+    /// `[sweep]`: fields of `[scene]` or `[study]` to run at several values, each combination a
+    /// run of its own ([`super::sweep`]). The loader reads it from the text and expands the file
+    /// into its runs; the checks of one run leave it alone.
+    #[serde(default)]
+    pub sweep: Option<toml::Table>,
 }
 
 /// An effect a scene asks the pipeline to simulate. Only the named effects are built.

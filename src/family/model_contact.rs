@@ -29,6 +29,7 @@ impl Family for ModelContact {
             unknowns_per_vertex: 2,
             solver_choice: false,
             related: &[],
+            quantities: crate::study::quantities::CONTACT,
         }
     }
 

@@ -22,6 +22,7 @@ impl Family for SubStokes {
             unknowns_per_vertex: 3,
             solver_choice: false,
             related: &[],
+            quantities: crate::study::quantities::FILM,
         }
     }
 
