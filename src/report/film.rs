@@ -173,7 +173,7 @@ fn is_substokes(run: &RunResult) -> bool {
 }
 
 /// The legend name of a related run: its table and model.
-fn related_label(run: &RunResult) -> String {
+pub(super) fn related_label(run: &RunResult) -> String {
     let model = if is_substokes(run) {
         "pure SubStokes"
     } else {
@@ -183,7 +183,7 @@ fn related_label(run: &RunResult) -> String {
 }
 
 /// The colour of a related run: its model's.
-fn related_color(run: &RunResult) -> RGBColor {
+pub(super) fn related_color(run: &RunResult) -> RGBColor {
     if is_substokes(run) {
         SUBSTOKES
     } else {
@@ -192,7 +192,7 @@ fn related_color(run: &RunResult) -> RGBColor {
 }
 
 /// Colour of the model-adaptive run in the cross-run figures.
-const MODEL_ADAPTIVE: RGBColor = RGBColor(0, 0, 0);
+pub(super) const MODEL_ADAPTIVE: RGBColor = RGBColor(0, 0, 0);
 
 /// Fig. IV.117: the a-posteriori estimate against the number of SubStokes cells — the
 /// model-adaptive run's Theorem III.23 estimate with the model error, √(η_S² + η_m²) (the
@@ -454,6 +454,11 @@ impl Figures for Related {
     }
 
     fn write(&self, at: &Drawing) -> io::Result<Vec<Figure>> {
+        // A scene of one's own is compared with its related runs in a section of its own
+        // (`compare`), without the thesis's figures.
+        if matches!(at.thesis.comparison, Comparison::OwnScene) {
+            return Ok(Vec::new());
+        }
         let run = at.run;
         let related: Vec<&RunResult> = run
             .related
