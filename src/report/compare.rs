@@ -86,19 +86,11 @@ pub(crate) fn comparisons<'a>(entries: &'a [Entry<'a>]) -> Vec<ComparedRuns<'a>>
     out
 }
 
-/// A run's sweep, where it ran and is one of a sweep's.
-fn sweep_of<'a>(entry: &'a Entry) -> Option<(&'a RunResult, &'a SweepRun)> {
-    match entry {
-        Entry::Done(s) => s.run.sweep.as_ref().map(|sweep| (s.run, sweep)),
-        Entry::Failed(_) => None,
-    }
-}
-
 /// One comparison per sweep with a run that has a result.
 fn sweeps<'a>(entries: &'a [Entry<'a>]) -> Vec<ComparedRuns<'a>> {
     let mut groups: Vec<(usize, &SweepRun, Vec<&RunResult>)> = Vec::new();
     for (i, entry) in entries.iter().enumerate() {
-        let Some((run, sweep)) = sweep_of(entry) else {
+        let Some((run, sweep)) = entry.run().and_then(|r| Some((r, r.sweep.as_ref()?))) else {
             continue;
         };
         match groups.iter_mut().find(|g| g.1.sweep == sweep.sweep) {
@@ -112,20 +104,12 @@ fn sweeps<'a>(entries: &'a [Entry<'a>]) -> Vec<ComparedRuns<'a>> {
             // A failed run of the sweep before its first result moves the section up to it.
             let first = entries
                 .iter()
-                .position(|e| sweep.runs.iter().any(|id| id == entry_table(e)))
+                .position(|e| sweep.runs.iter().any(|id| id == e.table()))
                 .unwrap_or(first)
                 .min(first);
             of_sweep(first, sweep, &runs)
         })
         .collect()
-}
-
-/// The table id of an entry, whether it ran or not.
-fn entry_table<'a>(entry: &'a Entry) -> &'a str {
-    match entry {
-        Entry::Done(s) => &s.run.table,
-        Entry::Failed(f) => &f.table,
-    }
 }
 
 /// The comparison of the runs `runs` of `sweep`.
@@ -223,13 +207,7 @@ fn of_sweep<'a>(first: usize, sweep: &SweepRun, runs: &[&'a RunResult]) -> Compa
 /// One comparison per scene of one's own with related runs: the scene and the related runs of
 /// the page (the thesis's own scenes draw the figures of the thesis instead, `film::Related`).
 fn related<'a>(entries: &'a [Entry<'a>]) -> Vec<ComparedRuns<'a>> {
-    let runs: Vec<&RunResult> = entries
-        .iter()
-        .filter_map(|e| match e {
-            Entry::Done(s) => Some(s.run),
-            Entry::Failed(_) => None,
-        })
-        .collect();
+    let runs: Vec<&RunResult> = entries.iter().filter_map(Entry::run).collect();
     entries
         .iter()
         .enumerate()

@@ -673,20 +673,34 @@ fn figures_block(h: &mut String, figs: &SectionFigures) {
             );
             if !f.links.is_empty() {
                 h.push_str("<p class=\"legend\">Files: ");
-                for (i, (file, label)) in f.links.iter().enumerate() {
-                    let _ = write!(
-                        h,
-                        "{}<a href=\"figures/{}\">{}</a>",
-                        if i == 0 { "" } else { " · " },
-                        escape(file),
-                        escape(label)
-                    );
-                }
+                let links = f.links.iter();
+                link_list(
+                    h,
+                    links.map(|(file, label)| (format!("figures/{file}"), label)),
+                    " · ",
+                );
                 h.push_str("</p>");
             }
             h.push_str("</figure>\n");
         }
         h.push_str("</div>\n");
+    }
+}
+
+/// The links `(href, text)`, separated by `separator`.
+fn link_list<'a>(
+    h: &mut String,
+    links: impl Iterator<Item = (String, &'a String)>,
+    separator: &str,
+) {
+    for (i, (href, text)) in links.enumerate() {
+        let _ = write!(
+            h,
+            "{}<a href=\"{}\">{}</a>",
+            if i == 0 { "" } else { separator },
+            escape(&href),
+            escape(text)
+        );
     }
 }
 

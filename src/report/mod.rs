@@ -61,6 +61,25 @@ pub enum Entry<'a> {
     Failed(&'a Failure),
 }
 
+impl Entry<'_> {
+    /// The entry's table id (`IV.36`, `fig-IV.54`, an own scene's id, a sweep's run), whether
+    /// it ran or not.
+    pub fn table(&self) -> &str {
+        match self {
+            Entry::Done(s) => &s.run.table,
+            Entry::Failed(f) => &f.table,
+        }
+    }
+
+    /// What the entry computed, if it ran.
+    pub fn run(&self) -> Option<&RunResult> {
+        match self {
+            Entry::Done(s) => Some(s.run),
+            Entry::Failed(_) => None,
+        }
+    }
+}
+
 /// One table of the report: what tribo computed, and the printed thesis table beside it.
 pub struct Section<'a> {
     pub run: &'a RunResult,
@@ -173,13 +192,7 @@ pub fn write_report(out_dir: &Path, entries: &[Entry], meta: &ReportMeta) -> io:
     let mut figure_failures = Vec::new();
     let mut rendered = Vec::with_capacity(entries.len());
     // Every run of the page, for the figures that set a run beside its related tables.
-    let runs: Vec<&RunResult> = entries
-        .iter()
-        .filter_map(|e| match e {
-            Entry::Done(s) => Some(s.run),
-            Entry::Failed(_) => None,
-        })
-        .collect();
+    let runs: Vec<&RunResult> = entries.iter().filter_map(Entry::run).collect();
     // The figures of one section, or of one comparison, drawn in isolation.
     let mut drawn = |name: &str, draw: &dyn Fn() -> io::Result<Vec<Figure>>| {
         let figures = match panic::catch_unwind(AssertUnwindSafe(draw)) {

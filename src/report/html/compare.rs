@@ -63,16 +63,12 @@ pub(super) fn comparison_section(h: &mut String, c: &ComparedRuns, figs: &Sectio
     h.push_str("</tbody></table></div>\n");
     if !c.missing.is_empty() {
         h.push_str("<p class=\"legend\">Without a result on this page: ");
-        for (i, id) in c.missing.iter().enumerate() {
-            let _ = write!(
-                h,
-                "{}<a href=\"#{}\">{}</a>",
-                if i == 0 { "" } else { ", " },
-                anchor(id),
-                escape(id)
-            );
-        }
-        h.push_str(" (a run that failed says why in its section; a related table not run is not on the page).</p>\n");
+        let links = c.missing.iter().map(|id| (format!("#{}", anchor(id)), id));
+        super::link_list(h, links, ", ");
+        h.push_str(
+            " (a run that failed says why in its section; a related table not run is not on \
+             the page).</p>\n",
+        );
     }
     if c.quantities.is_empty() {
         h.push_str(

@@ -69,14 +69,6 @@ impl Group<'_> {
     }
 }
 
-/// The id of an entry (`IV.36`, `fig-IV.54`, an own scene's id).
-pub(super) fn entry_id<'a>(entry: &'a Entry) -> &'a str {
-    match entry {
-        Entry::Done(s) => &s.run.table,
-        Entry::Failed(f) => &f.table,
-    }
-}
-
 /// The entries grouped by page: the families in the order of Chapter IV (`families.toml`),
 /// then the entries of no family; a group only where the run has an entry.
 pub(super) fn groups<'a>(entries: &'a [Entry<'a>]) -> Vec<Group<'a>> {
@@ -96,7 +88,7 @@ pub(super) fn groups<'a>(entries: &'a [Entry<'a>]) -> Vec<Group<'a>> {
         entries: Vec::new(),
     });
     for (i, entry) in entries.iter().enumerate() {
-        let at = families::family_of(entry_id(entry))
+        let at = families::family_of(entry.table())
             .and_then(|f| {
                 groups
                     .iter()
