@@ -72,7 +72,9 @@ pub(super) fn comparison_section(h: &mut String, c: &ComparedRuns, figs: &Sectio
     }
     if c.quantities.is_empty() {
         h.push_str(
-            "<p class=\"legend\">No engineering quantity compared: the scene computes none.</p>\n",
+            "<p class=\"legend\">No engineering quantity compared: the scene computes none \
+             (an elastic body, the model-adaptive film), or <code>[sweep] quantities</code> \
+             names none.</p>\n",
         );
     } else if c.axis.is_none() && !c.own_norms {
         h.push_str(
