@@ -668,6 +668,9 @@ pub struct RunResult {
     /// The uniform run beside a grid-adaptive table (empty unless the report ran it).
     #[serde(default)]
     pub uniform: Vec<UniformRow>,
+    /// The run's place in a sweep, where it is one of a sweep's runs (the report compares them).
+    #[serde(default)]
+    pub sweep: Option<crate::experiment::sweep::SweepRun>,
     /// The last printed mesh with its solution fields; the report writes it as
     /// `data/<table>.vtu` and then drops it (it is as large as the mesh).
     #[serde(skip)]
@@ -702,6 +705,7 @@ impl RunResult {
             warnings: Vec::new(),
             accuracy: None,
             uniform: Vec::new(),
+            sweep: None,
             parameters: Vec::new(),
             last_mesh: None,
             cycle_meshes: Vec::new(),

@@ -32,6 +32,7 @@ mod signorini;
 mod smoothing;
 mod solvers;
 mod substokes;
+mod sweep;
 mod table;
 mod true_error;
 mod uzawa;

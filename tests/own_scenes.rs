@@ -24,6 +24,7 @@ const TEMPLATES: [&str; 6] = [
 
 /// The shipped examples of `experiments/own/`, one per part of the wider vocabulary: the step
 /// gap, the tabulated gap, and the tabulated and periodic obstacles with the material by E and ν.
+/// (The sweep of the step bearing, `step-bearing-sweep`, is checked in tests/sweep.rs.)
 const EXAMPLES: [&str; 3] = ["die-and-wave", "step-bearing", "worn-pad"];
 
 fn templates_dir() -> PathBuf {
@@ -130,7 +131,11 @@ fn templates_are_commented() {
 /// end of its taper, and the strip rests on the die's insert.
 #[test]
 fn the_own_examples_run_and_show_their_point() {
-    let loaded = experiment::load_dir(&examples_dir(), None).unwrap();
+    let loaded: Vec<_> = experiment::load_dir(&examples_dir(), None)
+        .unwrap()
+        .into_iter()
+        .filter(|e| e.sweep.is_none())
+        .collect();
     let ids: Vec<&str> = loaded.iter().map(|e| e.table.as_str()).collect();
     assert_eq!(ids, EXAMPLES);
     for spec in &loaded {

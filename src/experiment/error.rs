@@ -79,6 +79,29 @@ pub enum ExperimentError {
         found: String,
     },
 
+    /// A run of a sweep ([`crate::experiment::sweep`]) whose file, with the run's values in
+    /// place, does not load: the error of that text, with the run and its values.
+    #[error("{}", in_sweep_run(run, values, source))]
+    InSweepRun {
+        /// The run's id, `step-bearing~-10`.
+        run: String,
+        /// `path = value` of each swept field.
+        values: String,
+        #[source]
+        source: Box<ExperimentError>,
+    },
+
+    /// `report --set` over experiments of the thesis, which are compared with printed tables and
+    /// are not swept.
+    #[error(
+        "{}: --set sweeps scenes of your own, and the run selects thesis experiments ({}); choose \
+         your own files with --only ID or --experiments DIR, or copy a thesis file under an id \
+         of your own (table = \"my-IV.36\" in my-IV.36.toml, without [thesis]) and sweep the copy",
+        dir.display(),
+        shortened_list(tables)
+    )]
+    SweepOfThesis { dir: PathBuf, tables: Vec<String> },
+
     /// A table id asked for (e.g. on the command line) has no experiment file.
     #[error(
         "{}: no experiment file for table `{id}`; available tables: {}",
@@ -90,6 +113,27 @@ pub enum ExperimentError {
         id: String,
         available: Vec<String>,
     },
+}
+
+/// The message of [`ExperimentError::InSweepRun`]: the file, the run and its values, then the
+/// error of the run's text.
+fn in_sweep_run(run: &str, values: &str, source: &ExperimentError) -> String {
+    let path = source.path().display().to_string();
+    let text = source.to_string();
+    match text.strip_prefix(&format!("{path}: ")) {
+        Some(rest) => format!("{path}: sweep run {run} ({values}): {rest}"),
+        None => format!("sweep run {run} ({values}): {text}"),
+    }
+}
+
+/// The first few of `items`, and how many more.
+fn shortened_list(items: &[String]) -> String {
+    const SHOWN: usize = 5;
+    if items.len() <= SHOWN {
+        items.join(", ")
+    } else {
+        format!("{}, … {} in all", items[..SHOWN].join(", "), items.len())
+    }
 }
 
 fn field_prefix(field: Option<&str>) -> String {
@@ -123,7 +167,10 @@ impl ExperimentError {
             | Self::TooLarge { path, .. }
             | Self::Toml { path, .. }
             | Self::Invalid { path, .. } => path,
-            Self::ReadDir { dir, .. } | Self::UnknownTable { dir, .. } => dir,
+            Self::InSweepRun { source, .. } => source.path(),
+            Self::ReadDir { dir, .. }
+            | Self::UnknownTable { dir, .. }
+            | Self::SweepOfThesis { dir, .. } => dir,
         }
     }
 
@@ -132,7 +179,9 @@ impl ExperimentError {
         match self {
             Self::Toml { field, .. } => field.as_deref(),
             Self::Invalid { field, .. } => Some(field),
-            Self::Read { .. }
+            Self::InSweepRun { source, .. } => source.field(),
+            Self::SweepOfThesis { .. }
+            | Self::Read { .. }
             | Self::NotRegularFile { .. }
             | Self::TooLarge { .. }
             | Self::ReadDir { .. }

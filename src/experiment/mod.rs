@@ -11,6 +11,7 @@
 
 pub mod parameters;
 pub mod spec;
+pub mod sweep;
 
 mod error;
 mod load;
@@ -18,7 +19,8 @@ mod printed;
 mod warnings;
 
 pub use error::ExperimentError;
-pub use load::{load, load_dir, load_each, table_order, Loaded, MAX_FILE_BYTES};
+pub use load::{load, load_dir, load_each, load_each_swept, table_order, Loaded, MAX_FILE_BYTES};
+pub use load::{parse_set, SweepField, TableOrder};
 pub use load::{Checked, FileCheck as Check, Found};
 pub use printed::{fingerprints, PRINTED_LOCK};
 pub use spec::*;
@@ -55,6 +57,8 @@ pub struct Experiment {
     /// Whether the run is compared with the thesis: the file as shipped, an edited thesis
     /// experiment, or a scene of the user's own.
     pub comparison: Comparison,
+    /// Where the run is one of a sweep's ([`sweep`]): the sweep, and which run it is.
+    pub sweep: Option<sweep::SweepRun>,
 }
 
 /// What a run can be compared with, decided by the loader from the id and the file.

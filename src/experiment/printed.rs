@@ -30,9 +30,9 @@ pub const PRINTED_LOCK: &str = include_str!("printed.lock");
 /// The sections of an experiment file that make up what the thesis computed.
 const FINGERPRINTED: [&str; 3] = ["scene", "study", "thesis"];
 
-/// Fields that change how a table is computed, not what: setting them does not make a thesis
-/// experiment "edited".
-const NOT_FINGERPRINTED: [&str; 1] = ["study.solver"];
+/// Fields that change how a table is computed, or what runs beside it, not what it computes:
+/// setting them does not make a thesis experiment "edited".
+const NOT_FINGERPRINTED: [&str; 2] = ["study.solver", "study.alternatives"];
 
 /// Field path → hash of every fingerprinted field of one file.
 type Fields = BTreeMap<String, String>;

@@ -48,6 +48,11 @@ pub struct ExperimentFile {
     /// none. Not part of what the thesis computed, so not fingerprinted.
     #[serde(default)]
     pub figures: ThesisFigures,
+    /// `[sweep]`: fields of `[scene]` or `[study]` to run at several values, each combination a
+    /// run of its own ([`super::sweep`]). The loader reads it from the text and expands the file
+    /// into its runs; the checks of one run leave it alone.
+    #[serde(default)]
+    pub sweep: Option<toml::Table>,
 }
 
 /// An effect a scene asks the pipeline to simulate. Only the named effects are built.
@@ -904,6 +909,14 @@ pub struct StudyFile {
     /// --solver` overrides it. It changes how the systems are solved, not what is computed.
     #[serde(default)]
     pub solver: Option<crate::linalg::SolverKind>,
+    /// Whether the report runs the thesis's alternative readings beside the experiment
+    /// ([`crate::family::Family::readings`]: two readings of the cavitation source R₃c, the
+    /// model error at the z-solution). Default: yes for the thesis's experiments, no for a
+    /// scene of the user's own, whose numbers no printed table explains (typed as
+    /// [`Study::readings`]). Like `solver`, it changes what runs beside the table, not what the
+    /// table computes.
+    #[serde(default)]
+    pub alternatives: Option<bool>,
 }
 
 /// Tied indicators at a cut of the fixed-number marking (`crate::adaptivity::grid`).
@@ -946,6 +959,11 @@ pub struct Study {
     /// Which printed meshes the run keeps for the VTU files (`report --vtu`): the last one as
     /// loaded; none for the alternative readings unless every one is asked for.
     pub vtu: crate::results::VtuOutput,
+    /// Whether the thesis's alternative readings run beside the table
+    /// ([`StudyFile::alternatives`], resolved by the loader: by default for the thesis's
+    /// experiments only). A run the file asks for itself (SubStokes `compare_with`) runs
+    /// whatever this says; `report --no-alternatives` runs none.
+    pub readings: bool,
     /// What the kind iterates, with its fields.
     pub plan: Plan,
 }

@@ -22,6 +22,7 @@ impl Family for Contact {
             unknowns_per_vertex: 2,
             solver_choice: false,
             related: &[],
+            quantities: crate::study::quantities::CONTACT,
         }
     }
 

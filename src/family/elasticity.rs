@@ -26,6 +26,7 @@ impl Family for Elasticity {
             unknowns_per_vertex: 2,
             solver_choice: true,
             related: &[],
+            quantities: &[],
         }
     }
 

@@ -56,6 +56,9 @@ pub struct Facts {
     /// The families whose tables the report can draw beside this one (`related` of the file);
     /// empty where it draws none.
     pub related: &'static [&'static str],
+    /// The engineering quantities its rows carry ([`crate::study::quantities`]: the film's, the
+    /// contact's, or none), which a sweep of its scenes can compare.
+    pub quantities: &'static [&'static str],
 }
 
 /// One family of tables (module docs): its [`Facts`], and what it does at each stage. The

@@ -29,6 +29,7 @@ impl Family for ModelContact {
             unknowns_per_vertex: 2,
             solver_choice: false,
             related: &[],
+            quantities: crate::study::quantities::CONTACT,
         }
     }
 
@@ -68,6 +69,7 @@ impl Family for ModelContact {
             suffix: "z-solution".into(),
             experiment: alt,
             needs_cavitation: false,
+            asked: false,
         }]
     }
 

@@ -21,6 +21,7 @@ impl Family for ModelFluid {
             unknowns_per_vertex: 3,
             solver_choice: false,
             related: &["reynolds", "substokes"],
+            quantities: &[],
         }
     }
 

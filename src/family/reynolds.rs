@@ -22,6 +22,7 @@ impl Family for Reynolds {
             unknowns_per_vertex: 1,
             solver_choice: true,
             related: &[],
+            quantities: crate::study::quantities::FILM,
         }
     }
 
@@ -55,6 +56,7 @@ impl Family for Reynolds {
                     suffix: reading.suffix.into(),
                     experiment: alt,
                     needs_cavitation: true,
+                    asked: false,
                 }
             })
             .collect()

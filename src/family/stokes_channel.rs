@@ -25,6 +25,7 @@ impl Family for StokesChannel {
             unknowns_per_vertex: 3,
             solver_choice: false,
             related: &[],
+            quantities: &[],
         }
     }
 

@@ -22,6 +22,7 @@ impl Family for SubStokes {
             unknowns_per_vertex: 3,
             solver_choice: false,
             related: &[],
+            quantities: crate::study::quantities::FILM,
         }
     }
 
@@ -61,6 +62,7 @@ impl Family for SubStokes {
             suffix: solver.name().into(),
             experiment: alt,
             needs_cavitation: false,
+            asked: true,
         }]
     }
 

@@ -6,14 +6,14 @@
 use std::io;
 use std::path::Path;
 
-use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::figures::{Drawing, Figure, Figures};
 use super::html::fmt_short;
 use super::legend::{self, Entry, Placed};
 use super::plots::{
-    log_range, log_tick, loggable, plot_err, write_log_log, Curve, NiceLog, RIGHT_MARGIN,
+    linear_chart, linear_legend_height, log_range, log_tick, loggable, plot_err, write_log_log,
+    Curve, NiceLog, RIGHT_MARGIN,
 };
 use crate::experiment::Comparison;
 use crate::results::{Cuts, RunResult};
@@ -55,90 +55,29 @@ pub(super) fn cuts(path: &Path, run: &RunResult, cuts: &Cuts) -> io::Result<Plac
     let mut svg = String::new();
     let mut placed = Placed::default();
     {
-        let lower = 350 + panel_legend_height(&flow);
-        let size = (760, 350 + panel_legend_height(&pressure) + lower);
+        let lower = 350 + linear_legend_height(&flow, false);
+        let size = (760, 350 + linear_legend_height(&pressure, false) + lower);
         let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
         root.fill(&WHITE).map_err(plot_err)?;
         let (top, bottom) = root.split_vertically(size.1 - lower);
-        placed.extend(panel(
+        placed.extend(linear_chart(
             &top,
             &format!("{} — pressure p ≈ ψ/g along x₂ = {y}", run.table),
-            "p",
+            ("x₁", "p"),
             &pressure,
+            false,
         )?);
-        placed.extend(panel(
+        placed.extend(linear_chart(
             &bottom,
             &format!("flow rate χ₁ along x₂ = {y}"),
-            "χ₁",
+            ("x₁", "χ₁"),
             &flow,
+            false,
         )?);
         root.present().map_err(plot_err)?;
     }
     crate::fsio::write(path, svg)?;
     Ok(placed)
-}
-
-/// Pixels the legend of a [`panel`] of `curves` needs under it.
-fn panel_legend_height(curves: &[Curve]) -> u32 {
-    legend::height(&curves.iter().map(Entry::line).collect::<Vec<_>>(), 760)
-}
-
-/// One panel: the curves against x₁ on linear axes, their legend under it
-/// ([`panel_legend_height`] pixels of `area`).
-fn panel(
-    area: &DrawingArea<SVGBackend<'_>, Shift>,
-    title: &str,
-    y_desc: &str,
-    curves: &[Curve],
-) -> io::Result<Placed> {
-    let points = || curves.iter().flat_map(|c| c.points.iter());
-    let (x0, x1) = points().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
-        (a.min(p.0), b.max(p.0))
-    });
-    let (y0, y1) = points().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
-        (a.min(p.1), b.max(p.1))
-    });
-    if !(x0.is_finite() && x1 > x0 && y0.is_finite() && y1.is_finite()) {
-        return Ok(Placed::default());
-    }
-    let entries: Vec<Entry> = curves.iter().map(Entry::line).collect();
-    let (area, strip) = legend::split(area, &entries);
-    let pad = 0.05 * (y1 - y0).max(1e-9 * y1.abs().max(1.0));
-    let mut chart = ChartBuilder::on(&area)
-        .caption(title, ("sans-serif", 19))
-        .margin(12)
-        .margin_right(RIGHT_MARGIN)
-        .x_label_area_size(40)
-        .y_label_area_size(70)
-        .build_cartesian_2d(x0..x1, (y0 - pad)..(y1 + pad))
-        .map_err(plot_err)?;
-    chart
-        .configure_mesh()
-        .x_desc("x₁")
-        .y_desc(y_desc)
-        .y_label_formatter(&|v| fmt_short(*v))
-        .light_line_style(RGBColor(240, 240, 240))
-        .bold_line_style(RGBColor(215, 215, 215))
-        .label_style(("sans-serif", 15))
-        .axis_desc_style(("sans-serif", 15))
-        .draw()
-        .map_err(plot_err)?;
-    for c in curves {
-        let style = c.color.stroke_width(2);
-        if c.dashed {
-            chart
-                .draw_series(DashedLineSeries::new(c.points.iter().copied(), 8, 5, style))
-                .map_err(plot_err)?;
-        } else {
-            chart
-                .draw_series(LineSeries::new(c.points.iter().copied(), style))
-                .map_err(plot_err)?;
-        }
-    }
-    Ok(Placed {
-        points: legend::pixels(&chart, points().copied()),
-        legends: legend::draw(&strip, &entries)?.into_iter().collect(),
-    })
 }
 
 /// Colours of the Uzawa variants, in the order of Fig. III.6.
@@ -234,7 +173,7 @@ fn is_substokes(run: &RunResult) -> bool {
 }
 
 /// The legend name of a related run: its table and model.
-fn related_label(run: &RunResult) -> String {
+pub(super) fn related_label(run: &RunResult) -> String {
     let model = if is_substokes(run) {
         "pure SubStokes"
     } else {
@@ -244,7 +183,7 @@ fn related_label(run: &RunResult) -> String {
 }
 
 /// The colour of a related run: its model's.
-fn related_color(run: &RunResult) -> RGBColor {
+pub(super) fn related_color(run: &RunResult) -> RGBColor {
     if is_substokes(run) {
         SUBSTOKES
     } else {
@@ -253,7 +192,7 @@ fn related_color(run: &RunResult) -> RGBColor {
 }
 
 /// Colour of the model-adaptive run in the cross-run figures.
-const MODEL_ADAPTIVE: RGBColor = RGBColor(0, 0, 0);
+pub(super) const MODEL_ADAPTIVE: RGBColor = RGBColor(0, 0, 0);
 
 /// Fig. IV.117: the a-posteriori estimate against the number of SubStokes cells — the
 /// model-adaptive run's Theorem III.23 estimate with the model error, √(η_S² + η_m²) (the
@@ -315,6 +254,62 @@ pub(super) fn estimate_vs_substokes_cells(
     )
 }
 
+/// One run of a figure of ψ along a cut ([`psi_cuts`]): its legend label, colour and dash.
+pub(super) struct CutRun<'a> {
+    pub run: &'a RunResult,
+    pub label: String,
+    pub color: RGBColor,
+    pub dashed: bool,
+}
+
+/// The pressure ψ along the cut of each of `runs` (ψ^S of a SubStokes table, whose cuts hold both
+/// models; ψ of a Reynolds table and of the model-adaptive film), one curve each, at the height
+/// of the first run's cut: a run without a cut, or cut at another height, is left out. `None`
+/// where the first run has no cut.
+pub(super) fn psi_cuts(runs: &[CutRun]) -> Option<(f64, Vec<Curve>)> {
+    let y = runs.first()?.run.cuts.as_ref()?.y;
+    let curves = runs
+        .iter()
+        .filter_map(|r| {
+            let cuts = r.run.cuts.as_ref().filter(|c| c.y == y)?;
+            let column = if is_substokes(r.run) {
+                "psi_substokes"
+            } else {
+                "psi"
+            };
+            Some(cut_curve(cuts, column, r.label.clone(), r.color, r.dashed))
+        })
+        .collect();
+    Some((y, curves))
+}
+
+/// Write the figure of `curves` of ψ along x₂ = `y` ([`psi_cuts`]) with the title `name — ψ
+/// along x₂ = y`.
+pub(super) fn write_psi_cuts(
+    path: &Path,
+    name: &str,
+    y: f64,
+    curves: &[Curve],
+) -> io::Result<Placed> {
+    let mut svg = String::new();
+    let placed;
+    {
+        let size = (760, 420 + linear_legend_height(curves, false));
+        let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
+        root.fill(&WHITE).map_err(plot_err)?;
+        placed = linear_chart(
+            &root,
+            &format!("{name} — ψ along x₂ = {}", fmt_short(y)),
+            ("x₁", "ψ"),
+            curves,
+            false,
+        )?;
+        root.present().map_err(plot_err)?;
+    }
+    crate::fsio::write(path, svg)?;
+    Ok(placed)
+}
+
 /// Fig. IV.118: the pressure ψ along the cut of the model-adaptive run beside the last solutions
 /// of the related runs (ψ^S of a SubStokes table, ψ of a Reynolds table) along the same cut;
 /// a related run cut at another height is left out.
@@ -323,49 +318,24 @@ pub(super) fn related_cuts(
     run: &RunResult,
     related: &[&RunResult],
 ) -> io::Result<Placed> {
-    let Some(cuts) = &run.cuts else {
-        return Ok(Placed::default());
+    let own = CutRun {
+        run,
+        label: format!("model-adaptive ({})", run.table),
+        color: MODEL_ADAPTIVE,
+        dashed: false,
     };
-    let mut curves = vec![cut_curve(
-        cuts,
-        "psi",
-        format!("model-adaptive ({})", run.table),
-        MODEL_ADAPTIVE,
-        false,
-    )];
-    for r in related {
-        let Some(c) = r.cuts.as_ref().filter(|c| c.y == cuts.y) else {
-            continue;
-        };
-        let column = if is_substokes(r) {
-            "psi_substokes"
-        } else {
-            "psi"
-        };
-        curves.push(cut_curve(
-            c,
-            column,
-            related_label(r),
-            related_color(r),
-            true,
-        ));
+    let runs: Vec<CutRun> = std::iter::once(own)
+        .chain(related.iter().map(|r| CutRun {
+            run: r,
+            label: related_label(r),
+            color: related_color(r),
+            dashed: true,
+        }))
+        .collect();
+    match psi_cuts(&runs) {
+        Some((y, curves)) => write_psi_cuts(path, &run.table, y, &curves),
+        None => Ok(Placed::default()),
     }
-    let mut svg = String::new();
-    let placed;
-    {
-        let size = (760, 420 + panel_legend_height(&curves));
-        let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
-        root.fill(&WHITE).map_err(plot_err)?;
-        placed = panel(
-            &root,
-            &format!("{} — ψ along x₂ = {}", run.table, fmt_short(cuts.y)),
-            "ψ",
-            &curves,
-        )?;
-        root.present().map_err(plot_err)?;
-    }
-    crate::fsio::write(path, svg)?;
-    Ok(placed)
 }
 
 /// The cost of accuracy of one scene solved three ways: each run's estimate against its
@@ -484,6 +454,11 @@ impl Figures for Related {
     }
 
     fn write(&self, at: &Drawing) -> io::Result<Vec<Figure>> {
+        // A scene of one's own is compared with its related runs in a section of its own
+        // (`compare`), without the thesis's figures.
+        if matches!(at.thesis.comparison, Comparison::OwnScene) {
+            return Ok(Vec::new());
+        }
         let run = at.run;
         let related: Vec<&RunResult> = run
             .related

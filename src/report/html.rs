@@ -12,6 +12,7 @@
 //! holds the sections and the formatting every part shares.
 
 mod accuracy;
+mod compare;
 mod pages;
 mod quantities;
 mod readings;
@@ -22,6 +23,7 @@ mod tables;
 use std::collections::{BTreeSet, HashMap};
 use std::fmt::Write as _;
 
+use super::compare::ComparedRuns;
 use super::errata::{self, Erratum};
 use super::families::{self, Family};
 use super::verdict::{self, KnownReason, Score, Verdict};
@@ -546,6 +548,7 @@ fn table_section(h: &mut String, s: &Section, figs: &SectionFigures) {
         escape(&run.section),
         escape(&run.tier),
     );
+    comparison_link(h, s);
     verdict_and_readings(h, s, &section_verdict(s));
     parameters(h, &run.parameters);
     if let Some(orig) = &thesis.duplicate_of {
@@ -593,6 +596,58 @@ fn table_section(h: &mut String, s: &Section, figs: &SectionFigures) {
         claim_paragraph(h, &run.costs);
     }
 
+    figures_block(h, figs);
+
+    if !run.probes.is_empty() {
+        h.push_str(
+            "<h3>Probes after the last cycle</h3>\n<table><thead><tr><th>x</th><th>y</th>\
+             <th class=\"text\">component</th><th>value</th></tr></thead><tbody>\n",
+        );
+        for p in &run.probes {
+            let _ = writeln!(
+                h,
+                "<tr><td>{}</td><td>{}</td><td class=\"text\">{}</td><td>{}</td></tr>",
+                fmt_short(p.x),
+                fmt_short(p.y),
+                escape(&p.component),
+                fmt_sig(p.value)
+            );
+        }
+        h.push_str("</tbody></table>\n");
+    }
+    h.push_str("</section>\n");
+}
+
+/// Where the run is one of runs compared in a section of their own (a sweep's, or a scene of
+/// one's own with its related runs): which run it is, and the link to the comparison.
+fn comparison_link(h: &mut String, s: &Section) {
+    let run = s.run;
+    if let Some(sweep) = &run.sweep {
+        let _ = writeln!(
+            h,
+            "<p class=\"meta\">Run {} of {} of the sweep {} ({}); the runs are compared in \
+             <a href=\"#{}\">Sweep {}</a>.</p>",
+            sweep.index + 1,
+            sweep.runs.len(),
+            escape(&sweep.sweep),
+            escape(&sweep.label()),
+            escape(&super::compare::sweep_anchor(&sweep.sweep)),
+            escape(&sweep.sweep),
+        );
+    } else if !run.related.is_empty() && matches!(s.thesis.comparison, Comparison::OwnScene) {
+        let _ = writeln!(
+            h,
+            "<p class=\"meta\">Compared with its related runs ({}) in <a href=\"#{}\">{} beside \
+             its related runs</a>.</p>",
+            escape(&run.related.join(", ")),
+            escape(&super::compare::runs_anchor(&run.table)),
+            escape(&run.table),
+        );
+    }
+}
+
+/// The figures of a section (or why they could not be drawn), under a heading "Figures".
+fn figures_block(h: &mut String, figs: &SectionFigures) {
     if let Some(error) = &figs.error {
         let _ = writeln!(
             h,
@@ -618,40 +673,35 @@ fn table_section(h: &mut String, s: &Section, figs: &SectionFigures) {
             );
             if !f.links.is_empty() {
                 h.push_str("<p class=\"legend\">Files: ");
-                for (i, (file, label)) in f.links.iter().enumerate() {
-                    let _ = write!(
-                        h,
-                        "{}<a href=\"figures/{}\">{}</a>",
-                        if i == 0 { "" } else { " · " },
-                        escape(file),
-                        escape(label)
-                    );
-                }
+                let links = f.links.iter();
+                link_list(
+                    h,
+                    links.map(|(file, label)| (format!("figures/{file}"), label)),
+                    " · ",
+                );
                 h.push_str("</p>");
             }
             h.push_str("</figure>\n");
         }
         h.push_str("</div>\n");
     }
+}
 
-    if !run.probes.is_empty() {
-        h.push_str(
-            "<h3>Probes after the last cycle</h3>\n<table><thead><tr><th>x</th><th>y</th>\
-             <th class=\"text\">component</th><th>value</th></tr></thead><tbody>\n",
+/// The links `(href, text)`, separated by `separator`.
+fn link_list<'a>(
+    h: &mut String,
+    links: impl Iterator<Item = (String, &'a String)>,
+    separator: &str,
+) {
+    for (i, (href, text)) in links.enumerate() {
+        let _ = write!(
+            h,
+            "{}<a href=\"{}\">{}</a>",
+            if i == 0 { "" } else { separator },
+            escape(&href),
+            escape(text)
         );
-        for p in &run.probes {
-            let _ = writeln!(
-                h,
-                "<tr><td>{}</td><td>{}</td><td class=\"text\">{}</td><td>{}</td></tr>",
-                fmt_short(p.x),
-                fmt_short(p.y),
-                escape(&p.component),
-                fmt_sig(p.value)
-            );
-        }
-        h.push_str("</tbody></table>\n");
     }
-    h.push_str("</section>\n");
 }
 
 /// The problem solved, stated from the experiment file: its `[scene]` and `[study]` keys

@@ -14,6 +14,7 @@
 //! the shared helpers of `plots`; `html` lays out the page; `errata`, `families` and `keys` (what the
 //! experiment file's keys mean) read their texts from `text/*.toml`.
 
+mod compare;
 mod convergence;
 pub mod data;
 mod deformed;
@@ -58,6 +59,25 @@ pub enum Entry<'a> {
     Done(Section<'a>),
     /// The file did not load, or the run failed or panicked: shown with its message, no data.
     Failed(&'a Failure),
+}
+
+impl Entry<'_> {
+    /// The entry's table id (`IV.36`, `fig-IV.54`, an own scene's id, a sweep's run), whether
+    /// it ran or not.
+    pub fn table(&self) -> &str {
+        match self {
+            Entry::Done(s) => &s.run.table,
+            Entry::Failed(f) => &f.table,
+        }
+    }
+
+    /// What the entry computed, if it ran.
+    pub fn run(&self) -> Option<&RunResult> {
+        match self {
+            Entry::Done(s) => Some(s.run),
+            Entry::Failed(_) => None,
+        }
+    }
 }
 
 /// One table of the report: what tribo computed, and the printed thesis table beside it.
@@ -172,22 +192,10 @@ pub fn write_report(out_dir: &Path, entries: &[Entry], meta: &ReportMeta) -> io:
     let mut figure_failures = Vec::new();
     let mut rendered = Vec::with_capacity(entries.len());
     // Every run of the page, for the figures that set a run beside its related tables.
-    let runs: Vec<&RunResult> = entries
-        .iter()
-        .filter_map(|e| match e {
-            Entry::Done(s) => Some(s.run),
-            Entry::Failed(_) => None,
-        })
-        .collect();
-    for entry in entries {
-        let Entry::Done(section) = entry else {
-            rendered.push(html::SectionFigures::default());
-            continue;
-        };
-        let drawn = panic::catch_unwind(AssertUnwindSafe(|| {
-            figures::write_figures(&fig_dir, section, &runs)
-        }));
-        let figures = match drawn {
+    let runs: Vec<&RunResult> = entries.iter().filter_map(Entry::run).collect();
+    // The figures of one section, or of one comparison, drawn in isolation.
+    let mut drawn = |name: &str, draw: &dyn Fn() -> io::Result<Vec<Figure>>| {
+        let figures = match panic::catch_unwind(AssertUnwindSafe(draw)) {
             Ok(Ok(figures)) => html::SectionFigures {
                 figures,
                 error: None,
@@ -208,18 +216,34 @@ pub fn write_report(out_dir: &Path, entries: &[Entry], meta: &ReportMeta) -> io:
             },
         };
         if let Some(error) = &figures.error {
-            figure_failures.push(format!("{}: {error}", section.run.table));
+            figure_failures.push(format!("{name}: {error}"));
         }
         for f in &figures.figures {
             files.push(fig_dir.join(&f.file));
             files.extend(f.links.iter().map(|(file, _)| fig_dir.join(file)));
         }
-        rendered.push(figures);
+        figures
+    };
+    for entry in entries {
+        rendered.push(match entry {
+            Entry::Done(section) => drawn(&section.run.table, &|| {
+                figures::write_figures(&fig_dir, section, &runs)
+            }),
+            Entry::Failed(_) => html::SectionFigures::default(),
+        });
     }
+    let compared: Vec<(compare::ComparedRuns, html::SectionFigures)> =
+        compare::comparisons(entries)
+            .into_iter()
+            .map(|c| {
+                let figures = drawn(&c.title, &|| compare::write_figures(&fig_dir, &c));
+                (c, figures)
+            })
+            .collect();
     let performance = fig_dir.join(html::PERFORMANCE_FIGURE);
     performance::solve_cost(&performance, &runs)?;
     files.push(performance);
-    let pages = html::pages(entries, &rendered, meta);
+    let pages = html::pages(entries, &rendered, &compared, meta);
     // A page an earlier run wrote that this one does not (a family no longer in the run) goes:
     // the folder shows this run only.
     let written: Vec<&str> = pages.iter().map(|p| p.file.as_str()).collect();
@@ -436,15 +460,16 @@ pub(crate) fn estimate_name(run: &RunResult) -> EstimateName {
     }
 }
 
-/// A file-name-safe form of a table id or field name (`IV.1` stays `IV.1`).
+/// A file-name-safe form of a table id or field name (`IV.1` stays `IV.1`, the run of a sweep
+/// `step-bearing~-10` stays so).
 ///
-/// Table ids come from experiment files, so anything outside `[A-Za-z0-9._-]` is replaced rather
-/// than trusted inside a path.
+/// Table ids come from experiment files, so anything outside `[A-Za-z0-9._~-]` is replaced
+/// rather than trusted inside a path.
 pub(crate) fn file_stem(name: &str) -> String {
     let s: String = name
         .chars()
         .map(|c| {
-            if c.is_ascii_alphanumeric() || matches!(c, '.' | '-' | '_') {
+            if c.is_ascii_alphanumeric() || matches!(c, '.' | '-' | '_' | '~') {
                 c
             } else {
                 '_'
@@ -513,15 +538,18 @@ impl Summary {
             geo_mean_ratio,
             max_dofs_diff: max_abs_diff(section, "dofs"),
             max_estimate_diff: max_abs_diff(section, "estimate"),
-            // A fold from +0.0: an empty `sum()` of floats is −0.0, which would print as "-0.000 s".
-            // A solver study has iterations instead of rows, and their seconds.
-            total_seconds: run.rows.iter().fold(0.0, |acc, r| acc + r.seconds.total())
-                + html::uzawa_seconds(&run.uzawa),
+            total_seconds: run_seconds(run),
             order: tribo_order(run),
             thesis_order: thesis_order(section),
             effectivity: effectivity_range(run),
         }
     }
+}
+
+/// The wall seconds of a run: every phase of every row, or a solver study's iterations.
+pub(crate) fn run_seconds(run: &RunResult) -> f64 {
+    // A fold from +0.0: an empty `sum()` of floats is −0.0, which would print as "-0.000 s".
+    run.rows.iter().fold(0.0, |acc, r| acc + r.seconds.total()) + html::uzawa_seconds(&run.uzawa)
 }
 
 /// The smallest and the largest effectivity η/error of a run's rows (`None` without one).

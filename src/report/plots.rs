@@ -352,6 +352,91 @@ pub(super) fn log_log_chart(
     Ok(placed)
 }
 
+/// The legend of a [`linear_chart`]: its curves that have a label (lines, or curves with their
+/// dots where `dots`).
+fn linear_entries(curves: &[Curve], dots: bool) -> Vec<Entry> {
+    curves
+        .iter()
+        .filter(|c| !c.label.is_empty())
+        .map(|c| {
+            if dots {
+                Entry::curve(c)
+            } else {
+                Entry::line(c)
+            }
+        })
+        .collect()
+}
+
+/// Pixels the legend of a [`linear_chart`] of `curves`, 760 pixels wide, needs under it.
+pub(super) fn linear_legend_height(curves: &[Curve], dots: bool) -> u32 {
+    legend::height(&linear_entries(curves, dots), 760)
+}
+
+/// A chart of `curves` against x on linear axes on `area`, the legend of its labelled curves in
+/// a strip under it ([`linear_legend_height`] pixels of `area`): lines, dashed where a curve is,
+/// with a dot at every point where `dots` (a few values, such as a quantity against a swept
+/// parameter). Nothing is drawn where the points span no range in x.
+pub(super) fn linear_chart(
+    area: &DrawingArea<SVGBackend<'_>, Shift>,
+    title: &str,
+    (x_desc, y_desc): (&str, &str),
+    curves: &[Curve],
+    dots: bool,
+) -> io::Result<Placed> {
+    let points = || curves.iter().flat_map(|c| c.points.iter());
+    let (x0, x1) = points().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
+        (a.min(p.0), b.max(p.0))
+    });
+    let (y0, y1) = points().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
+        (a.min(p.1), b.max(p.1))
+    });
+    if !(x0.is_finite() && x1 > x0 && y0.is_finite() && y1.is_finite()) {
+        return Ok(Placed::default());
+    }
+    let entries = linear_entries(curves, dots);
+    let (area, strip) = legend::split(area, &entries);
+    let pad = 0.05 * (y1 - y0).max(1e-9 * y1.abs().max(1.0));
+    let mut chart = ChartBuilder::on(&area)
+        .caption(title, ("sans-serif", 19))
+        .margin(12)
+        .margin_right(RIGHT_MARGIN)
+        .x_label_area_size(40)
+        .y_label_area_size(70)
+        .build_cartesian_2d(x0..x1, (y0 - pad)..(y1 + pad))
+        .map_err(plot_err)?;
+    chart
+        .configure_mesh()
+        .x_desc(x_desc)
+        .y_desc(y_desc)
+        .x_label_formatter(&|v| fmt_short(*v))
+        .y_label_formatter(&|v| fmt_short(*v))
+        .light_line_style(RGBColor(240, 240, 240))
+        .bold_line_style(RGBColor(215, 215, 215))
+        .label_style(("sans-serif", 15))
+        .axis_desc_style(("sans-serif", 15))
+        .draw()
+        .map_err(plot_err)?;
+    for c in curves {
+        let style = c.color.stroke_width(2);
+        if c.dashed {
+            chart
+                .draw_series(DashedLineSeries::new(c.points.iter().copied(), 8, 5, style))
+                .map_err(plot_err)?;
+        } else if dots {
+            solid_curve(&mut chart, c, &[&c.points])?;
+        } else {
+            chart
+                .draw_series(LineSeries::new(c.points.iter().copied(), style))
+                .map_err(plot_err)?;
+        }
+    }
+    Ok(Placed {
+        points: legend::pixels(&chart, points().copied()),
+        legends: legend::draw(&strip, &entries)?.into_iter().collect(),
+    })
+}
+
 /// A solid curve: a line through each of `runs` (pieces of the curve's points) and a dot at
 /// every point of the curve.
 pub(super) fn solid_curve<X, Y>(

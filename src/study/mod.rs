@@ -215,6 +215,7 @@ pub fn run_within(
         let mut result =
             run_study_of_kind(experiment, tier, budget, progress).map_err(Budget::refusal)?;
         result.parameters = experiment.parameters.clone();
+        result.sweep = experiment.sweep.clone();
         Ok(result)
     })
 }

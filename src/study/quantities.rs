@@ -47,6 +47,48 @@ pub mod names {
     pub const MAX_CONTACT_PRESSURE: &str = "max_contact_pressure";
 }
 
+/// The quantity columns of a film's rows ([`film`]; `cavitated_area` only where the cavitation
+/// model ran).
+pub const FILM: &[&str] = &[
+    names::LOAD_CAPACITY,
+    names::MAX_PRESSURE,
+    names::MAX_PRESSURE_X1,
+    names::MAX_PRESSURE_X2,
+    names::CAVITATED_AREA,
+    "flow_left",
+    "flow_right",
+    "flow_bottom",
+    "flow_top",
+    "friction_lower_x1",
+    "friction_lower_x2",
+    "friction_upper_x1",
+    "friction_upper_x2",
+];
+
+/// The quantity columns of a contact problem's rows ([`contact`]; with two contact sides also
+/// `contact_force_<side>`, [`is_side_force`]).
+pub const CONTACT: &[&str] = &[
+    names::CONTACT_FORCE,
+    names::CONTACT_LENGTH,
+    names::MAX_CONTACT_PRESSURE,
+];
+
+/// The quantities a comparison of runs shows unless it names others: the load a film carries and
+/// its peak pressure, the force of a contact and its peak pressure (those of them a run has).
+pub const COMPARED: &[&str] = &[
+    names::LOAD_CAPACITY,
+    names::MAX_PRESSURE,
+    names::CONTACT_FORCE,
+    names::MAX_CONTACT_PRESSURE,
+];
+
+/// Whether `column` is the force of one contact side, `contact_force_<side>`.
+pub fn is_side_force(column: &str) -> bool {
+    column
+        .strip_prefix("contact_force_")
+        .is_some_and(|side| SIDES.iter().any(|s| s.name() == side))
+}
+
 /// What each quantity column is, with its unit, for the page (`contact_force_<side>` by
 /// prefix); `None` for any other column. Units per unit depth of the 2-D model where it is a
 /// body (contact), and of the film's plane where it is a film; F force, L length, T time.

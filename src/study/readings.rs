@@ -14,6 +14,10 @@ pub struct AlternativeReading {
     /// Whether the reading changes only the cavitation model, so that it applies only to a run
     /// whose cavitation model was in use ([`AlternativeReading::applies_to`]).
     pub needs_cavitation: bool,
+    /// Whether the experiment file asks for this run itself (SubStokes `compare_with`), so that
+    /// it runs whatever `[study] alternatives` says; the thesis's readings run only where that
+    /// is on ([`crate::experiment::Study::readings`]).
+    pub asked: bool,
 }
 
 impl AlternativeReading {

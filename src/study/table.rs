@@ -18,7 +18,9 @@ pub struct TableOptions {
     /// The memory a run may use; a run predicted to need more is refused before its first solve.
     pub budget: Budget,
     /// Whether the alternative readings and the cost study run beside the table as written
-    /// (`report --no-alternatives` runs neither: the table alone, once).
+    /// (`report --no-alternatives` runs neither: the table alone, once). The thesis's readings
+    /// run only where the experiment wants them ([`crate::experiment::Study::readings`]: the
+    /// thesis's experiments, and a scene of one's own with `[study] alternatives = true`).
     pub alternatives: bool,
     /// Which printed meshes go into the VTU files ([`crate::experiment::Study::vtu`]): the
     /// alternative readings keep theirs only for [`VtuOutput::All`].
@@ -27,13 +29,17 @@ pub struct TableOptions {
 
 impl TableOptions {
     /// The alternative readings run beside `experiment`, those that may turn out not to apply
-    /// included ([`AlternativeReading::applies_to`]).
+    /// included ([`AlternativeReading::applies_to`]): the runs its file asks for itself, and
+    /// the thesis's readings where the experiment wants them
+    /// ([`crate::experiment::Study::readings`]); none with `report --no-alternatives`.
     pub fn readings(&self, experiment: &Experiment) -> Vec<AlternativeReading> {
-        if self.alternatives {
-            alternative_readings(experiment)
-        } else {
-            Vec::new()
+        if !self.alternatives {
+            return Vec::new();
         }
+        alternative_readings(experiment)
+            .into_iter()
+            .filter(|reading| reading.asked || experiment.study.readings)
+            .collect()
     }
 
     /// The solves of a table, its readings' included, for progress bars: those of one run times

@@ -53,9 +53,20 @@ struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
 
-    /// Only these tables, comma-separated (e.g. `--only IV.1,IV.3`).
+    /// Only these tables, comma-separated (e.g. `--only IV.1,IV.3`); a swept file's id runs all
+    /// its runs, a run's id (`step-bearing~-10`) that run alone.
     #[arg(long, value_delimiter = ',', value_name = "TABLES")]
     only: Option<Vec<String>>,
+
+    /// Sweep a field of every selected experiment (scenes of your own): each value is a run of
+    /// its own, and the page compares the runs. FIELD is a dotted path of the file
+    /// (`scene.reynolds.upper_wall_velocity`, `scene.reynolds.gap.g_out`); the values are TOML —
+    /// numbers, arrays, quoted strings or bare words — split at the commas outside brackets, so
+    /// `--set scene.reynolds.upper_wall_velocity=[-10,0,0],[-20,0,0]` is two runs. Repeat it for
+    /// a second field (at most two; every combination is a run, at most 16). It replaces the
+    /// fields of a file's own `[sweep]`.
+    #[arg(long = "set", value_name = "FIELD=V1,V2,…", value_parser = experiment::parse_set)]
+    set: Vec<experiment::SweepField>,
 
     /// Run the quick (test) tier instead of the full thesis sizes.
     #[arg(long)]
@@ -76,7 +87,8 @@ struct Cli {
     no_progress: bool,
 
     /// Do not run the alternative readings beside the experiments (the cavitation tables are
-    /// otherwise run three times: printed, self-consistent and `reynolds` source R₃c).
+    /// otherwise run three times: printed, self-consistent and `reynolds` source R₃c). A scene
+    /// of your own runs them only when its file sets `[study] alternatives = true`.
     #[arg(long)]
     no_alternatives: bool,
 
@@ -173,6 +185,28 @@ fn parse_budget(text: &str) -> Result<study::Budget, String> {
     })
 }
 
+/// `--set`: at most two fields in all ([`experiment::sweep::MAX_SWEEP_FIELDS`]), each once.
+fn swept_fields(set: &[experiment::SweepField]) -> Result<(), String> {
+    let paths: Vec<&str> = set.iter().map(|f| f.path.as_str()).collect();
+    if paths.len() > experiment::sweep::MAX_SWEEP_FIELDS {
+        return Err(format!(
+            "--set names {} fields ({}); a sweep varies at most {}, every combination of their \
+             values being a run",
+            paths.len(),
+            paths.join(", "),
+            experiment::sweep::MAX_SWEEP_FIELDS
+        ));
+    }
+    if let [a, b] = paths[..] {
+        if a == b {
+            return Err(format!(
+                "--set names {a} twice; give all its values in one --set, comma-separated"
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// Returns Ok(false) when some table failed (the others are still reported).
 fn run(cli: &Cli) -> Result<bool, String> {
     let started = Instant::now();
@@ -189,8 +223,9 @@ fn run(cli: &Cli) -> Result<bool, String> {
     if matches!(&only, Some(v) if v.is_empty()) {
         return Err("--only needs at least one table id, e.g. --only IV.1,IV.3".into());
     }
-    let loaded =
-        experiment::load_each(&cli.experiments, only.as_deref()).map_err(|e| e.to_string())?;
+    swept_fields(&cli.set)?;
+    let loaded = experiment::load_each_swept(&cli.experiments, only.as_deref(), &cli.set)
+        .map_err(|e| e.to_string())?;
     if loaded.is_empty() {
         return Err(format!(
             "no experiment files (*.toml) in {}",

@@ -8,14 +8,68 @@ pub(super) const LAST_FIGURE: u32 = 143;
 /// Figures of Chapter III (the Uzawa comparison is Fig. III.6).
 pub(super) const LAST_FIGURE_III: u32 = 6;
 
+/// Sort key of a file stem or the id of a run of a sweep ([`table_order`]).
+#[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub struct TableOrder {
+    number: u32,
+    file: String,
+    run: Vec<RunValue>,
+}
+
+/// A value in a run's id, `-10` of `step-bearing~-10`: numbers sort by value, before words.
+#[derive(Clone, Debug)]
+enum RunValue {
+    Number(f64),
+    Word(String),
+}
+
+impl Ord for RunValue {
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        use RunValue::*;
+        match (self, other) {
+            (Number(a), Number(b)) => a.total_cmp(b),
+            (Number(_), Word(_)) => std::cmp::Ordering::Less,
+            (Word(_), Number(_)) => std::cmp::Ordering::Greater,
+            (Word(a), Word(b)) => a.cmp(b),
+        }
+    }
+}
+
+impl PartialOrd for RunValue {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl PartialEq for RunValue {
+    fn eq(&self, other: &Self) -> bool {
+        self.cmp(other) == std::cmp::Ordering::Equal
+    }
+}
+
+impl Eq for RunValue {}
+
 /// Sort key of a file stem: tables in numeric order, then figures in numeric order, anything
-/// else after them by name.
-pub fn table_order(stem: &str) -> (u32, String) {
-    let figure = figure_number(stem).map(|n| LAST_TABLE + n);
-    (
-        table_number(stem).or(figure).unwrap_or(u32::MAX),
-        stem.to_owned(),
-    )
+/// else after them by name; the runs of a sweep (`step-bearing~-10`) after their file's name,
+/// by their values (−80 before −10, 0.05 before 0.1).
+pub fn table_order(stem: &str) -> TableOrder {
+    let (file, values) = match stem.split_once('~') {
+        Some((file, values)) => (file, Some(values)),
+        None => (stem, None),
+    };
+    let figure = figure_number(file).map(|n| LAST_TABLE + n);
+    TableOrder {
+        number: table_number(file).or(figure).unwrap_or(u32::MAX),
+        file: file.to_owned(),
+        run: values
+            .into_iter()
+            .flat_map(|v| v.split('~'))
+            .map(|v| {
+                v.parse()
+                    .map_or_else(|_| RunValue::Word(v.to_owned()), RunValue::Number)
+            })
+            .collect(),
+    }
 }
 
 /// `fig-III.<n>` with 1 ≤ n ≤ 6 (the figures of Chapter III) → n, or `fig-IV.<n>` with 1 ≤ n ≤

@@ -252,8 +252,30 @@ impl Check<'_> {
             signorini_comparison: true,
             true_error: true,
             vtu: crate::results::VtuOutput::Last,
+            // The loader decides, once it knows whether the file is the thesis's.
+            readings: false,
             plan,
         })
+    }
+
+    /// `[study] alternatives = true` where the family has a reading of the thesis to run
+    /// beside the scene (else the field would be accepted and do nothing).
+    pub(super) fn has_readings(&self, experiment: &crate::experiment::Experiment) -> Checked {
+        let thesis_readings = crate::study::alternative_readings(experiment)
+            .iter()
+            .filter(|reading| !reading.asked)
+            .count();
+        self.ensure(
+            thesis_readings > 0,
+            "study.alternatives",
+            "a scene with an alternative reading of the thesis (a Reynolds film with cavitation \
+             and the printed source R₃c: two readings of R₃c; model-adaptive contact: the model \
+             error at the z-solution); remove the field",
+            format!(
+                "`true` in a {} scene without one",
+                experiment.family.facts().id
+            ),
+        )
     }
 
     /// A solver study (Fig. III.6): the Uzawa test problem and none of the adaptive fields.

@@ -69,14 +69,6 @@ impl Group<'_> {
     }
 }
 
-/// The id of an entry (`IV.36`, `fig-IV.54`, an own scene's id).
-pub(super) fn entry_id<'a>(entry: &'a Entry) -> &'a str {
-    match entry {
-        Entry::Done(s) => &s.run.table,
-        Entry::Failed(f) => &f.table,
-    }
-}
-
 /// The entries grouped by page: the families in the order of Chapter IV (`families.toml`),
 /// then the entries of no family; a group only where the run has an entry.
 pub(super) fn groups<'a>(entries: &'a [Entry<'a>]) -> Vec<Group<'a>> {
@@ -96,7 +88,7 @@ pub(super) fn groups<'a>(entries: &'a [Entry<'a>]) -> Vec<Group<'a>> {
         entries: Vec::new(),
     });
     for (i, entry) in entries.iter().enumerate() {
-        let at = families::family_of(entry_id(entry))
+        let at = families::family_of(entry.table())
             .and_then(|f| {
                 groups
                     .iter()
@@ -112,7 +104,12 @@ pub(super) fn groups<'a>(entries: &'a [Entry<'a>]) -> Vec<Group<'a>> {
 
 /// Every page of the report: the front page first, then one per group, then the errata (when
 /// a table of the run has one); `figures` has one element per entry.
-pub(crate) fn pages(entries: &[Entry], figures: &[SectionFigures], meta: &ReportMeta) -> Vec<Page> {
+pub(crate) fn pages(
+    entries: &[Entry],
+    figures: &[SectionFigures],
+    compared: &[(ComparedRuns, SectionFigures)],
+    meta: &ReportMeta,
+) -> Vec<Page> {
     let groups = groups(entries);
     let mut pages = vec![Page {
         file: FRONT_PAGE.to_string(),
@@ -121,7 +118,7 @@ pub(crate) fn pages(entries: &[Entry], figures: &[SectionFigures], meta: &Report
     for group in &groups {
         pages.push(Page {
             file: group.file.clone(),
-            html: group_page(entries, &groups, group, figures, meta),
+            html: group_page(entries, &groups, group, figures, compared, meta),
         });
     }
     if !errata_on_page(entries).is_empty() {
@@ -177,12 +174,14 @@ fn front_page(entries: &[Entry], groups: &[Group], meta: &ReportMeta) -> String 
     h
 }
 
-/// The page of one group of `groups`: its model box, its tables in detail, and a folded section per table.
+/// The page of one group of `groups`: its model box, its tables in detail, and a folded section
+/// per table, each comparison of runs before the first entry it compares.
 fn group_page(
     entries: &[Entry],
     groups: &[Group],
     group: &Group,
     figures: &[SectionFigures],
+    compared: &[(ComparedRuns, SectionFigures)],
     meta: &ReportMeta,
 ) -> String {
     let mut h = head(&format!("{} ({})", group.name(), meta.tier));
@@ -196,6 +195,9 @@ fn group_page(
     family_effectivity(&mut h, &group.entries);
     substokes_row_zero(&mut h, &group.entries);
     for &i in &group.members {
+        for (c, figs) in compared.iter().filter(|(c, _)| c.first == i) {
+            compare::comparison_section(&mut h, c, figs);
+        }
         let entry = &entries[i];
         fold_open(&mut h, entry);
         match entry {

@@ -174,7 +174,7 @@ fn family_rows<'a>(
     let members: Vec<&'a Entry> = group.map_or_else(Vec::new, |g| g.entries.clone());
     let mut absent: Vec<&str> = Vec::new();
     for t in tables {
-        match members.iter().find(|e| pages::entry_id(e) == t) {
+        match members.iter().find(|e| e.table() == t) {
             Some(e) => {
                 absent_compact_row(h, &absent);
                 absent.clear();
@@ -201,7 +201,7 @@ fn family_rows<'a>(
     // The entries its list does not name: all of a group without a list (the own scenes).
     for e in members
         .iter()
-        .filter(|e| !tables.iter().any(|t| t == pages::entry_id(e)))
+        .filter(|e| !tables.iter().any(|t| t == e.table()))
     {
         compact_entry(h, e, thesis_run, ranked);
     }
