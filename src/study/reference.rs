@@ -347,30 +347,41 @@ pub fn against_refined_solve<P: Problem + ?Sized>(
         dofs: &dofs,
         u: &u,
     };
-    let mut d = Vec::with_capacity(kept.len());
-    for k in kept {
-        let field = VertexField {
-            mesh: &k.disc.mesh,
-            dofs: &k.dofs,
-            u: &k.u,
-        };
-        match problem.solve_distance(&disc.mesh, reference, field) {
-            Some(dk) => d.push(dk),
-            None => {
-                return Ok(Err(format!(
+    Ok(reference_errors(kept, dofs.n_dofs(), seconds, |field| {
+        problem.solve_distance(&disc.mesh, reference, field)
+    }))
+}
+
+/// The errors of the kept solves against a reference solve of `dofs` unknowns that took
+/// `seconds`: d_k = `distance` of each kept field to the reference, extrapolated
+/// ([`extrapolated_errors`]); or the reason, naming the cycle, where a distance cannot be
+/// taken.
+pub fn reference_errors(
+    kept: &[KeptSolve],
+    dofs: usize,
+    seconds: f64,
+    distance: impl Fn(VertexField) -> Option<f64>,
+) -> Result<ReferenceErrors, String> {
+    let d = kept
+        .iter()
+        .map(|k| {
+            distance(VertexField {
+                mesh: &k.disc.mesh,
+                dofs: &k.dofs,
+                u: &k.u,
+            })
+            .ok_or_else(|| {
+                format!(
                     "a cell of the reference mesh lies in no cell of the mesh of cycle {}",
                     k.cycle
-                )))
-            }
-        }
-    }
-    Ok(Ok(ReferenceErrors {
+                )
+            })
+        })
+        .collect::<Result<Vec<f64>, String>>()?;
+    Ok(ReferenceErrors {
         errors: extrapolated_errors(&d),
-        measure: ErrorMeasure::Reference {
-            dofs: dofs.n_dofs(),
-            seconds,
-        },
-    }))
+        measure: ErrorMeasure::Reference { dofs, seconds },
+    })
 }
 
 /// The models of `mesh` (finer than a kept mesh, e.g. its refinement) when `models` were those

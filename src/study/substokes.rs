@@ -43,7 +43,7 @@ use crate::models::substokes_uzawa::{
     default_options, solve_cavitation_uzawa, solve_uzawa, CavitationUzawaOptions, UzawaStats,
 };
 use crate::models::thin_film::ThinFilm;
-use crate::results::{columns, ErrorMeasure, FieldPicture};
+use crate::results::{columns, FieldPicture};
 
 /// The Uzawa options of `solver = "uzawa"`: CG-SSOR (III.92) with the safeguarded step of
 /// [`crate::models::substokes_uzawa`] to 1e-12 of ‖(f, g)‖, the inner A-solves by one sparse
@@ -426,31 +426,12 @@ impl Problem for SubStokesFilm {
             dofs: &dofs,
             u: &u,
         };
-        let weights = NORM_WEIGHTS;
-        let mut d = Vec::with_capacity(kept.len());
-        for k in kept {
-            let field = reference::VertexField {
-                mesh: &k.disc.mesh,
-                dofs: &k.dofs,
-                u: &k.u,
-            };
-            match reference::distance(reference, field, &weights) {
-                Some(dk) => d.push(dk),
-                None => {
-                    return Ok(Err(format!(
-                        "a cell of the reference mesh lies in no cell of the mesh of cycle {}",
-                        k.cycle
-                    )))
-                }
-            }
-        }
-        Ok(Ok(ReferenceErrors {
-            errors: reference::extrapolated_errors(&d),
-            measure: ErrorMeasure::Reference {
-                dofs: dofs.n_dofs(),
-                seconds,
-            },
-        }))
+        Ok(reference::reference_errors(
+            kept,
+            dofs.n_dofs(),
+            seconds,
+            |field| reference::distance(reference, field, &NORM_WEIGHTS),
+        ))
     }
 
     fn cavitation_ran(&self) -> Option<bool> {
