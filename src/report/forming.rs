@@ -6,7 +6,8 @@
 //! - `<stem>-animation.svg`: the same frames in one self-contained SVG, cycled by SMIL (it runs
 //!   inside an `<img>`, with no script and no reference to another file);
 //! - `<stem>-steps.svg`: what changes from step to step — the tip's position, the split of the
-//!   contact faces into z and Signorini, the penetration and the model error.
+//!   contact faces into z and Signorini, the penetration and the model error, and the punch and
+//!   die forces against the stroke.
 //!
 //! The frames and the animation draw each body with [`deformed::deformed_drawing`], the code of
 //! every other deformed-body picture.
@@ -196,11 +197,17 @@ const Z_FACES: RGBColor = RGBColor(150, 150, 150);
 const S_FACES: RGBColor = RGBColor(0, 0, 0);
 const PENETRATION: RGBColor = RGBColor(255, 127, 14);
 const MODEL_ERROR: RGBColor = plots::TRIBO_ME;
+const PUNCH: RGBColor = RGBColor(140, 86, 75);
+const DIE: RGBColor = RGBColor(148, 103, 189);
 
 /// The per-step chart of a load-step run (thesis §IV.2.4.7, Fig. IV.54 shows only the bodies):
 /// against the load step, the tip's position (`tip_x`, `tip_y`), the contact faces on the z- and
-/// the Signorini model (`z_faces`, `s_faces`), and on a log axis the penetration and the model
-/// error (values ≤ 0 or undefined are not drawn, so a step without penetration leaves a gap).
+/// the Signorini model (`z_faces`, `s_faces`), on a log axis the penetration and the model
+/// error (values ≤ 0 or undefined are not drawn, so a step without penetration leaves a gap),
+/// and the force–stroke curve: the contact force on the punch (the top side) and on the die
+/// (the bottom side), Σλᵢ of each side's active constraints
+/// ([`crate::study::quantities::contact`]), against the step — the stroke, since the rising
+/// tools rise by the same lift in every step.
 pub(super) fn steps(path: &Path, run: &RunResult) -> io::Result<Placed> {
     let curve = |column: &str, color: RGBColor| Curve {
         label: column.to_string(),
@@ -225,6 +232,16 @@ pub(super) fn steps(path: &Path, run: &RunResult) -> io::Result<Placed> {
     for c in &mut errors {
         c.points.retain(|(_, v)| *v > 0.0);
     }
+    let forces = [
+        Curve {
+            label: "punch (top)".to_string(),
+            ..curve("contact_force_top", PUNCH)
+        },
+        Curve {
+            label: "die (bottom)".to_string(),
+            ..curve("contact_force_bottom", DIE)
+        },
+    ];
     // The steps of a run are 0, 1, …, its last.
     let last = run.rows.iter().map(|r| r.cycle).max().unwrap_or(1) as f64;
     let x = -0.5..(last + 0.5);
@@ -234,9 +251,9 @@ pub(super) fn steps(path: &Path, run: &RunResult) -> io::Result<Placed> {
     {
         // Each panel 320 pixels and its legend of two entries.
         let strip = legend::height(&tip.iter().map(Entry::curve).collect::<Vec<_>>(), 760);
-        let root = SVGBackend::with_string(&mut svg, (760, 3 * (320 + strip))).into_drawing_area();
+        let root = SVGBackend::with_string(&mut svg, (760, 4 * (320 + strip))).into_drawing_area();
         root.fill(&WHITE).map_err(plot_err)?;
-        let panels = root.split_evenly((3, 1));
+        let panels = root.split_evenly((4, 1));
         let linear = |curves: &[Curve]| -> RangedCoordf64 {
             linear_range(curves.iter().flat_map(|c| &c.points)).into()
         };
@@ -266,9 +283,17 @@ pub(super) fn steps(path: &Path, run: &RunResult) -> io::Result<Placed> {
             &panels[2],
             "penetration and model error (log; zeros not drawn)",
             "value",
-            (x, log),
+            (x.clone(), log),
             &errors,
             &log_tick,
+        )?);
+        placed.extend(step_panel(
+            &panels[3],
+            "force against the stroke: contact force Σλᵢ on punch and die",
+            "force [F/L]",
+            (x, linear(&forces)),
+            &forces,
+            &|v| fmt_short(*v),
         )?);
         root.present().map_err(plot_err)?;
     }
@@ -393,8 +418,10 @@ impl Figures for Steps {
             format!(
                 "{}: per load step, the position of the tip (the lower right corner of the \
                  undeformed body), the contact faces on the z-model and on the Signorini \
-                 model, and the penetration and model error (log axis; steps where they are 0 \
-                 are not drawn); the thesis draws only the bodies{}",
+                 model, the penetration and model error (log axis; steps where they are 0 are \
+                 not drawn), and the force–stroke curve: the contact force on the punch and on \
+                 the die against the step (the tools rise by the same lift in every step); the \
+                 thesis draws only the bodies{}",
                 run.table,
                 cf(&at.cited().solution)
             ),

@@ -325,6 +325,8 @@ fn legends_cover_no_plotted_point() {
                 .count(columns::S_FACES, j as usize)
                 .real(columns::PENETRATION, Some(1e-4 * (1.0 + j64)))
                 .real(columns::MODEL_ERROR, Some(1e-3 * (1.0 + j64)))
+                .real("contact_force_top", Some(0.01 * j64 * j64))
+                .real("contact_force_bottom", Some(0.012 * j64 * j64))
         })
         .collect();
     let moved = test_run(forming, vec![], [0.0, 16.0, 0.0, 2.0]);
