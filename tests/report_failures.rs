@@ -726,11 +726,11 @@ fn warnings_come_before_the_error_of_a_failed_run() {
 }
 
 /// Table IV.18 with the most contact refinements a file may ask for (12): its fixed mesh is a
-/// 64×2 strip graded to 2 M unknowns at the contact side, whose Cholesky factor has 9.2 G
-/// nonzeros. The budget predicted 6.9 GiB from the cells, the run started, and the factor's
-/// 74 GB allocation aborted the whole process (SIGABRT, no page, every other table lost). Now
-/// the budget predicts the fill and refuses the table before its first solve, naming table,
-/// cycle and size, and IV.1 beside it is reported as usual.
+/// 64×2 strip graded to 2 M unknowns at the contact side. Once its Cholesky factor, ordered
+/// badly, asked for 74 GB in one allocation and aborted the whole process (SIGABRT, no page,
+/// every other table lost). The budget predicts the 5.9 GiB of its cells (the factor now has
+/// 54.6 M nonzeros) and refuses it under a budget of 4 GiB before its first solve, naming
+/// table, cycle and size, and IV.1 beside it is reported as usual.
 #[test]
 fn the_largest_contact_refinement_is_refused_and_the_other_tables_run() {
     let dir = temp_dir("contact-refinements-12");
@@ -742,8 +742,7 @@ fn the_largest_contact_refinement_is_refused_and_the_other_tables_run() {
     assert_ne!(text, refined, "the fixture must set 12 contact refinements");
     fs::write(exp.join("IV.18.toml"), refined).unwrap();
     let out = dir.join("out");
-    // Above the 6.9 GiB the cells alone predicted: without the fill the run would start.
-    let result = run_report(&exp, &out, &["--memory-budget", "8G"], &[]);
+    let result = run_report(&exp, &out, &["--memory-budget", "4G"], &[]);
     let stderr = String::from_utf8_lossy(&result.stderr);
     assert_eq!(result.status.code(), Some(1), "{stderr}");
     assert!(!stderr.contains("memory allocation"), "{stderr}");
@@ -756,7 +755,7 @@ fn the_largest_contact_refinement_is_refused_and_the_other_tables_run() {
         "cycle 0",
         "predicted to need",
         "GiB",
-        "memory budget of 8.0 GiB",
+        "memory budget of 4.0 GiB",
         "scene.contact_refinements",
     ] {
         assert!(refused.contains(part), "no `{part}` in:\n{refused}");

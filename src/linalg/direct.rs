@@ -12,9 +12,9 @@
 //!
 //! **Memory.** The factor is by far the largest array of a solve, and its size is known from the
 //! symbolic factorisation before anything of it is allocated: the nonzeros of L
-//! ([`SymbolicCholesky::len_val`]). On a strip refined at one side the fill grows much faster
-//! than the cells (a 64×2 strip refined 12 times at its contact side asked for 74 GB in one
-//! allocation), so the prediction of a run from its cells cannot see it. Each solve therefore
+//! ([`SymbolicCholesky::len_val`]). The fill depends on the mesh and the ordering, which the
+//! prediction of a run from its cells cannot see (with an earlier ordering a 64×2 strip refined
+//! 12 times at its contact side asked for 74 GB in one allocation). Each solve therefore
 //! checks the factor, its work arrays and the copy of the matrix against the memory limit of the
 //! running study ([`limit_memory`]) before allocating them, and refuses with
 //! [`SolveError::OverBudget`]; the arrays are then reserved fallibly, so that a failed
@@ -28,8 +28,10 @@ use faer::linalg::cholesky::ldlt::factor::{LdltError, LdltRegularization};
 use faer::linalg::cholesky::llt::factor::LltError;
 use faer::perm::PermRef;
 use faer::sparse::linalg::cholesky::{
-    factorize_symbolic_cholesky, LltRef, SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering,
+    factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky,
+    SymbolicCholeskyRaw, SymmetricOrdering,
 };
+use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Side};
 
@@ -657,6 +659,14 @@ impl CholeskyFactor {
 
 /// faer's symbolic Cholesky factorisation of the pattern of `matrix` in `ordering`, with the
 /// pattern's row indices as faer reads them.
+///
+/// faer picks its simplicial factorisation when the flops per nonzero of L stay below 40, its
+/// supernodal one (dense blocks, BLAS-3 kernels) above. The 2-D meshes here sit near that line,
+/// and supernodal was as fast or faster wherever both ran: Table IV.16 alone
+/// (`--no-alternatives`), two interleaved pairs, 5.5 and 6.0 s of solve phases against 6.7 and
+/// 6.2 s, IV.35 4.8 and 4.6 s against 5.4 and 5.2 s (with the ordering of an earlier version,
+/// whose fill was larger, 5.4–5.7 s against 7.5–8.4 s on IV.16); the same meshes and active
+/// sets, values within 1e-10 relative. Every factorisation is therefore supernodal.
 fn symbolic_factorisation(
     matrix: &Csc<'_>,
     ordering: &Ordering,
@@ -667,7 +677,10 @@ fn symbolic_factorisation(
         widened.symbolic(matrix),
         Side::Lower,
         SymmetricOrdering::Custom(perm),
-        Default::default(),
+        CholeskySymbolicParams {
+            supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
+            ..Default::default()
+        },
     )
     .map_err(|e| SolveError::Symbolic(format!("{e:?}")))?;
     Ok((symbolic, widened))
@@ -762,6 +775,39 @@ mod tests {
         m[3][4] = -0.1 * c;
         m[4][3] = -0.1 * c;
         m
+    }
+
+    /// The fill of the nested-dissection ordering on a 64×2 strip refined 8 times at its
+    /// bottom side, as the contact strips of the model-adaptive tables are (IV.18): the nonzeros
+    /// of L stay within 6·n·log₂ n for the n unknowns (the two components of elasticity). Cut
+    /// along the longer side of each subset alone, the cuts ran through the fine layer and L
+    /// had 0.0026·n², some 20 times more at this size (module `ordering`).
+    #[test]
+    fn a_strip_refined_at_one_side_fills_in_like_a_quasi_uniform_mesh() {
+        use crate::fe::System;
+        use crate::mesh::Mesh;
+        let mut mesh = Mesh::new([0.0, 64.0], [0.0, 2.0], 64, 2);
+        for _ in 0..8 {
+            let bottom: Vec<bool> = mesh
+                .active()
+                .iter()
+                .map(|&c| mesh.cell_box(c)[1] == 0.0)
+                .collect();
+            let none = vec![false; bottom.len()];
+            mesh.refine_and_coarsen(&bottom, &none).unwrap();
+        }
+        let mut system = System::new(&mesh, 2);
+        system.assemble(mesh.n_active(), |_, ke, _| ke.fill(1.0));
+        let matrix = system.matrix();
+        let n = matrix.n() as f64;
+        let (symbolic, _) = symbolic_factorisation(&matrix, &system.ordering()).unwrap();
+        let bound = 6.0 * n * n.log2();
+        assert!(n > 50_000.0, "{n} unknowns");
+        assert!(
+            (symbolic.len_val() as f64) < bound,
+            "{} nonzeros in L for {n} unknowns, bound {bound:.3e}",
+            symbolic.len_val()
+        );
     }
 
     #[test]

@@ -9,14 +9,14 @@
 //! [`BYTES_PER_CELL_MULTIGRID`]·c²·N with multigrid. The constants are measured: peak RSS over
 //! the last active cells of the full tier, 288 MB / 42 566 cells for IV.13 (c = 2, 6.8 kB per
 //! cell, the fixed part of the process included), rounded up; Table IV.67 (c = 1) took
-//! 1.13 GB / 672 064 cells with the direct solver. On a strip refined at one side
-//! (`scene.contact_refinements`) the Cholesky factor fills in far more than the cells say:
-//! its nonzeros are [`SIDE_FILL`]·n² for n unknowns (the ordering cuts the graded layers along
-//! the strip), 9.2 G nonzeros — 74 GB — for the 786 368 cells of IV.18's 64×2 strip refined
-//! 12 times, where the cells alone predicted 6.9 GiB. The model adds those 8·[`SIDE_FILL`]·n²
-//! bytes, and the direct solver checks the factor itself, known from the symbolic
-//! factorisation, before allocating it ([`crate::linalg::direct::limit_memory`]), as multigrid
-//! checks its levels: what the model misses is still refused, naming the cycle.
+//! 1.13 GB / 672 064 cells with the direct solver. A strip refined at one side
+//! (`scene.contact_refinements`) fills its Cholesky factor in like any mesh of its cells: some 26
+//! nonzeros per unknown, 54.6 M for the 786 368 cells of IV.18's 64×2 strip refined 12 times
+//! (an earlier ordering cut the graded layers along the strip, 9.2 G nonzeros there, and the
+//! model had a term for it, [`crate::linalg::ordering`]). The direct solver still checks the
+//! factor itself, known from the symbolic factorisation, before allocating it
+//! ([`crate::linalg::direct::limit_memory`]), as multigrid checks its levels: what the model
+//! misses is still refused, naming the cycle.
 //!
 //! Predicted (the table's model plus 30 MB of the process: code, threads, loaded files — the
 //! RSS of the smallest runs) against the peak RSS measured by `/usr/bin/time -v` on single
@@ -29,11 +29,8 @@
 //! | IV.30 model and grid | 42 950 | 385 | 249 | 1.54 |
 //! | fig-IV.54 load steps | — | 37 | 40 | 0.93 |
 //! | IV.18 model-adaptive contact, 3 contact refinements | 1 472 | 42 | 34 | 1.25 |
-//! | IV.18 with 5 | 6 080 | 83 | 54 | 1.54 |
-//! | IV.18 with 8 | 49 088 | 718 | 557 | 1.29 |
-//! | IV.18 with 9 | 98 240 | 1 998 | 1 730 | 1.16 |
-//! | IV.18 with 10 | 196 544 | 6 333 | refused at 4G before the first solve | |
-//! | IV.18 with 12 | 786 368 | 82 055 | refused before the first solve | |
+//! | IV.18 with 8 | 49 088 | 423 | 218 | 1.94 |
+//! | IV.18 with 9 | 98 240 | 816 | 391 | 2.09 |
 //! | IV.36 Reynolds (multigrid) | 687 664 | 771 | 679 | 1.14 |
 //! | IV.50 SubStokes | 11 227 | 169 | 128 | 1.32 |
 //! | fig-IV.116 model-adaptive film | 7 252 | 103 | 58 | 1.77 |
@@ -57,15 +54,6 @@ pub const BYTES_PER_CELL: f64 = 2000.0;
 /// Bytes per active cell and squared component with the multigrid solver, measured: 663 MB peak
 /// for the 687 664 cells of Table IV.36 (c = 1), rounded up.
 pub const BYTES_PER_CELL_MULTIGRID: f64 = 1000.0;
-
-/// Vertices per active cell of a strip refined at one side: 1990 / 1472 with 3 refinements
-/// (counted), 1 048 527 vertices for the 786 368 predicted cells with 12 (64×2 strip).
-const VERTICES_PER_CELL: f64 = 1.35;
-
-/// Nonzeros of the Cholesky factor per squared unknown on a strip refined at one side, from
-/// the symbolic factorisation of the 64×2 strip of Table IV.18 (module docs): 0.0021 with 12
-/// refinements, 0.0022 with 10, 0.0026 with 8 (and 0.0048 with 5, where the cells dominate).
-pub const SIDE_FILL: f64 = 0.0021;
 
 /// Growth of the cells per cycle by the 2:1 closure of the marking, measured: the shipped
 /// tables reach 1.09–1.16 times 1 + 3θ_r − ¾θ_c to the power of their cycles (5 to 9).
@@ -307,21 +295,14 @@ fn initial_cells(experiment: &Experiment) -> f64 {
 
 /// Predicted bytes of a cycle of `experiment` with `cells` active cells (module docs): the
 /// cells' share, growing as c² up to the two components of elasticity and linearly beyond
-/// (the SubStokes tables, c = 3, measured 8.4 kB per cell, not 9/4 of elasticity's 6.1 kB),
-/// and on a strip refined at a side the fill of its Cholesky factor.
+/// (the SubStokes tables, c = 3, measured 8.4 kB per cell, not 9/4 of elasticity's 6.1 kB).
 fn memory(experiment: &Experiment, cells: f64) -> f64 {
     let c = components(experiment) as f64;
     let per_cell = match super::solver_of(experiment) {
         crate::linalg::SolverKind::Direct => BYTES_PER_CELL,
         crate::linalg::SolverKind::Multigrid => BYTES_PER_CELL_MULTIGRID,
     };
-    let fill = if experiment.scene.side_refinements > 0 {
-        let unknowns = VERTICES_PER_CELL * c * cells;
-        std::mem::size_of::<f64>() as f64 * SIDE_FILL * unknowns * unknowns
-    } else {
-        0.0
-    };
-    per_cell * c * c.min(2.0) * cells + fill
+    per_cell * c * c.min(2.0) * cells
 }
 
 /// A predicted number of cells: an integer below ten million, with an exponent above.
