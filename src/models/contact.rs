@@ -30,7 +30,9 @@ use crate::linalg::active_set::{
     primal_dual_active_set, ActiveSetOptions, Bound, Bounds, NodalBounds, Rotation, Sense,
     ViolationTolerance,
 };
-use crate::linalg::multigrid::obstacle::{truncated_nonsmooth_newton_multigrid, TnnmgOptions};
+use crate::linalg::multigrid::obstacle::{
+    truncated_nonsmooth_newton_multigrid, TnnmgOptions, TnnmgWork,
+};
 use crate::linalg::multigrid::VertexHierarchy;
 use crate::mesh::{BoundaryFace, Side};
 use crate::models::obstacle::{ContactSide, Shape};
@@ -315,13 +317,13 @@ pub fn contact_bounds(
 /// The problem of [`solve_contact`] solved by the truncated nonsmooth Newton multigrid method
 /// ([`truncated_nonsmooth_newton_multigrid`]) on the level hierarchy of the mesh instead of the
 /// primal–dual active-set method; `iterations` of the solution counts TNNMG iterations, and the
-/// CG iterations of its final linear solve are returned beside it.
+/// rest of its work is returned beside it.
 pub fn solve_contact_tnnmg(
     system: &System,
     hierarchy: &VertexHierarchy,
     constraints: &[ContactConstraint],
     options: &TnnmgOptions,
-) -> Result<(ContactSolution, usize), ModelError> {
+) -> Result<(ContactSolution, TnnmgWork), ModelError> {
     let (rotation, bounds) = contact_bounds(system, constraints);
     let eliminated = system.constraints.eliminated();
     let problem = NodalBounds {
@@ -345,7 +347,7 @@ pub fn solve_contact_tnnmg(
             gaps: solution.slack,
             iterations: solution.iterations,
         },
-        solved.cg_iterations,
+        solved.work,
     ))
 }
 

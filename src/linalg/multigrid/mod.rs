@@ -66,7 +66,8 @@
 //! those of the unrotated problem. Without it the component-wise prolongation mixes normal and
 //! tangential components; the contact tables took 100–500 CG iterations, with it 16–102 (IV.14,
 //! growing with the mesh), so the contact tables keep the direct solver
-//! ([`crate::study::solver_of`]).
+//! ([`crate::study::solver_of`]); their `multigrid` is the truncated nonsmooth Newton multigrid
+//! method of [`obstacle`], which solves the contact problem itself on these levels.
 //!
 //! **Stopping.** Iterate until ‖b − Ax‖₂ ≤ `relative`·‖b‖₂ on the free dofs (default
 //! [`RELATIVE_TOLERANCE`] = 1e-13). The algebraic error then lies many orders below the
