@@ -490,8 +490,8 @@ pub fn truncated_nonsmooth_newton_multigrid(
                     },
                 });
             }
-            for i in 0..nb {
-                x[i] = block.project(i, x[i]);
+            for (i, x) in x.iter_mut().enumerate() {
+                *x = block.project(i, *x);
             }
             previous = None;
         }
@@ -561,9 +561,8 @@ fn nested_start(
         loads.push(coarse);
     }
     loads.reverse();
-    for k in 0..top {
-        let at = &block_of[k];
-        if cycle.levels[k].a.n_rows() != at.len() || at.iter().any(|&i| i == usize::MAX) {
+    for (level, at) in cycle.levels.iter().zip(&block_of) {
+        if level.a.n_rows() != at.len() || at.contains(&usize::MAX) {
             return zero();
         }
     }
