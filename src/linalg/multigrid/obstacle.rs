@@ -528,7 +528,13 @@ fn nested_start(
     let nb = block.b.len();
     let zero = || (0..nb).map(|i| block.project(i, 0.0)).collect();
     let top = cycle.levels.len() - 1;
-    if top == 0 || hierarchy.transfers.len() != top {
+    if top == 0 {
+        // A mesh of one level: the coarsest problem is the finest, in double precision.
+        let a = block.a;
+        return coarsest_solution(a.rows(), a.vals.clone(), block)
+            .map_or_else(zero, |x| (0..nb).map(|i| block.project(i, x[i])).collect());
+    }
+    if hierarchy.transfers.len() != top {
         return zero();
     }
     // For each level, coarsest first, the finest block dof at the position of each of its
@@ -580,41 +586,10 @@ fn nested_start(
     let coarsest = level_block(0);
     let a = coarsest.a;
     let values: Vec<f64> = a.vals.iter().map(|&v| f64::from(v)).collect();
-    let diag = a.diagonal_positions();
-    let matrix = Csc {
-        col_ptr: &a.row_ptr,
-        row_idx: &a.cols,
-        diag: &diag,
-        values: &values,
-    };
-    let mut bounds = Vec::new();
-    for j in 0..coarsest.b.len() {
-        if coarsest.upper[j].is_finite() {
-            bounds.push(Bound::new(j, Sense::Upper, coarsest.upper[j]));
-        }
-        if coarsest.lower[j].is_finite() {
-            bounds.push(Bound::new(j, Sense::Lower, coarsest.lower[j]));
-        }
-    }
-    let problem = NodalBounds {
-        matrix,
-        rhs: &coarsest.b,
-        bounds: Bounds::Listed(&bounds),
-        rotation: None,
-        eliminated: &[],
-        negated_rows: false,
-    };
-    let options = ActiveSetOptions {
-        max_iterations: 100,
-        multiplier_tolerance: 0.0,
-        violation: ViolationTolerance::PerBound(1e-13),
-    };
-    let Ok(coarse) =
-        primal_dual_active_set(&problem, &mut DirectSolver::cholesky(), None, &options)
-    else {
+    let Some(coarse) = coarsest_solution(a.rows(), values, &coarsest) else {
         return zero();
     };
-    let mut z = coarse.x;
+    let mut z = coarse;
     for k in 1..=top {
         let Some((p, _)) = &cycle.levels[k].p else {
             return zero();
@@ -664,6 +639,54 @@ fn nested_start(
         .enumerate()
         .map(|(i, &v)| block.project(i, v))
         .collect()
+}
+
+/// The obstacle problem of `level` (its matrix the `rows` with the `values` in double
+/// precision) solved by the primal–dual active-set method with the direct solver (`None` if
+/// that fails).
+fn coarsest_solution<T: Copy + Into<f64> + Send + Sync>(
+    rows: super::sparse::Rows<'_, T>,
+    values: Vec<f64>,
+    level: &Block<'_, T>,
+) -> Option<Vec<f64>> {
+    let n = level.b.len();
+    let diag: Vec<usize> = (0..n)
+        .map(|i| {
+            let (c, _) = rows.row(i);
+            rows.row_ptr[i] + c.partition_point(|&j| (j as usize) < i)
+        })
+        .collect();
+    let matrix = Csc {
+        col_ptr: rows.row_ptr,
+        row_idx: rows.cols,
+        diag: &diag,
+        values: &values,
+    };
+    let mut bounds = Vec::new();
+    for j in 0..n {
+        if level.upper[j].is_finite() {
+            bounds.push(Bound::new(j, Sense::Upper, level.upper[j]));
+        }
+        if level.lower[j].is_finite() {
+            bounds.push(Bound::new(j, Sense::Lower, level.lower[j]));
+        }
+    }
+    let problem = NodalBounds {
+        matrix,
+        rhs: &level.b,
+        bounds: Bounds::Listed(&bounds),
+        rotation: None,
+        eliminated: &[],
+        negated_rows: false,
+    };
+    let options = ActiveSetOptions {
+        max_iterations: 100,
+        multiplier_tolerance: 0.0,
+        violation: ViolationTolerance::PerBound(1e-13),
+    };
+    primal_dual_active_set(&problem, &mut DirectSolver::cholesky(), None, &options)
+        .ok()
+        .map(|s| s.x)
 }
 
 /// Most iterations of steps 1–4 on each level between the coarsest and the finest in the
