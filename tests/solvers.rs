@@ -80,7 +80,8 @@ fn multigrid_reproduces_the_direct_solver() {
 
 /// `[study] solver` must name a solver; the error names the file and the field.
 /// Without `[study] solver`, the Reynolds tables use multigrid and the elasticity tables the
-/// direct solver (faster at their size); contact ignores the choice (direct always).
+/// direct solver (faster at their size); contact tables with multigrid are solved by TNNMG,
+/// which has no CG column.
 #[test]
 fn each_family_gets_its_faster_solver_by_default() {
     let cg_column = |table: &str, solver: Option<SolverKind>| {

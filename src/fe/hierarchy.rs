@@ -171,7 +171,7 @@ fn prolongation(mesh: &Mesh, level: u8, coarse: &Vertices, fine: &Vertices) -> T
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::fe::cell_values::CellValues;
     use crate::fe::quadrature::square_rule;
@@ -188,7 +188,7 @@ mod tests {
 
     /// A mesh refined towards the corner (0, 0) and along x₂ = x₁ (hanging vertices on many
     /// levels), on a 2 × 1 coarse grid.
-    fn graded_mesh(cycles: usize) -> Mesh {
+    pub(crate) fn graded_mesh(cycles: usize) -> Mesh {
         let mut mesh = Mesh::new([0.0, 2.0], [0.0, 1.0], 2, 1);
         mesh.refine_global().unwrap();
         for _ in 0..cycles {
@@ -210,7 +210,7 @@ mod tests {
 
     /// −Δu + c u = 1 with u = 0 on the left and bottom sides and u = 1 on the right side,
     /// `components` copies of it per vertex.
-    fn assembled(mesh: &Mesh, components: usize, c: f64) -> System {
+    pub(crate) fn assembled(mesh: &Mesh, components: usize, c: f64) -> System {
         let mut system = System::new(mesh, components);
         for component in 0..components {
             system.constraints.fix_side(

@@ -99,6 +99,11 @@ pub enum SolveError {
          {iterations} iterations (the limit)"
     )]
     ActiveSetNotConverged { iterations: usize },
+    #[error(
+        "the truncated nonsmooth Newton multigrid did not converge: the iterate still changed by \
+         a relative {change:.3e} after {iterations} iterations (the limit)"
+    )]
+    ObstacleNotConverged { iterations: usize, change: f64 },
     /// A solver's arrays, predicted before they are allocated, exceed the memory limit
     /// ([`limit_memory`]); boxed, so that every error of a solve stays small.
     #[error("{0}")]

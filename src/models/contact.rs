@@ -30,6 +30,10 @@ use crate::linalg::active_set::{
     primal_dual_active_set, ActiveSetOptions, Bound, Bounds, NodalBounds, Rotation, Sense,
     ViolationTolerance,
 };
+use crate::linalg::multigrid::obstacle::{
+    truncated_nonsmooth_newton_multigrid, TnnmgOptions, TnnmgWork,
+};
+use crate::linalg::multigrid::VertexHierarchy;
 use crate::mesh::{BoundaryFace, Side};
 use crate::models::obstacle::{ContactSide, Shape};
 use crate::models::ModelError;
@@ -265,13 +269,7 @@ pub fn solve_contact(
     constraints: &[ContactConstraint],
     initial: Option<&[bool]>,
 ) -> Result<ContactSolution, ModelError> {
-    let rotation = Rotation {
-        frames: constraints.iter().map(|c| (c.vertex, c.normal)).collect(),
-    };
-    let bounds: Vec<Bound> = constraints
-        .iter()
-        .map(|c| Bound::new(system.dofs.dof(c.vertex, 0), Sense::Upper, c.bound))
-        .collect();
+    let (rotation, bounds) = contact_bounds(system, constraints);
     let eliminated = system.constraints.eliminated();
     let problem = NodalBounds {
         matrix: system.matrix(),
@@ -297,6 +295,60 @@ pub fn solve_contact(
         gaps: solution.slack,
         iterations: solution.iterations,
     })
+}
+
+/// The contact constraints as nodal bounds: the rotation of every constrained vertex into its
+/// normal/tangential frame and the upper bound on its normal component (dof 2v of the rotated
+/// system).
+pub fn contact_bounds(
+    system: &System,
+    constraints: &[ContactConstraint],
+) -> (Rotation, Vec<Bound>) {
+    let rotation = Rotation {
+        frames: constraints.iter().map(|c| (c.vertex, c.normal)).collect(),
+    };
+    let bounds: Vec<Bound> = constraints
+        .iter()
+        .map(|c| Bound::new(system.dofs.dof(c.vertex, 0), Sense::Upper, c.bound))
+        .collect();
+    (rotation, bounds)
+}
+
+/// The problem of [`solve_contact`] solved by the truncated nonsmooth Newton multigrid method
+/// ([`truncated_nonsmooth_newton_multigrid`]) on the level hierarchy of the mesh instead of the
+/// primal–dual active-set method; `iterations` of the solution counts TNNMG iterations, and the
+/// rest of its work is returned beside it.
+pub fn solve_contact_tnnmg(
+    system: &System,
+    hierarchy: &VertexHierarchy,
+    constraints: &[ContactConstraint],
+    options: &TnnmgOptions,
+) -> Result<(ContactSolution, TnnmgWork), ModelError> {
+    let (rotation, bounds) = contact_bounds(system, constraints);
+    let eliminated = system.constraints.eliminated();
+    let problem = NodalBounds {
+        matrix: system.matrix(),
+        rhs: &system.rhs,
+        bounds: Bounds::Listed(&bounds),
+        rotation: Some(&rotation),
+        eliminated: &eliminated,
+        negated_rows: false,
+    };
+    let solved = truncated_nonsmooth_newton_multigrid(&problem, hierarchy, 2, options)
+        .map_err(|e| ModelError::from(e).context("contact"))?;
+    let solution = solved.solution;
+    let mut u = solution.x;
+    system.constraints.distribute(&mut u);
+    Ok((
+        ContactSolution {
+            u,
+            multipliers: solution.multipliers,
+            active: solution.active,
+            gaps: solution.slack,
+            iterations: solution.iterations,
+        },
+        solved.work,
+    ))
 }
 
 /// Largest vertical depth by which the deformed contact boundary x + s (sides' polylines,

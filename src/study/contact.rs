@@ -25,13 +25,15 @@ use super::transfer::PreviousSolution;
 use crate::estimators;
 use crate::estimators::contact::{self as contact_estimator, ContactEstimate, ContactEstimator};
 use crate::experiment::{ContactData, ElasticityData, Rectangle, SignoriniReading};
+use crate::fe::hierarchy::vertex_hierarchy;
 use crate::fe::quadrature;
 use crate::fe::{DofMap, System};
+use crate::linalg::multigrid::obstacle::TnnmgOptions;
 use crate::linalg::DirectSolver;
 use crate::mesh::{BoundaryFace, Mesh, Side};
 use crate::models::contact::{
-    contact_boundaries, contact_set, penetration, solve_contact, ConstraintBuilder,
-    ContactBoundary, ContactConstraint, ContactModel, ContactSolution,
+    contact_boundaries, contact_set, penetration, solve_contact, solve_contact_tnnmg,
+    ConstraintBuilder, ContactBoundary, ContactConstraint, ContactModel, ContactSolution,
 };
 use crate::models::elasticity::Elasticity;
 use crate::models::manufactured::{ContactStrip, ExactDisplacement};
@@ -83,6 +85,12 @@ pub struct ContactProblem {
     pub uses_signorini: bool,
     pub estimator: ContactEstimator,
     solver: DirectSolver,
+    /// Whether the cycle's (linearised) solve is the truncated nonsmooth Newton multigrid
+    /// method on the mesh's level hierarchy ([`solve_contact_tnnmg`], `[study] solver =
+    /// "multigrid"`) instead of the primal–dual active-set method with the direct solver; the
+    /// fixed point of the Signorini comparison keeps the direct solver. Its
+    /// `active_set_iterations` are then the TNNMG iterations.
+    pub multigrid: bool,
     /// The previous cycle's solution: the linearisation point s₀ of the Signorini constraints
     /// and the warm start of the active set.
     previous: Option<PreviousSolution>,
@@ -141,6 +149,7 @@ impl ContactProblem {
             uses_signorini: contact_model == ContactModel::Signorini,
             estimator,
             solver: DirectSolver::cholesky(),
+            multigrid: false,
             previous: None,
             constraints: Vec::new(),
             initial: None,
@@ -417,14 +426,19 @@ impl Problem for ContactProblem {
         system: &mut System,
         _clock: &PhaseClock,
     ) -> Result<Solution, StudyError> {
-        let solved = solve_contact(
-            system,
-            &mut self.solver,
-            &self.constraints,
-            self.initial.as_deref(),
-        )
-        .map_err(StudyError::from)
-        .and_then(|linearised| {
+        let solved = if self.multigrid {
+            let levels = vertex_hierarchy(&disc.mesh, &system.dofs.vertices);
+            solve_contact_tnnmg(system, &levels, &self.constraints, &TnnmgOptions::default())
+                .map(|(solution, _)| solution)
+        } else {
+            solve_contact(
+                system,
+                &mut self.solver,
+                &self.constraints,
+                self.initial.as_deref(),
+            )
+        };
+        let solved = solved.map_err(StudyError::from).and_then(|linearised| {
             let converged = self.converged(disc, system, &linearised)?;
             Ok((linearised, converged))
         });

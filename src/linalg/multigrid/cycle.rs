@@ -72,12 +72,7 @@ impl VCycle {
                     .map(|&v| frames[v as usize])
                     .collect()
             };
-            let coarse_free: Vec<bool> = (0..t.n_coarse * nc)
-                .map(|d| {
-                    let (w, c) = (d / nc, d % nc);
-                    !t.coarse_hanging[w] && free[t.fine_of_coarse[w] as usize * nc + c]
-                })
-                .collect();
+            let coarse_free = coarse_free_of(t, nc, &free);
             let coarse_index = numbering(&coarse_free);
             let n_coarse_free = coarse_free.iter().filter(|&&f| f).count();
             let fine_dofs: Vec<usize> = (0..rows.len()).filter(|&d| rows[d]).collect();
@@ -196,6 +191,18 @@ impl VCycle {
         p.add_product_masked(&coarser[k - 1].z, z, mask);
         level.backward_sweep(r, z, before, mask);
     }
+}
+
+/// The free dofs of the coarse level of `t` (by dof, `nc` per vertex) given those of its fine
+/// level (module docs of [`super`], *Levels*): not hanging on the coarse level, and free at the
+/// fine vertex at the same position.
+pub(super) fn coarse_free_of(t: &Transfer, nc: usize, free: &[bool]) -> Vec<bool> {
+    (0..t.n_coarse * nc)
+        .map(|d| {
+            let (w, c) = (d / nc, d % nc);
+            !t.coarse_hanging[w] && free[t.fine_of_coarse[w] as usize * nc + c]
+        })
+        .collect()
 }
 
 /// The V-cycle of a block with some of its rows masked ([`Mask`]).

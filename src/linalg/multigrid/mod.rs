@@ -66,7 +66,8 @@
 //! those of the unrotated problem. Without it the component-wise prolongation mixes normal and
 //! tangential components; the contact tables took 100–500 CG iterations, with it 16–102 (IV.14,
 //! growing with the mesh), so the contact tables keep the direct solver
-//! ([`crate::study::solver_of`]).
+//! ([`crate::study::solver_of`]); their `multigrid` is the truncated nonsmooth Newton multigrid
+//! method of [`obstacle`], which solves the contact problem itself on these levels.
 //!
 //! **Stopping.** Iterate until ‖b − Ax‖₂ ≤ `relative`·‖b‖₂ on the free dofs (default
 //! [`RELATIVE_TOLERANCE`] = 1e-13). The algebraic error then lies many orders below the
@@ -82,6 +83,7 @@
 //! does not depend on the number of threads.
 
 mod cycle;
+pub mod obstacle;
 mod smoother;
 mod sparse;
 
@@ -153,6 +155,19 @@ impl VertexHierarchy {
         }
         sizes
     }
+}
+
+/// The frame of each of `n_vertices` vertices ([`Frame`]) with the `rotated` ones in their
+/// normal/tangential frame; empty (all Cartesian) when none is.
+fn frames_by_vertex(rotated: &[(u32, [f64; 2])], n_vertices: usize) -> Vec<Frame> {
+    let mut frames: Vec<Frame> = Vec::new();
+    if !rotated.is_empty() {
+        frames.resize(n_vertices, None);
+        for &(v, normal) in rotated {
+            frames[v as usize] = Some(normal);
+        }
+    }
+    frames
 }
 
 /// Whether row `i` is masked.
@@ -437,13 +452,7 @@ impl MultigridSolver {
             // Without a hierarchy (a mesh of one level) the coarsest level is the mesh itself.
             let single_level = VertexHierarchy::default();
             let hierarchy = self.hierarchy.as_ref().unwrap_or(&single_level);
-            let mut frames: Vec<Frame> = Vec::new();
-            if !self.rotated.is_empty() {
-                frames.resize(n / self.n_components, None);
-                for &(v, normal) in &self.rotated {
-                    frames[v as usize] = Some(normal);
-                }
-            }
+            let frames = frames_by_vertex(&self.rotated, n / self.n_components);
             self.prepared = Some(Box::new(Prepared::build(
                 matrix,
                 rows,
