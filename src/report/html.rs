@@ -758,8 +758,10 @@ fn performance_section(
          run alone are marked †; run with <code>--jobs 1</code> to time one table at a time. \
          The Reynolds systems are solved by multigrid-preconditioned CG unless the run chose \
          <code>--solver direct</code>, the elasticity systems by the direct solver unless it \
-         chose <code>--solver multigrid</code>, the contact systems always by the direct \
-         solver; the CG iterations are the most of any solve of a cycle. CG stops at a relative \
+         chose <code>--solver multigrid</code>, the contact systems by the primal–dual \
+         active-set method with the direct solver unless it chose <code>--solver \
+         multigrid</code> (truncated nonsmooth Newton multigrid; the model-adaptive contact \
+         tables always direct); the CG iterations are the most of any solve of a cycle. CG stops at a relative \
          residual of 1e-13; in the cavitation tables a step of the active-set iteration, which \
          only decides the next active set, stops at 1e-10, and the final active set is \
          confirmed by a solve at 1e-13, whose solution the table reports. The V-cycle applies \

@@ -105,10 +105,13 @@ struct Cli {
     #[arg(long, value_name = "N")]
     jobs: Option<usize>,
 
-    /// Linear solver of the SPD problems of the Reynolds (with and without cavitation) and
-    /// elasticity tables, overriding the experiments' `[study] solver`: `direct` (sparse
-    /// Cholesky) or `multigrid` (CG with a geometric multigrid V-cycle); the contact tables
-    /// always use the direct solver. The solver changes the run time, not the results.
+    /// Linear solver of the Reynolds (with and without cavitation), elasticity and z- and
+    /// Signorini contact tables, overriding the experiments' `[study] solver`: `direct` (sparse
+    /// Cholesky; for contact in the primal–dual active-set method) or `multigrid` (CG with a
+    /// geometric multigrid V-cycle; for contact the truncated nonsmooth Newton multigrid
+    /// method, checked against the direct solver on test problems but not yet on the thesis
+    /// tables); the model-adaptive contact tables always use the direct solver. The solver
+    /// changes the run time, not the results beyond rounding.
     #[arg(long, value_enum, value_name = "SOLVER")]
     solver: Option<tribo::linalg::SolverKind>,
 
