@@ -27,8 +27,8 @@
 
 use crate::fe::{Constraints, DofMap, System};
 use crate::linalg::active_set::{
-    primal_dual_active_set, ActiveSetOptions, Bound, Bounds, NodalBounds, Rotation, Sense,
-    ViolationTolerance,
+    primal_dual_active_set, ActiveSetOptions, ActiveSetSolution, Bound, Bounds, NodalBounds,
+    Rotation, Sense, ViolationTolerance,
 };
 use crate::linalg::multigrid::obstacle::{
     truncated_nonsmooth_newton_multigrid, TnnmgOptions, TnnmgWork,
@@ -271,14 +271,7 @@ pub fn solve_contact(
 ) -> Result<ContactSolution, ModelError> {
     let (rotation, bounds) = contact_bounds(system, constraints);
     let eliminated = system.constraints.eliminated();
-    let problem = NodalBounds {
-        matrix: system.matrix(),
-        rhs: &system.rhs,
-        bounds: Bounds::Listed(&bounds),
-        rotation: Some(&rotation),
-        eliminated: &eliminated,
-        negated_rows: false,
-    };
+    let problem = contact_problem(system, &rotation, &bounds, &eliminated);
     let options = ActiveSetOptions {
         max_iterations: MAX_ACTIVE_SET_ITERATIONS.max(constraints.len()),
         multiplier_tolerance: 0.0,
@@ -286,15 +279,39 @@ pub fn solve_contact(
     };
     let solution = primal_dual_active_set(&problem, solver, initial, &options)
         .map_err(|e| ModelError::from(e).context("contact"))?;
+    Ok(contact_solution(system, solution))
+}
+
+/// The minimisation of [`solve_contact`] as nodal bounds: the matrix and load of `system` with
+/// its eliminated dofs, the contact bounds in their rotated frames ([`contact_bounds`]).
+pub fn contact_problem<'a>(
+    system: &'a System,
+    rotation: &'a Rotation,
+    bounds: &'a [Bound],
+    eliminated: &'a [(usize, f64)],
+) -> NodalBounds<'a> {
+    NodalBounds {
+        matrix: system.matrix(),
+        rhs: &system.rhs,
+        bounds: Bounds::Listed(bounds),
+        rotation: Some(rotation),
+        eliminated,
+        negated_rows: false,
+    }
+}
+
+/// The displacement (with the hanging and Dirichlet dofs distributed), multipliers, active set,
+/// gaps and iterations of a solved contact problem.
+fn contact_solution(system: &System, solution: ActiveSetSolution) -> ContactSolution {
     let mut u = solution.x;
     system.constraints.distribute(&mut u);
-    Ok(ContactSolution {
+    ContactSolution {
         u,
         multipliers: solution.multipliers,
         active: solution.active,
         gaps: solution.slack,
         iterations: solution.iterations,
-    })
+    }
 }
 
 /// The contact constraints as nodal bounds: the rotation of every constrained vertex into its
@@ -326,29 +343,10 @@ pub fn solve_contact_tnnmg(
 ) -> Result<(ContactSolution, TnnmgWork), ModelError> {
     let (rotation, bounds) = contact_bounds(system, constraints);
     let eliminated = system.constraints.eliminated();
-    let problem = NodalBounds {
-        matrix: system.matrix(),
-        rhs: &system.rhs,
-        bounds: Bounds::Listed(&bounds),
-        rotation: Some(&rotation),
-        eliminated: &eliminated,
-        negated_rows: false,
-    };
+    let problem = contact_problem(system, &rotation, &bounds, &eliminated);
     let solved = truncated_nonsmooth_newton_multigrid(&problem, hierarchy, 2, options)
         .map_err(|e| ModelError::from(e).context("contact"))?;
-    let solution = solved.solution;
-    let mut u = solution.x;
-    system.constraints.distribute(&mut u);
-    Ok((
-        ContactSolution {
-            u,
-            multipliers: solution.multipliers,
-            active: solution.active,
-            gaps: solution.slack,
-            iterations: solution.iterations,
-        },
-        solved.work,
-    ))
+    Ok((contact_solution(system, solved.solution), solved.work))
 }
 
 /// Largest vertical depth by which the deformed contact boundary x + s (sides' polylines,

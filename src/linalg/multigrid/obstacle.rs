@@ -1009,7 +1009,8 @@ mod tests {
     #[test]
     fn contact_agrees_with_the_active_set_method() {
         use crate::models::contact::{
-            contact_boundaries, contact_bounds, solve_contact, ConstraintBuilder, ContactModel,
+            contact_boundaries, contact_bounds, contact_problem, solve_contact, ConstraintBuilder,
+            ContactModel,
         };
         use crate::models::elasticity::Elasticity;
         let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
@@ -1056,14 +1057,7 @@ mod tests {
         let eliminated = system.constraints.eliminated();
         for constraints in [&z, &signorini] {
             let (rotation, bounds) = contact_bounds(&system, constraints);
-            let problem = NodalBounds {
-                matrix: system.matrix(),
-                rhs: &system.rhs,
-                bounds: Bounds::Listed(&bounds),
-                rotation: Some(&rotation),
-                eliminated: &eliminated,
-                negated_rows: false,
-            };
+            let problem = contact_problem(&system, &rotation, &bounds, &eliminated);
             assert_agrees(&problem, &system, &mesh);
         }
     }
