@@ -45,20 +45,12 @@ fn mesh_with(unknowns: usize, components: usize) -> Mesh {
     while mesh.n_active() < cells {
         // Refine the cells nearest to the circle r = 0.3, as many as bring the mesh to its
         // size (each refinement adds three cells), at most a third of them per step.
-        let distance = |c: u32| {
-            let b = mesh.cell_box(c);
+        let distance = |b: [f64; 4]| {
             let (x, y) = (0.5 * (b[0] + b[2]) - 0.5, 0.5 * (b[1] + b[3]) - 0.5);
             ((x * x + y * y).sqrt() - 0.3).abs()
         };
-        let mut order: Vec<usize> = (0..mesh.n_active()).collect();
-        order.sort_by(|&a, &b| distance(mesh.active()[a]).total_cmp(&distance(mesh.active()[b])));
         let wanted = ((cells - mesh.n_active()) / 3 + 1).min(mesh.n_active() / 3 + 1);
-        let mut flags = vec![false; mesh.n_active()];
-        for &k in order.iter().take(wanted) {
-            flags[k] = true;
-        }
-        let none = vec![false; flags.len()];
-        mesh.refine_and_coarsen(&flags, &none).expect("refines");
+        refine_first(&mut mesh, wanted, distance);
     }
     mesh
 }
@@ -74,20 +66,27 @@ fn contact_mesh(scene: &experiment::Scene, unknowns: usize) -> Mesh {
         mesh.refine_global().expect("refines");
     }
     while dofs(&mesh) < unknowns {
-        let mut order: Vec<usize> = (0..mesh.n_active()).collect();
-        order.sort_by(|&a, &b| {
-            let y = |k: usize| mesh.cell_box(mesh.active()[k])[1];
-            y(a).total_cmp(&y(b))
-        });
         let wanted = ((unknowns - dofs(&mesh)) / 6 + 1).min(mesh.n_active() / 3 + 1);
-        let mut flags = vec![false; mesh.n_active()];
-        for &k in order.iter().take(wanted) {
-            flags[k] = true;
-        }
-        let none = vec![false; flags.len()];
-        mesh.refine_and_coarsen(&flags, &none).expect("refines");
+        refine_first(&mut mesh, wanted, |b| b[1]);
     }
     mesh
+}
+
+/// Refine the `wanted` active cells of `mesh` whose boxes have the smallest `key`.
+fn refine_first(mesh: &mut Mesh, wanted: usize, key: impl Fn([f64; 4]) -> f64) {
+    let keys: Vec<f64> = mesh
+        .active()
+        .iter()
+        .map(|&c| key(mesh.cell_box(c)))
+        .collect();
+    let mut order: Vec<usize> = (0..mesh.n_active()).collect();
+    order.sort_by(|&a, &b| keys[a].total_cmp(&keys[b]));
+    let mut flags = vec![false; mesh.n_active()];
+    for &k in order.iter().take(wanted) {
+        flags[k] = true;
+    }
+    let none = vec![false; flags.len()];
+    mesh.refine_and_coarsen(&flags, &none).expect("refines");
 }
 
 /// One contact measurement (`problem` `contact-z` or `contact-signorini`): the iterations and the

@@ -48,7 +48,7 @@ pub enum Sense {
 
 impl Sense {
     #[inline]
-    fn sign(self) -> f64 {
+    pub(crate) fn sign(self) -> f64 {
         match self {
             Sense::Upper => 1.0,
             Sense::Lower => -1.0,

@@ -107,9 +107,9 @@ fn nested_dissection(
     }
 
     /// The cut of `verts` at the median of their positions along `axis` (above it where the
-    /// median ties with the lowest position) and the size of its separator; `None` if all
-    /// positions along `axis` are equal. Reorders `verts`.
-    fn split(ctx: &Ctx<'_>, verts: &mut [u32], axis: usize) -> Option<(u64, usize)> {
+    /// median ties with the lowest position) and its separator; `None` if all positions along
+    /// `axis` are equal. Reorders `verts`.
+    fn split(ctx: &Ctx<'_>, verts: &mut [u32], axis: usize) -> Option<(u64, Vec<u32>)> {
         let mid = verts.len() / 2;
         let key = |v: &u32| coord(ctx.keys[*v as usize], axis);
         verts.select_nth_unstable_by_key(mid, key);
@@ -119,8 +119,9 @@ fn nested_dissection(
         }
         let separator = verts
             .iter()
-            .filter(|v| key(v) >= m && is_separator(ctx, **v, axis, m))
-            .count();
+            .copied()
+            .filter(|&v| key(&v) >= m && is_separator(ctx, v, axis, m))
+            .collect();
         Some((m, separator))
     }
 
@@ -146,17 +147,12 @@ fn nested_dissection(
             verts.sort_unstable();
             return verts;
         };
-        let (m, axis) = match split(ctx, &mut verts, 1 - longer) {
-            Some(other) if other.1 < first.1 => (other.0, 1 - longer),
-            _ => (first.0, longer),
+        let ((m, mut separator), axis) = match split(ctx, &mut verts, 1 - longer) {
+            Some(other) if other.1.len() < first.1.len() => (other, 1 - longer),
+            _ => (first, longer),
         };
         let key = |v: &u32| coord(ctx.keys[*v as usize], axis);
         let (low, high): (Vec<u32>, Vec<u32>) = verts.into_iter().partition(|v| key(v) < m);
-        let separator: Vec<u32> = high
-            .iter()
-            .copied()
-            .filter(|&v| is_separator(ctx, v, axis, m))
-            .collect();
         for &v in &separator {
             ctx.removed[v as usize].store(true, Ordering::Relaxed);
         }
@@ -170,7 +166,6 @@ fn nested_dissection(
             (dissect(ctx, low), dissect(ctx, high))
         };
         a.extend(b);
-        let mut separator = separator;
         separator.sort_unstable();
         a.extend(separator);
         a

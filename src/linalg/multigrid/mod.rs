@@ -170,6 +170,16 @@ fn frames_by_vertex(rotated: &[(u32, [f64; 2])], n_vertices: usize) -> Vec<Frame
     frames
 }
 
+/// A failed CG solve as the error of the solve: a non-finite value names its iteration.
+impl From<CgError> for SolveError {
+    fn from(e: CgError) -> SolveError {
+        match e {
+            CgError::NonFinite(iteration) => SolveError::IterativeNonFinite(iteration),
+            e => SolveError::Iterative(e.to_string()),
+        }
+    }
+}
+
 /// Whether row `i` is masked.
 #[inline]
 fn is_masked(mask: Mask, i: usize) -> bool {
@@ -508,10 +518,7 @@ impl MultigridSolver {
             &preconditioner,
             stopping,
         )
-        .map_err(|e| match e {
-            CgError::NonFinite(iteration) => SolveError::IterativeNonFinite(iteration),
-            e => SolveError::Iterative(e.to_string()),
-        })?;
+        .map_err(SolveError::from)?;
         self.iterations.push(report.iterations);
         for (&d, &v) in dofs.iter().zip(&xf) {
             if solved[d] {

@@ -65,7 +65,7 @@ use rayon::prelude::*;
 
 use super::cycle::{coarse_free_of, numbering, MaskedCycle, VCycle};
 use super::sparse::Sparse;
-use super::{frames_by_vertex, Mask, Prepared, VertexHierarchy};
+use super::{frames_by_vertex, is_masked, Mask, Prepared, VertexHierarchy};
 use crate::linalg::active_set::{
     primal_dual_active_set, ActiveSetOptions, ActiveSetSolution, Bound, Bounds, NodalBounds, Sense,
     ViolationTolerance,
@@ -308,14 +308,7 @@ fn linear_correction(
         stopping,
     ) {
         Ok(_) | Err(CgError::NotConverged { .. }) => Ok(()),
-        Err(e) => Err(cg_error(e)),
-    }
-}
-
-fn cg_error(e: CgError) -> SolveError {
-    match e {
-        CgError::NonFinite(iteration) => SolveError::IterativeNonFinite(iteration),
-        e => SolveError::Iterative(e.to_string()),
+        Err(e) => Err(SolveError::from(e)),
     }
 }
 
@@ -738,7 +731,7 @@ fn solve_on_active_set(
         &cycle,
         stopping,
     )
-    .map_err(cg_error)?;
+    .map_err(SolveError::from)?;
     for (x, d) in x.iter_mut().zip(&delta) {
         *x += d;
     }
@@ -746,10 +739,6 @@ fn solve_on_active_set(
         return Err(SolveError::IterativeNonFinite(report.iterations));
     }
     Ok(report.iterations)
-}
-
-fn is_masked(mask: Mask, i: usize) -> bool {
-    super::is_masked(mask, i)
 }
 
 /// The KKT conditions of the bounds at x with r = b − Ax (module docs, *Finish*).
@@ -789,10 +778,6 @@ fn finish(
         full[d] = v;
     }
     let kx = matrix.multiply(&full);
-    let sign = |s: Sense| match s {
-        Sense::Upper => 1.0,
-        Sense::Lower => -1.0,
-    };
     let in_block: Vec<bool> = {
         let mut b = vec![false; full.len()];
         for &d in dofs {
@@ -807,11 +792,11 @@ fn finish(
         .collect();
     let multipliers = bounds
         .iter()
-        .map(|b| sign(b.sense) * (rhs[b.dof()] - kx[b.dof()]))
+        .map(|b| b.sense.sign() * (rhs[b.dof()] - kx[b.dof()]))
         .collect();
     let slack = bounds
         .iter()
-        .map(|b| sign(b.sense) * (b.value - full[b.dof()]))
+        .map(|b| b.sense.sign() * (b.value - full[b.dof()]))
         .collect();
     if let Some(rotation) = problem.rotation {
         rotation.to_cartesian(&mut full);
